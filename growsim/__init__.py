@@ -7,4 +7,20 @@ plant model returns a :class:`growsim.plant.Plant`; experiments are TOML configs
 
 __version__ = "0.1.0"
 
-__all__ = ["__version__"]
+__all__ = ["__version__", "load_config", "run", "sweep"]
+
+# Lazy exports: ``import growsim`` stays fast (no pydantic, pandas or numba at import);
+# ``growsim.run`` imports the experiment layer on first use.
+_LAZY = {"run", "sweep", "load_config"}
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        from growsim import experiment
+
+        return getattr(experiment, name)
+    raise AttributeError(f"module 'growsim' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted([*globals(), *_LAZY])

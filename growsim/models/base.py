@@ -69,7 +69,6 @@ def resolve_params(
     unknown = sorted(set(values) - set(by_name))
     if unknown:
         raise UserInputError(
-            f"{where}unknown parameter(s) {', '.join(unknown)}; "
-            f"allowed: {', '.join(by_name)}"
+            f"{where}unknown parameter(s) {', '.join(unknown)}; allowed: {', '.join(by_name)}"
         )
     return {p.name: p.check(values.get(p.name, p.default), where) for p in spec}

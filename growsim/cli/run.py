@@ -1,0 +1,99 @@
+"""``growsim run CONFIG`` / ``growsim run --resume DIR``: run one experiment."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+
+from growsim.errors import UserInputError
+
+__all__ = ["register"]
+
+
+def register(subparsers) -> None:
+    """Add the ``run`` subcommand.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> sub = argparse.ArgumentParser().add_subparsers()
+    >>> register(sub)
+    """
+    p = subparsers.add_parser(
+        "run",
+        help="run an experiment config (or resume one)",
+        description="Run an experiment config into a results directory: history.parquet, "
+        "best.json, summary.json, config.toml, checkpoint.npz, the best plant's meshes and "
+        "renders, fitness.png.",
+    )
+    p.add_argument("config", nargs="?", help="experiment TOML (e.g. experiments/quickstart.toml)")
+    p.add_argument("--out", metavar="DIR", help="results directory (default runs/<name>-<time>)")
+    p.add_argument(
+        "--seed", type=int, metavar="N", help="seed of the run (overrides experiment.seed)"
+    )
+    p.add_argument(
+        "--set",
+        dest="overrides",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="override a config key, e.g. --set ga.population=50 (repeatable)",
+    )
+    p.add_argument("--workers", type=int, metavar="N", help="evaluate in N local processes")
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDR",
+        help="evaluate on Dask: 'local' (a LocalCluster of --workers processes) or tcp://host:port",
+    )
+    p.add_argument("--resume", metavar="DIR", help="continue the interrupted run in DIR")
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress bar, no summary")
+    p.set_defaults(func=main)
+
+
+def main(args: argparse.Namespace) -> int:
+    """Run (or resume) and print where the results went."""
+    from growsim.experiment import run
+
+    if args.resume is not None:
+        if args.out is not None and args.out != args.resume:
+            raise UserInputError("--out: not used with --resume (results stay in the DIR resumed)")
+        if args.overrides:
+            raise UserInputError("--set: a resumed run keeps its config; start a new run instead")
+        result = run(
+            args.config,
+            args.resume,
+            seed=args.seed,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            resume=True,
+            progress=not args.quiet,
+        )
+    else:
+        if args.config is None:
+            raise UserInputError("give a CONFIG to run, or --resume DIR")
+        result = run(
+            args.config,
+            args.out,
+            seed=args.seed,
+            overrides=args.overrides,
+            workers=args.workers,
+            scheduler=args.scheduler,
+            progress=not args.quiet,
+        )
+    if not args.quiet:
+        s = result.summary
+        out = result.out
+        print(
+            f"{s['experiment']}: best fitness {s['best_fitness']:.6g} "
+            f"(generation {s['best_generation']}), {s['evaluations']} evaluations "
+            f"in {s['wall_seconds']:.1f} s; stop: {s['stop_reason']}"
+        )
+        print(f"results in {out}/")
+        pngs = sorted(p.name for p in out.glob("best_*.png"))
+        if pngs:
+            print(f"  renders: {', '.join(str(out / n) for n in pngs)}")
+        print(f"  look at the tree: growsim show {out}")
+        print(f"  compare runs:     growsim compare {out} ...")
+        for w in s.get("warnings", []):
+            print(f"  warning: {w}", file=sys.stderr)
+    return 0

@@ -1,0 +1,81 @@
+"""``growsim sweep CONFIG --vary KEY=V1,V2 ... --repeats N``: a grid of runs, one table."""
+
+from __future__ import annotations
+
+import argparse
+
+__all__ = ["register"]
+
+
+def register(subparsers) -> None:
+    """Add the ``sweep`` subcommand.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> sub = argparse.ArgumentParser().add_subparsers()
+    >>> register(sub)
+    """
+    p = subparsers.add_parser(
+        "sweep",
+        help="run a grid of config variants x repeats",
+        description="Run every combination of the --vary values, each with --repeats seeds "
+        "(experiment.seed + 0..N-1), into OUT/<variant>/seed-<seed>/, and write one table "
+        "OUT/sweep.csv (and .parquet). Re-running the same sweep reuses finished runs.",
+    )
+    p.add_argument("config", help="experiment TOML")
+    p.add_argument(
+        "--vary",
+        action="append",
+        default=[],
+        metavar="KEY=V1,V2",
+        help="a key and its values, e.g. --vary env.light=1.0,0.5 (repeatable: a grid)",
+    )
+    p.add_argument(
+        "--repeats", type=int, metavar="N", help="seeds per variant (default experiment.repeats)"
+    )
+    p.add_argument(
+        "--out", metavar="DIR", help="sweep directory (default runs/<name>-sweep-<time>)"
+    )
+    p.add_argument(
+        "--set",
+        dest="overrides",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="override a config key for every variant (repeatable)",
+    )
+    p.add_argument("--workers", type=int, metavar="N", help="evaluate in N local processes")
+    p.add_argument("--scheduler", metavar="ADDR", help="Dask: 'local' or tcp://host:port")
+    p.add_argument("--quiet", "-q", action="store_true", help="no progress bars, no table")
+    p.set_defaults(func=main)
+
+
+def main(args: argparse.Namespace) -> int:
+    """Run the sweep and print the combined table."""
+    from growsim.experiment import sweep
+
+    df = sweep(
+        args.config,
+        args.vary,
+        repeats=args.repeats,
+        out=args.out,
+        overrides=args.overrides,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        progress=not args.quiet,
+    )
+    if not args.quiet:
+        import pandas as pd
+
+        cols = [
+            c
+            for c in df.columns
+            if (c != "out" and not c.startswith("best_")) or c == "best_fitness"
+        ]
+        with pd.option_context("display.width", 160, "display.max_columns", 20):
+            print(df[cols].to_string(index=False))
+        root = __import__("pathlib").Path(df["out"].iloc[0]).parent.parent
+        print(f"table: {root / 'sweep.csv'}")
+        print(f"compare the variants: growsim compare {root}")
+    return 0

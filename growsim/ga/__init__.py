@@ -1,0 +1,62 @@
+"""The generic GA every growsim model uses.
+
+- :mod:`growsim.ga.genome`: codings (:class:`Real`, :class:`Integer`, :class:`Categorical`,
+  :class:`Bits` with binary / Gray / weighted / fraction coding, diploid) and
+  :func:`genome_from_params`;
+- :mod:`growsim.ga.selection`, :mod:`growsim.ga.crossover`, :mod:`growsim.ga.mutation`:
+  operators, registered by name in :data:`SELECTION`, :data:`CROSSOVER`, :data:`MUTATION`;
+- :mod:`growsim.ga.evaluate`: serial / process-pool / ``Executor`` (Dask) evaluation;
+- :mod:`growsim.ga.engine`: :class:`GA` (ask/tell, generation models, islands,
+  termination, checkpoints) and :class:`Result`;
+- :mod:`growsim.ga.polish`: the local refinement ``GA.run(polish=...)`` uses.
+
+See ``docs/ga.md``.
+
+Examples
+--------
+>>> from growsim.ga import GA, Genome, Real
+>>> genome = Genome([Real("x", -5.12, 5.12, size=3)])
+>>> ga = GA(genome, lambda x: (x**2).sum(axis=1), population=30, maximize=False, seed=1)
+>>> result = ga.run(generations=20)
+>>> result.best.params.shape
+(3,)
+"""
+
+from growsim.ga.crossover import CROSSOVER, Crossover
+from growsim.ga.engine import GA, HISTORY_COLUMNS, Individual, Result
+from growsim.ga.evaluate import Evaluator, evaluation_seeds
+from growsim.ga.genome import (
+    OKUSA_WEIGHTS,
+    Bits,
+    Categorical,
+    Genome,
+    Integer,
+    Real,
+    genome_from_params,
+)
+from growsim.ga.mutation import MUTATION, Mutation
+from growsim.ga.polish import PolishOptions
+from growsim.ga.selection import SELECTION, Selection
+
+__all__ = [
+    "CROSSOVER",
+    "GA",
+    "HISTORY_COLUMNS",
+    "MUTATION",
+    "OKUSA_WEIGHTS",
+    "SELECTION",
+    "Bits",
+    "Categorical",
+    "Crossover",
+    "Evaluator",
+    "Genome",
+    "Individual",
+    "Integer",
+    "Mutation",
+    "PolishOptions",
+    "Real",
+    "Result",
+    "Selection",
+    "evaluation_seeds",
+    "genome_from_params",
+]

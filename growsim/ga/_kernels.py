@@ -1,0 +1,193 @@
+"""Numba kernels of the GA: bit decoding, cut-point crossover, mask crossover, locus counts.
+
+Kernels take arrays and scalars only, and never draw random numbers themselves: the
+operators draw with the run's ``numpy.random.Generator`` and pass the draws in, so each
+kernel is a pure function that ``tests/naive_ga.py`` re-computes with plain NumPy.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from growsim.kernels.config import njit
+
+#: column codings understood by :func:`decode_bits`
+CODE_BINARY, CODE_GRAY, CODE_WEIGHTED, CODE_FRACTION, CODE_INDEX = 0, 1, 2, 3, 4
+
+
+@njit
+def decode_bits(bits, offset, nbits, code, low, high, k, weights, out):
+    """Decode a ``(n, L)`` uint8 bit matrix into ``out`` ``(n, p)`` float64, column by column.
+
+    Column ``j`` reads ``nbits[j]`` bits from ``offset[j]``, most significant first, and
+    maps the integer (or weighted sum) into ``[low[j], high[j]]`` by its ``code``:
+    binary/Gray ``low + v / (2**b - 1) * (high - low)``; fraction ``low + v / 2**b *
+    (high - low)``; weighted ``low + sum(w_i b_i) / sum(w) * (high - low)`` with the
+    per-bit ``weights`` ``(L,)``; index ``low + floor(v * k / 2**b)`` (integers and
+    categories with ``k`` values).
+    """
+    n = bits.shape[0]
+    p = offset.shape[0]
+    # per-column scale: decoded = low + v * scale (index columns use k / 2**b and floor)
+    scale = np.empty(p)
+    for j in range(p):
+        b = nbits[j]
+        full = float(1 << b)
+        span = high[j] - low[j]
+        if code[j] == CODE_WEIGHTED:
+            wsum = 0.0
+            for t in range(b):
+                wsum += weights[offset[j] + t]
+            scale[j] = span / wsum
+        elif code[j] == CODE_FRACTION:
+            scale[j] = span / full
+        elif code[j] == CODE_INDEX:
+            scale[j] = k[j] / full
+        else:
+            scale[j] = span / (full - 1.0)
+    # rows outer, columns inner: the bit matrix is read in memory order
+    for i in range(n):
+        for j in range(p):
+            o = offset[j]
+            b = nbits[j]
+            c = code[j]
+            if c == CODE_WEIGHTED:
+                s = 0.0
+                for t in range(b):
+                    if bits[i, o + t]:
+                        s += weights[o + t]
+                out[i, j] = low[j] + s * scale[j]
+                continue
+            v = 0
+            if c == CODE_GRAY:
+                # Gray -> binary: each binary bit is the XOR of the Gray bits up to it
+                g = 0
+                for t in range(b):
+                    g ^= bits[i, o + t]
+                    v = (v << 1) | g
+            else:
+                for t in range(b):
+                    v = (v << 1) | bits[i, o + t]
+            if c == CODE_INDEX:
+                out[i, j] = low[j] + np.floor(v * scale[j])
+            else:
+                out[i, j] = low[j] + v * scale[j]
+
+
+@njit
+def cut_crossover(a, b, c1, c2, ptr, cuts):
+    """Multi-point crossover of pairs ``(a[i], b[i])`` into ``c1[i]``, ``c2[i]``.
+
+    ``cuts[ptr[i]:ptr[i+1]]`` are pair ``i``'s sorted cut positions in ``1..L-1``; the
+    children swap source parent at each cut (``c1`` starts from ``a``). Works for any
+    dtype (bits or reals). ``a, b, c1, c2``: ``(m, L)``; ``ptr``: ``(m+1,)``.
+    """
+    m, L = a.shape
+    for i in range(m):
+        start = 0
+        swap = False
+        for q in range(ptr[i], ptr[i + 1] + 1):
+            end = cuts[q] if q < ptr[i + 1] else L
+            if end <= start:
+                # duplicate cut positions cancel each other's switch
+                swap = not swap
+                continue
+            if swap:
+                for t in range(start, end):
+                    c1[i, t] = b[i, t]
+                    c2[i, t] = a[i, t]
+            else:
+                for t in range(start, end):
+                    c1[i, t] = a[i, t]
+                    c2[i, t] = b[i, t]
+            start = end
+            swap = not swap
+
+
+@njit
+def word_crossover(a, b, c1, c2, words):
+    """Uniform crossover: gene ``t`` of pair ``i`` is swapped when bit ``t % 64`` of
+    ``words[i, t // 64]`` is set. ``words``: ``(m, ceil(L / 64))`` uint64 random words, so a
+    fair coin per gene costs 1/64 of a random draw."""
+    m, L = a.shape
+    mask = np.empty(L, np.uint8)
+    for i in range(m):
+        # unpack the row's coins first: the copy loop below then runs without shifts
+        # (measured 0.45 ms vs 2.4 ms for 500 pairs x 1000 bits)
+        for t in range(L):
+            mask[t] = np.uint8((words[i, t >> 6] >> np.uint64(t & 63)) & np.uint64(1))
+        ai = a[i]
+        bi = b[i]
+        c1i = c1[i]
+        c2i = c2[i]
+        for t in range(L):
+            if mask[t]:
+                c1i[t] = bi[t]
+                c2i[t] = ai[t]
+            else:
+                c1i[t] = ai[t]
+                c2i[t] = bi[t]
+
+
+@njit
+def decode_unit_bits(bits, low, scale, out):
+    """Fast path of :func:`decode_bits` when every column is one bit:
+    ``out[i, j] = low[j] + bits[i, j] * scale[j]`` (``(n, p)``)."""
+    n, p = out.shape
+    for i in range(n):
+        for j in range(p):
+            out[i, j] = low[j] + bits[i, j] * scale[j]
+
+
+@njit
+def ones_per_locus(bits):
+    """Number of set bits in each column of a ``(n, L)`` uint8 matrix -> ``(L,)`` int64."""
+    n, L = bits.shape
+    out = np.zeros(L, np.int64)
+    for i in range(n):
+        for t in range(L):
+            out[t] += bits[i, t]
+    return out
+
+
+@njit
+def _sbx_betaq(beta, u, eta):
+    alpha = 2.0 - beta ** (-(eta + 1.0))
+    if u <= 1.0 / alpha:
+        return (u * alpha) ** (1.0 / (eta + 1.0))
+    return (1.0 / (2.0 - u * alpha)) ** (1.0 / (eta + 1.0))
+
+
+@njit
+def sbx(a, b, low, high, top, eta, gene_rate, r_act, r_u, r_flip, c1, c2):
+    """Bounded simulated binary crossover of pairs ``(a[i], b[i])`` -> ``c1``, ``c2``.
+
+    ``a, b, c1, c2``: ``(m, L)`` float64; ``low, high``: ``(L,)`` bounds; ``top``: ``(L,)``
+    the largest value a child may take (just below ``high``); ``r_act, r_u, r_flip``:
+    ``(m, L)`` uniforms in ``[0, 1)``: gene crossed if ``r_act < gene_rate`` (and the
+    parents differ), spread drawn from ``r_u``, children swapped if ``r_flip < 0.5``.
+    Only the branch each gene takes is computed (two ``pow`` per gene, not four).
+    """
+    m, L = a.shape
+    for i in range(m):
+        for t in range(L):
+            x1 = a[i, t]
+            x2 = b[i, t]
+            y1 = min(x1, x2)
+            y2 = max(x1, x2)
+            d = y2 - y1
+            if r_act[i, t] >= gene_rate or d <= 1e-14:
+                c1[i, t] = x1
+                c2[i, t] = x2
+                continue
+            u = r_u[i, t]
+            k1 = 0.5 * (y1 + y2 - _sbx_betaq(1.0 + 2.0 * (y1 - low[t]) / d, u, eta) * d)
+            k2 = 0.5 * (y1 + y2 + _sbx_betaq(1.0 + 2.0 * (high[t] - y2) / d, u, eta) * d)
+            k1 = min(max(k1, low[t]), top[t])
+            k2 = min(max(k2, low[t]), top[t])
+            if r_flip[i, t] < 0.5:
+                c1[i, t] = k2
+                c2[i, t] = k1
+            else:
+                c1[i, t] = k1
+                c2[i, t] = k2

@@ -1,0 +1,308 @@
+"""Reading photos and drawings of trees into silhouettes, and framing them for fitting.
+
+A user's front and side pictures (PNG, JPEG, ... any size) become binary silhouettes:
+
+1. :func:`load_gray`: the picture as grey levels in ``[0, 1]`` (transparent pixels count as
+   white background);
+2. :func:`silhouette`: a threshold (Otsu's by default, or a number), the polarity (dark tree
+   on a light background, light on dark, or ``"auto"``: the class that covers less of the
+   picture's border is the tree), an optional mask picture (only its white part is looked
+   at); an empty or all-foreground result is an error naming the file;
+3. :func:`frame_silhouettes`: both views into ``(2, S, S)`` rasters with the framing that
+   :mod:`growsim.kernels.ifs3d` gives rendered plants: each view scaled to unit height (the
+   two pictures need not share a zoom), one common scale that fits the height into the
+   raster unless the half-width around the trunk base is tighter, the trunk base (the
+   middle of the silhouette's lowest rows) at the horizontal centre, the lowest point on
+   the bottom row.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from growsim.errors import UserInputError
+from growsim.kernels.ifs3d import MARGIN
+
+__all__ = [
+    "frame_silhouettes",
+    "load_gray",
+    "otsu_threshold",
+    "read_silhouettes",
+    "silhouette",
+    "silhouette_image",
+]
+
+#: Share of the silhouette's height, at its bottom, whose pixels locate the trunk base.
+BASE_BAND = 0.02
+
+
+def load_gray(path: str | os.PathLike) -> np.ndarray:
+    """A picture file as ``(H, W)`` float64 grey levels in ``[0, 1]`` (0 black, 1 white).
+
+    Colour is converted by luminance; transparency is composited over white. An unreadable
+    or missing file raises :class:`UserInputError` naming it.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from PIL import Image
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "a.png"
+    >>> Image.new("L", (4, 3), 255).save(p)
+    >>> load_gray(p).shape
+    (3, 4)
+    """
+    from PIL import Image, UnidentifiedImageError
+
+    path = Path(path)
+    if not path.is_file():
+        raise UserInputError(f"{path}: image file not found")
+    try:
+        with Image.open(path) as im:
+            im.load()
+            if im.mode in ("RGBA", "LA", "PA") or "transparency" in im.info:
+                rgba = im.convert("RGBA")
+                white = Image.new("RGBA", rgba.size, (255, 255, 255, 255))
+                im = Image.alpha_composite(white, rgba)
+            gray = np.asarray(im.convert("L"), dtype=np.float64) / 255.0
+    except (UnidentifiedImageError, OSError, ValueError) as exc:
+        raise UserInputError(f"{path}: cannot read the image ({exc})") from None
+    if gray.ndim != 2 or gray.size == 0:
+        raise UserInputError(f"{path}: the image is empty")
+    return gray
+
+
+def otsu_threshold(gray: np.ndarray, bins: int = 256) -> float:
+    """Otsu's threshold of grey levels ``gray`` (any shape, values in ``[0, 1]``).
+
+    The level that maximises the between-class variance of the two classes it splits;
+    pixels ``<= t`` form one class.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> g = np.r_[np.full(50, 0.2), np.full(50, 0.8)]
+    >>> 0.2 <= otsu_threshold(g) < 0.8
+    True
+    """
+    g = np.asarray(gray, dtype=np.float64).ravel()
+    hist, edges = np.histogram(g, bins=bins, range=(0.0, 1.0))
+    p = hist / max(1, g.size)
+    centres = 0.5 * (edges[:-1] + edges[1:])
+    w0 = np.cumsum(p)
+    m0 = np.cumsum(p * centres)
+    mt = m0[-1]
+    w1 = 1.0 - w0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        between = (mt * w0 - m0) ** 2 / (w0 * w1)
+    between[~np.isfinite(between)] = -1.0
+    return float(edges[int(np.argmax(between)) + 1])
+
+
+def silhouette(
+    image,
+    *,
+    threshold: str | float = "otsu",
+    polarity: str = "auto",
+    mask=None,
+    name: str = "image",
+) -> np.ndarray:
+    """A binary silhouette ``(H, W)`` bool of a grey picture (or a path to one).
+
+    ``threshold``: ``"otsu"`` or a grey level in ``(0, 1)``; ``polarity``: ``"dark"`` (the
+    tree is darker than the background), ``"light"``, or ``"auto"`` (the class covering less
+    of the border is the tree; ties go to dark); ``mask``: optional picture or path of the
+    same size, only its light part (> 0.5) is kept. ``name`` labels errors. Raises
+    :class:`UserInputError` if the silhouette is empty or covers the whole picture.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> g = np.ones((5, 5)); g[1:4, 2] = 0.0
+    >>> silhouette(g).sum()
+    3
+    """
+    if isinstance(image, (str, os.PathLike)):
+        name = str(image)
+        image = load_gray(image)
+    gray = np.asarray(image, dtype=np.float64)
+    if gray.ndim != 2 or gray.size == 0:
+        raise UserInputError(f"{name}: expected a 2-D grey image, got shape {gray.shape}")
+    keep = np.ones(gray.shape, dtype=bool)
+    if mask is not None:
+        mname = str(mask) if isinstance(mask, (str, os.PathLike)) else f"{name} mask"
+        m = load_gray(mask) if isinstance(mask, (str, os.PathLike)) else np.asarray(mask, float)
+        if m.shape != gray.shape:
+            raise UserInputError(
+                f"{mname}: mask size {m.shape[::-1]} differs from the image's {gray.shape[::-1]}"
+            )
+        keep = m > 0.5
+        if not keep.any():
+            raise UserInputError(f"{mname}: the mask keeps no pixel (it is all black)")
+    if isinstance(threshold, str):
+        if threshold != "otsu":
+            raise UserInputError(f"{name}: threshold must be 'otsu' or a number, got {threshold!r}")
+        t = otsu_threshold(gray[keep])
+    else:
+        t = float(threshold)
+        if not 0.0 < t < 1.0:
+            raise UserInputError(f"{name}: threshold must be in (0, 1), got {threshold!r}")
+    dark = gray <= t
+    if polarity == "auto":
+        border = np.zeros(gray.shape, dtype=bool)
+        border[[0, -1], :] = True
+        border[:, [0, -1]] = True
+        border &= keep
+        if not border.any():
+            border = keep
+        polarity = "dark" if dark[border].mean() <= 0.5 else "light"
+    if polarity == "dark":
+        fg = dark
+    elif polarity == "light":
+        fg = ~dark
+    else:
+        raise UserInputError(
+            f"{name}: polarity must be 'auto', 'dark' or 'light', got {polarity!r}"
+        )
+    fg = fg & keep
+    n = int(fg.sum())
+    if n == 0:
+        raise UserInputError(
+            f"{name}: the silhouette is empty (threshold {t:.3f}, polarity {polarity})"
+        )
+    if n == int(keep.sum()):
+        raise UserInputError(
+            f"{name}: the silhouette covers the whole picture (threshold {t:.3f}, "
+            f"polarity {polarity}); is it a blank or uniform image?"
+        )
+    return fg
+
+
+def _view_geometry(mask: np.ndarray):
+    rows, cols = np.nonzero(mask)
+    rmin, rmax = rows.min(), rows.max()
+    h = max(float(rmax - rmin), 1.0)
+    band = rows >= rmax - BASE_BAND * h
+    base = float(cols[band].mean()) + 0.5
+    hw = float(np.max(np.abs(cols + 0.5 - base))) / h
+    return rows, cols, float(rmax), h, base, hw
+
+
+def frame_silhouettes(front: np.ndarray, side: np.ndarray, size: int = 64) -> np.ndarray:
+    """Frame two silhouettes ``(H1, W1)``, ``(H2, W2)`` bool into ``(2, size, size)`` uint8.
+
+    Each input pixel square is mapped to the raster and every raster pixel it overlaps is
+    set (so thin branches survive down-sampling, as thin lines do in rendered plants).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> f = np.zeros((100, 60), bool); f[10:100, 30] = True
+    >>> out = frame_silhouettes(f, f, 16)
+    >>> out.shape, out[0, :, 8].all()  # a vertical trunk fills the centre column
+    ((2, 16, 16), True)
+    """
+    size = int(size)
+    out = np.zeros((2, size, size), dtype=np.uint8)
+    geo = [_view_geometry(np.asarray(m, dtype=bool)) for m in (front, side)]
+    hw = max(g[5] for g in geo)
+    k = size - 2.0 * MARGIN
+    if hw > 0:
+        k = min(k, (0.5 * size - MARGIN) / hw)
+    for v, (rows, cols, rmax, h, base, _) in enumerate(geo):
+        f = k / h  # raster pixels per input pixel
+        x0 = 0.5 * size + f * (cols - base)
+        y0 = (size - MARGIN) - f * (rmax + 1.0 - rows) + f * 0.5
+        # the input square [x0, x0 + f) x [y0 - ..]: rows grow downwards
+        x1 = x0 + f
+        y1 = y0 + f
+        c0 = np.floor(x0).astype(np.int64)
+        r0 = np.floor(y0).astype(np.int64)
+        c1 = np.maximum(c0, np.ceil(x1).astype(np.int64) - 1)
+        r1 = np.maximum(r0, np.ceil(y1).astype(np.int64) - 1)
+        for dr in range(int((r1 - r0).max()) + 1):
+            for dc in range(int((c1 - c0).max()) + 1):
+                r = r0 + dr
+                c = c0 + dc
+                ok = (r <= r1) & (c <= c1) & (r >= 0) & (r < size) & (c >= 0) & (c < size)
+                out[v, r[ok], c[ok]] = 1
+    return out
+
+
+def read_silhouettes(
+    front,
+    side,
+    *,
+    size: int = 64,
+    threshold: str | float = "otsu",
+    polarity: str = "auto",
+    mask_front=None,
+    mask_side=None,
+) -> np.ndarray:
+    """Front and side pictures (paths or grey arrays) to framed ``(2, size, size)`` uint8.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> g = np.ones((40, 30)); g[5:40, 15] = 0.0; g[10, 8:23] = 0.0
+    >>> read_silhouettes(g, g, size=16).shape
+    (2, 16, 16)
+    """
+    if front is None or side is None:
+        missing = "front" if front is None else "side"
+        raise UserInputError(f"the {missing} view is missing: both front and side are needed")
+    masks = [
+        silhouette(img, threshold=threshold, polarity=polarity, mask=m, name=label)
+        for img, m, label in ((front, mask_front, "front"), (side, mask_side, "side"))
+    ]
+    return frame_silhouettes(masks[0], masks[1], size)
+
+
+def silhouette_image(views, path: str | os.PathLike, *, titles=None, scale: int = 4) -> Path:
+    """Write silhouettes side by side as a PNG (atomically); returns the path.
+
+    ``views``: a sequence of ``(S, S)`` arrays (non-zero = foreground), drawn black on
+    white, each scaled ``scale`` times with nearest-neighbour and separated by a grey bar;
+    ``titles`` (optional) are written above them.
+
+    Examples
+    --------
+    >>> import numpy as np, tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "v.png"
+    >>> silhouette_image([np.eye(8), np.eye(8)[::-1]], p).exists()
+    True
+    """
+    from PIL import Image, ImageDraw
+
+    from growsim.plant import atomic_write
+
+    views = [np.asarray(v) for v in views]
+    if not views:
+        raise UserInputError("silhouette_image: no views to draw")
+    tiles = []
+    for v in views:
+        tile = np.where(v > 0, 0, 255).astype(np.uint8)
+        tiles.append(np.kron(tile, np.ones((scale, scale), dtype=np.uint8)))
+    h = max(t.shape[0] for t in tiles)
+    gap = np.full((h, max(2, scale)), 160, dtype=np.uint8)
+    row = []
+    for i, t in enumerate(tiles):
+        if i:
+            row.append(gap)
+        pad = np.full((h, t.shape[1]), 255, dtype=np.uint8)
+        pad[: t.shape[0]] = t
+        row.append(pad)
+    body = np.hstack(row)
+    head = 14 if titles else 0
+    canvas = np.full((body.shape[0] + head, body.shape[1]), 255, dtype=np.uint8)
+    canvas[head:] = body
+    im = Image.fromarray(canvas, mode="L")
+    if titles:
+        draw = ImageDraw.Draw(im)
+        x = 0
+        for t, title in zip(tiles, titles):
+            draw.text((x + 2, 1), str(title), fill=0)
+            x += t.shape[1] + gap.shape[1]
+    return atomic_write(path, lambda fh: im.save(fh, format="PNG"))

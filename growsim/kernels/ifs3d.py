@@ -1,0 +1,418 @@
+"""Numba kernels of the 3D IFS tree: map matrices, composition, framing, silhouettes, NCC.
+
+The tree (Kuwahara, Shiwa, Kishino, "fitting a 3D fractal tree to front/side tree images
+with a GA", ATR TR-C-0135) is the trunk ``OS`` (``O = (0, 0, 0)``, ``S = (0, 1, 0)``) and
+every composition ``w_j1 ... w_jk (OS)``, ``k = 1..depth``, of ``N`` affine maps
+
+    w_n = Trans(0, y_n, 0) Rot_y(theta_y_n) Rot_z(-theta_z_n) Scale(s_n).
+
+Segment order (used by every caller): level by level (breadth first); inside a level the
+compositions ``(j1, ..., jk)`` in lexicographic order. Segment ``i`` of level ``k`` has
+index ``offset_k + sum_m j_m N^(k-m)`` and its parent is ``offset_{k-1} + (i - offset_k) // N``
+(the composition without its last map): applying ``w_jk`` first puts a branch on the trunk,
+and the parent's transform carries trunk and branch onto the parent segment.
+
+Views and framing (see :func:`frame_points`): the *front* view looks along ``-z`` (image
+``u = x``), the *side* view along ``-x`` (image ``u = -z``); ``v = y`` is up in both. Both
+views share one scale: the plant's height fills the raster, unless its half-width around
+the trunk base is the tighter fit; the trunk base sits at the horizontal centre and the
+lowest point on the bottom row.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from growsim.kernels.config import njit
+from growsim.kernels.raster import _thin_line
+
+__all__ = [
+    "MARGIN",
+    "compose_tree",
+    "frame_points",
+    "map_matrices",
+    "n_segments",
+    "render_views",
+    "score_population",
+]
+
+#: Distance in pixels kept between the outermost points and the raster's border: with
+#: 0.5 the extreme points land on pixel centres of the first/last row and column.
+MARGIN = 0.5
+
+
+def n_segments(n_maps: int, depth: int) -> int:
+    """Number of segments of a tree of ``n_maps`` maps to ``depth``: ``sum_k N^k``, k=0..depth.
+
+    Examples
+    --------
+    >>> n_segments(5, 5)
+    3906
+    """
+    return sum(int(n_maps) ** k for k in range(int(depth) + 1))
+
+
+# --------------------------------------------------------------------------- maps
+
+
+@njit
+def _map_matrix(s, y, theta_z, theta_y, M):
+    """Fill ``M`` ``(3, 4)`` with ``Trans(0,y,0) Rot_y(theta_y) Rot_z(-theta_z) Scale(s)``.
+
+    Angles in degrees. ``Rot_z(-theta_z)`` tilts the y axis towards +x by ``theta_z``;
+    ``Rot_y(theta_y)`` then turns that tilt about the trunk.
+    """
+    tz = math.radians(theta_z)
+    ty = math.radians(theta_y)
+    cz = math.cos(tz)
+    sz = math.sin(tz)
+    cy = math.cos(ty)
+    sy = math.sin(ty)
+    # Rot_z(-tz) = [[cz, sz, 0], [-sz, cz, 0], [0, 0, 1]]
+    # Rot_y(ty)  = [[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]]
+    # product Rot_y(ty) Rot_z(-tz):
+    M[0, 0] = s * cy * cz
+    M[0, 1] = s * cy * sz
+    M[0, 2] = s * sy
+    M[1, 0] = -s * sz
+    M[1, 1] = s * cz
+    M[1, 2] = 0.0
+    M[2, 0] = -s * sy * cz
+    M[2, 1] = -s * sy * sz
+    M[2, 2] = s * cy
+    M[0, 3] = 0.0
+    M[1, 3] = y
+    M[2, 3] = 0.0
+
+
+@njit
+def _maps_of(p, W):
+    """``p`` ``(N, 4)`` rows ``(s, y, theta_z, theta_y)`` -> ``W`` ``(N, 3, 4)``."""
+    for n in range(p.shape[0]):
+        _map_matrix(p[n, 0], p[n, 1], p[n, 2], p[n, 3], W[n])
+
+
+@njit
+def _compose(W, depth, mats, start, end):
+    """Endpoints of every segment into ``start``/``end`` ``(M, 3)``.
+
+    ``mats`` ``(M_internal, 3, 4)`` is scratch for the transforms of non-leaf segments
+    (``M_internal = number of segments above the last level``). Leaves need only their two
+    end points, so the last (largest) level skips the full 3x3 product.
+    """
+    N = W.shape[0]
+    # level 0: the identity transform, the trunk OS
+    start[0, 0] = 0.0
+    start[0, 1] = 0.0
+    start[0, 2] = 0.0
+    end[0, 0] = 0.0
+    end[0, 1] = 1.0
+    end[0, 2] = 0.0
+    if depth == 0:
+        return
+    mats[0, :, :] = 0.0
+    mats[0, 0, 0] = 1.0
+    mats[0, 1, 1] = 1.0
+    mats[0, 2, 2] = 1.0
+    # precomputed for the leaf shortcut: the image of OS under each map
+    ws = np.empty((N, 3))
+    wd = np.empty((N, 3))
+    for j in range(N):
+        for r in range(3):
+            ws[j, r] = W[j, r, 3]
+            wd[j, r] = W[j, r, 1]
+    poff = 0  # offset of the parent level
+    plen = 1
+    off = 1
+    # explicit indexing (no array views in the inner loops): measured 2x faster
+    for level in range(1, depth + 1):
+        last = level == depth
+        for q in range(plen):
+            p = poff + q
+            for j in range(N):
+                idx = off + q * N + j
+                if last:
+                    for r in range(3):
+                        p0 = mats[p, r, 0]
+                        p1 = mats[p, r, 1]
+                        p2 = mats[p, r, 2]
+                        s0 = mats[p, r, 3] + p0 * ws[j, 0] + p1 * ws[j, 1] + p2 * ws[j, 2]
+                        start[idx, r] = s0
+                        end[idx, r] = s0 + p0 * wd[j, 0] + p1 * wd[j, 1] + p2 * wd[j, 2]
+                else:
+                    for r in range(3):
+                        p0 = mats[p, r, 0]
+                        p1 = mats[p, r, 1]
+                        p2 = mats[p, r, 2]
+                        for c in range(4):
+                            mats[idx, r, c] = p0 * W[j, 0, c] + p1 * W[j, 1, c] + p2 * W[j, 2, c]
+                        mats[idx, r, 3] += mats[p, r, 3]
+                        start[idx, r] = mats[idx, r, 3]
+                        end[idx, r] = mats[idx, r, 3] + mats[idx, r, 1]
+        poff = off
+        off += plen * N
+        plen *= N
+
+
+# --------------------------------------------------------------------------- framing
+
+
+@njit
+def _frame(start, end, base, size, coords):
+    """Pixel coordinates of both views, framed alike (see :func:`frame_points`).
+
+    ``coords`` ``(2, 2, M, 2)``: ``[view, endpoint (0 start, 1 end), segment, (x, y)]``.
+    Returns the scale (pixels per world unit).
+    """
+    M = start.shape[0]
+    vmin = np.inf
+    vmax = -np.inf
+    hw = 0.0
+    for e in range(2):
+        P = start if e == 0 else end
+        for i in range(M):
+            y = P[i, 1]
+            if y < vmin:
+                vmin = y
+            if y > vmax:
+                vmax = y
+            hw = max(hw, abs(P[i, 0] - base[0]), abs(P[i, 2] - base[2]))
+    h = vmax - vmin
+    k = np.inf
+    if h > 0.0:
+        k = (size - 2.0 * MARGIN) / h
+    if hw > 0.0:
+        k = min(k, (0.5 * size - MARGIN) / hw)
+    if not np.isfinite(k):
+        k = 1.0
+    cx = 0.5 * size
+    by = size - MARGIN
+    for e in range(2):
+        P = start if e == 0 else end
+        for i in range(M):
+            y = by - k * (P[i, 1] - vmin)
+            coords[0, e, i, 0] = cx + k * (P[i, 0] - base[0])
+            coords[0, e, i, 1] = y
+            coords[1, e, i, 0] = cx - k * (P[i, 2] - base[2])
+            coords[1, e, i, 1] = y
+    return k
+
+
+@njit
+def _render(coords, img):
+    """Thin-line silhouettes of both views into ``img`` ``(2, S, S)`` (zeroed first)."""
+    img[:, :, :] = 0
+    M = coords.shape[2]
+    S0 = img.shape[1]
+    S1 = img.shape[2]
+    for v in range(2):
+        out = img[v]
+        for i in range(M):
+            ax = coords[v, 0, i, 0]
+            ay = coords[v, 0, i, 1]
+            bx = coords[v, 1, i, 0]
+            by = coords[v, 1, i, 1]
+            # fast path: most deep-level segments lie inside one pixel (framed coordinates
+            # are within [0, S], so the int casts are safe)
+            if ax >= 0.0 and ay >= 0.0 and ax < S1 and ay < S0:
+                ja = int(ax)
+                ia = int(ay)
+                if ja == int(bx) and ia == int(by) and bx >= 0.0 and by >= 0.0:
+                    out[ia, ja] = 1
+                    continue
+            _thin_line(out, ax, ay, bx, by)
+
+
+@njit
+def _ncc(img, target, g_area, area_reject):
+    """Mean over views of ``|F and G| / sqrt(|F| |G|)``; 0 when rejected by area ratio."""
+    S0 = img.shape[1]
+    S1 = img.shape[2]
+    total = 0.0
+    f_all = 0.0
+    g_all = 0.0
+    for v in range(2):
+        c = 0
+        f = 0
+        for i in range(S0):
+            for j in range(S1):
+                if img[v, i, j]:
+                    f += 1
+                    if target[v, i, j]:
+                        c += 1
+        if f > 0 and g_area[v] > 0:
+            total += c / math.sqrt(f * g_area[v])
+        f_all += f
+        g_all += g_area[v]
+    if area_reject:
+        ratio = f_all / g_all
+        if ratio < 0.5 or ratio > 2.0:
+            return 0.0
+    return 0.5 * total
+
+
+@njit(parallel=True)
+def _score_population(params, depth, target, area_reject, n_chunks):
+    n = params.shape[0]
+    N = params.shape[1]
+    S = target.shape[1]
+    M = 1
+    lvl = 1
+    for _ in range(depth):
+        lvl *= N
+        M += lvl
+    m_int = max(1, M - lvl)
+    g_area = np.zeros(2)
+    for v in range(2):
+        g_area[v] = float(np.sum(target[v]))
+    out = np.zeros(n)
+    base = np.zeros(3)
+    for c in numba.prange(n_chunks):
+        # per-chunk scratch, so threads never share buffers
+        W = np.empty((N, 3, 4))
+        mats = np.empty((m_int, 3, 4))
+        start = np.empty((M, 3))
+        end = np.empty((M, 3))
+        coords = np.empty((2, 2, M, 2))
+        img = np.empty((2, S, S), dtype=np.uint8)
+        for i in range(c, n, n_chunks):
+            _maps_of(params[i], W)
+            _compose(W, depth, mats, start, end)
+            _frame(start, end, base, S, coords)
+            _render(coords, img)
+            out[i] = _ncc(img, target, g_area, area_reject)
+    return out
+
+
+# --------------------------------------------------------------------------- public
+
+
+def _as_maps(maps) -> np.ndarray:
+    maps = np.ascontiguousarray(maps, dtype=np.float64)
+    if maps.ndim != 2 or maps.shape[1] != 4 or maps.shape[0] < 1:
+        raise ValueError(f"maps must have shape (N, 4) with N >= 1, got {maps.shape}")
+    return maps
+
+
+def map_matrices(maps) -> np.ndarray:
+    """The affine maps as ``(N, 3, 4)`` matrices ``[A | t]`` (``x -> A x + t``).
+
+    ``maps`` ``(N, 4)``: rows ``(s, y, theta_z, theta_y)``, angles in degrees.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> W = map_matrices(np.array([[0.5, 0.4, 90.0, 0.0]]))
+    >>> np.round(W[0] @ [0, 1, 0, 1], 6).tolist()  # S = (0, 1, 0) -> tilted 90 deg to +x
+    [0.5, 0.4, 0.0]
+    """
+    maps = _as_maps(maps)
+    W = np.empty((maps.shape[0], 3, 4))
+    _maps_of(maps, W)
+    return W
+
+
+def compose_tree(maps, depth: int) -> tuple[np.ndarray, np.ndarray]:
+    """Segment end points of the IFS tree, in the module's segment order.
+
+    ``maps`` ``(N, 4)`` rows ``(s, y, theta_z, theta_y)`` (degrees); returns ``start`` and
+    ``end``, both ``(M, 3)`` with ``M = n_segments(N, depth)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s, e = compose_tree(np.array([[0.5, 0.4, 0.0, 0.0]]), 2)
+    >>> e[:, 1].tolist()  # the trunk, then 0.4 + 0.5, then 0.4 + 0.5 * 0.9
+    [1.0, 0.9, 0.85]
+    """
+    maps = _as_maps(maps)
+    depth = int(depth)
+    if depth < 0:
+        raise ValueError(f"depth must be >= 0, got {depth}")
+    N = maps.shape[0]
+    M = n_segments(N, depth)
+    W = np.empty((N, 3, 4))
+    _maps_of(maps, W)
+    start = np.empty((M, 3))
+    end = np.empty((M, 3))
+    mats = np.empty((max(1, M - N**depth), 3, 4))
+    _compose(W, depth, mats, start, end)
+    return start, end
+
+
+def frame_points(start, end, base, size: int) -> tuple[np.ndarray, float]:
+    """Pixel coordinates of segments in the front and side views of a ``size`` raster.
+
+    Framing: one scale ``k`` for both views, the largest that fits the height
+    ``max(y) - min(y)`` into ``size - 2 MARGIN`` pixels and the half-width around the base,
+    ``max(|x - base_x|, |z - base_z|)``, into ``size / 2 - MARGIN``; then
+    ``col = size/2 + k (u - u_base)`` and ``row = size - MARGIN - k (y - min(y))`` with
+    ``u = x`` (front) or ``u = -z`` (side).
+
+    ``start``, ``end`` ``(M, 3)``; ``base`` ``(3,)`` the trunk base. Returns ``coords``
+    ``(2, 2, M, 2)`` (view, start/end, segment, (col, row)) and the scale ``k``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> c, k = frame_points(np.zeros((1, 3)), np.array([[0.0, 2.0, 0.0]]), np.zeros(3), 64)
+    >>> c[0, :, 0].tolist(), k
+    ([[32.0, 63.5], [32.0, 0.5]], 31.5)
+    """
+    start = np.ascontiguousarray(start, dtype=np.float64)
+    end = np.ascontiguousarray(end, dtype=np.float64)
+    base = np.ascontiguousarray(base, dtype=np.float64)
+    coords = np.empty((2, 2, start.shape[0], 2))
+    k = _frame(start, end, base, int(size), coords)
+    return coords, float(k)
+
+
+def render_views(start, end, base, size: int) -> np.ndarray:
+    """Thin-line front and side silhouettes ``(2, size, size)`` uint8 of segments.
+
+    Framed by :func:`frame_points`; drawn with the shared rasteriser's thin lines.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s, e = compose_tree(np.array([[0.5, 0.4, 45.0, 0.0]]), 3)
+    >>> img = render_views(s, e, np.zeros(3), 32)
+    >>> img.shape, bool(img[0].sum() > img[1].sum())  # branches lean along x: wider in front
+    ((2, 32, 32), True)
+    """
+    coords, _ = frame_points(start, end, base, size)
+    img = np.empty((2, int(size), int(size)), dtype=np.uint8)
+    _render(coords, img)
+    return img
+
+
+def score_population(params, depth: int, target, area_reject: bool = False) -> np.ndarray:
+    """Mean front/side binary NCC of a whole population of IFS trees (parallel kernel).
+
+    ``params`` ``(n, N, 4)`` rows ``(s, y, theta_z, theta_y)`` per map (degrees); ``target``
+    ``(2, S, S)`` uint8 front and side silhouettes (framed like :func:`render_views`).
+    Returns ``(n,)`` float64 in ``[0, 1]``; ``area_reject`` scores 0 a tree whose total
+    silhouette area is not within 0.5x-2x of the target's (the seed's rejection).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> maps = np.array([[0.5, 0.4, 0.0, 0.0], [0.5, 0.4, 45.0, 0.0]])
+    >>> s, e = compose_tree(maps, 4)
+    >>> tgt = render_views(s, e, np.zeros(3), 64)
+    >>> score_population(maps[None], 4, tgt).round(6).tolist()
+    [1.0]
+    """
+    params = np.ascontiguousarray(params, dtype=np.float64)
+    if params.ndim != 3 or params.shape[2] != 4:
+        raise ValueError(f"params must have shape (n, N, 4), got {params.shape}")
+    target = np.ascontiguousarray(target, dtype=np.uint8)
+    if target.ndim != 3 or target.shape[0] != 2 or target.shape[1] != target.shape[2]:
+        raise ValueError(f"target must have shape (2, S, S), got {target.shape}")
+    if params.shape[0] == 0:
+        return np.zeros(0)
+    n_chunks = min(params.shape[0], 4 * numba.get_num_threads())
+    return _score_population(params, int(depth), target, bool(area_reject), n_chunks)

@@ -1,0 +1,314 @@
+"""Plant -> pyvista mesh: n-gon tubes and hexagon leaves, levels of detail, export.
+
+- :func:`plant_mesh`: one triangle mesh with ``point_data["kind"]`` (0 bark, 1 leaf);
+- :func:`lod_meshes`: one skeleton, several meshes of falling vertex count (fewer tube
+  sides and pieces, leaves clustered) with the same silhouette;
+- :func:`export`: ``.vtp``, ``.ply``, ``.obj`` or ``.glb`` by suffix, written atomically.
+
+The tube and leaf geometry follow the seed "C G による枝ぶり生成法" (section 4.3); the hot
+loop is :func:`growsim.kernels.mesh.mesh_kernel`.
+"""
+
+from __future__ import annotations
+
+import os
+import uuid
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from growsim.errors import UserInputError
+from growsim.kernels.mesh import mesh_kernel
+from growsim.plant import LEAF, Plant, atomic_write
+
+__all__ = [
+    "BARK_RGB",
+    "DEFAULT_LODS",
+    "LEAF_RGB",
+    "cluster_leaves",
+    "export",
+    "lod_meshes",
+    "mesh_arrays",
+    "plant_mesh",
+]
+
+#: vertex colours written to exports (bark brown, leaf green), uint8 RGB
+BARK_RGB = (110, 82, 58)
+LEAF_RGB = (74, 140, 58)
+
+#: default levels of detail, finest first
+DEFAULT_LODS: tuple[dict, ...] = (
+    {"sides": 8, "segments": 3},
+    {"sides": 6, "segments": 2},
+    {"sides": 4, "segments": 1, "cluster": True},
+    {"sides": 3, "segments": 1, "cluster": True},
+)
+
+
+def _check_plant(plant) -> Plant:
+    if not isinstance(plant, Plant):
+        raise UserInputError(f"expected a growsim Plant, got {type(plant).__name__}")
+    return plant
+
+
+def mesh_arrays(plant: Plant, sides: int = 6, segments: int = 1, leaves: bool = True):
+    """The raw mesh of ``plant``: ``points`` ``(N, 3)`` float32, ``tris`` ``(M, 3)``
+    int64, ``kind`` ``(N,)`` uint8 (0 bark, 1 leaf). See :func:`plant_mesh`.
+
+    Examples
+    --------
+    >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
+    >>> pts, tris, kind = mesh_arrays(p, sides=4, segments=1)
+    >>> pts.shape, tris.shape
+    ((8, 3), (8, 3))
+    """
+    plant = _check_plant(plant)
+    sides, segments = int(sides), int(segments)
+    if not 3 <= sides <= 64:
+        raise UserInputError(f"mesh sides: {sides} not in [3, 64]")
+    if not 1 <= segments <= 64:
+        raise UserInputError(f"mesh segments: {segments} not in [1, 64]")
+    keep = np.ones(plant.n_segments, bool) if leaves else plant.kind != LEAF
+    r1 = plant.radius_end()
+    return mesh_kernel(
+        np.ascontiguousarray(plant.start[keep]),
+        np.ascontiguousarray(plant.end[keep]),
+        np.ascontiguousarray(plant.radius[keep]),
+        np.ascontiguousarray(r1[keep]),
+        np.ascontiguousarray(plant.kind[keep]),
+        sides,
+        segments,
+    )
+
+
+def plant_mesh(plant: Plant, sides: int = 6, segments: int = 1, leaves: bool = True):
+    """Triangle mesh (``pyvista.PolyData``) of a plant.
+
+    Each stem is an open ``sides``-gon tube split into ``segments`` pieces, tapering from
+    its radius to :meth:`growsim.plant.Plant.radius_end`; each leaf a flat hexagon (7
+    vertices). ``point_data["kind"]`` is 0 for bark and 1 for leaf vertices.
+
+    Examples
+    --------
+    >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
+    >>> m = plant_mesh(p, sides=6, segments=2)
+    >>> m.n_points, int(m.point_data["kind"].sum())
+    (18, 0)
+    """
+    import pyvista as pv
+
+    pts, tris, kind = mesh_arrays(plant, sides=sides, segments=segments, leaves=leaves)
+    if tris.shape[0] == 0:
+        mesh = pv.PolyData(pts.astype(np.float32)) if pts.shape[0] else pv.PolyData()
+    else:
+        mesh = pv.PolyData.from_regular_faces(pts, tris)
+    mesh.point_data["kind"] = kind
+    return mesh
+
+
+def cluster_leaves(plant: Plant) -> Plant:
+    """The plant with the leaves of each branch merged into one leaf of the same total
+    blade area (radius and length scaled by ``sqrt(k)`` for ``k`` leaves), centred on
+    their mean centre and pointing their mean direction. Stems are unchanged.
+
+    Examples
+    --------
+    >>> from growsim.models import honda
+    >>> t = honda.develop(honda.PRESETS["zelkova"])
+    >>> c = cluster_leaves(t)
+    >>> c.n_leaves * 3 == t.n_leaves, c.n_stems == t.n_stems
+    (True, True)
+    """
+    plant = _check_plant(plant)
+    leaf = plant.kind == LEAF
+    if not leaf.any():
+        return plant
+    idx = np.flatnonzero(leaf)
+    groups, inv, counts = np.unique(plant.parent[idx], return_inverse=True, return_counts=True)
+    g = groups.size
+    mid = 0.5 * (plant.start[idx] + plant.end[idx])
+    d = plant.end[idx] - plant.start[idx]
+    c = np.zeros((g, 3))
+    dd = np.zeros((g, 3))
+    for ax in range(3):
+        c[:, ax] = np.bincount(inv, mid[:, ax], g) / counts
+        dd[:, ax] = np.bincount(inv, d[:, ax], g)
+    L = np.linalg.norm(d, axis=1)
+    lsum = np.bincount(inv, L, g) / counts
+    rsum = np.bincount(inv, plant.radius[idx], g) / counts
+    unit = dd / np.maximum(np.linalg.norm(dd, axis=1, keepdims=True), 1e-12)
+    scale = np.sqrt(counts)
+    half = 0.5 * lsum * scale
+    stems = plant.subset(~leaf)
+    remap = np.full(plant.n_segments, -1, np.int64)
+    remap[~leaf] = np.arange(stems.n_segments)
+    pick = np.zeros(g, np.int64)
+    pick[inv[::-1]] = idx[::-1]  # the first leaf of each group lends its order and data
+    data = {k: np.concatenate([stems.data[k], v[pick]]) for k, v in plant.data.items()}
+    if "radius_end" in data:
+        data["radius_end"][stems.n_segments :] = rsum * scale
+    return Plant(
+        np.concatenate([stems.start, c - half[:, None] * unit]),
+        np.concatenate([stems.end, c + half[:, None] * unit]),
+        np.concatenate([stems.radius, rsum * scale]),
+        np.concatenate([stems.parent, remap[groups]]),
+        np.concatenate([stems.order, plant.order[pick]]),
+        np.concatenate([stems.kind, np.full(g, LEAF, np.int8)]),
+        data=data,
+        meta=dict(plant.meta),
+    )
+
+
+def lod_meshes(plant: Plant, levels: Sequence[dict] = DEFAULT_LODS) -> list:
+    """Meshes of one skeleton at falling levels of detail, finest first.
+
+    ``levels``: dicts with ``sides``, ``segments`` and optional ``cluster`` (merge each
+    branch's leaves into one, :func:`cluster_leaves`). The skeleton is shared, so every
+    level keeps the plant's silhouette; only vertex counts fall.
+
+    Examples
+    --------
+    >>> from growsim.models import honda
+    >>> ms = lod_meshes(honda.develop(honda.PRESETS["plane"]))
+    >>> counts = [m.n_points for m in ms]
+    >>> counts == sorted(counts, reverse=True)
+    True
+    """
+    plant = _check_plant(plant)
+    clustered = None
+    out = []
+    for i, lv in enumerate(levels):
+        unknown = set(lv) - {"sides", "segments", "cluster", "leaves"}
+        if unknown:
+            raise UserInputError(f"lod level {i}: unknown key(s) {sorted(unknown)}")
+        p = plant
+        if lv.get("cluster", False):
+            if clustered is None:
+                clustered = cluster_leaves(plant)
+            p = clustered
+        out.append(
+            plant_mesh(
+                p,
+                sides=lv.get("sides", 6),
+                segments=lv.get("segments", 1),
+                leaves=lv.get("leaves", True),
+            )
+        )
+    return out
+
+
+def _rgb(kind: np.ndarray) -> np.ndarray:
+    return np.where(kind[:, None] == 1, np.array(LEAF_RGB), np.array(BARK_RGB)).astype(np.uint8)
+
+
+def _write_obj(fh, mesh) -> None:
+    pts = np.asarray(mesh.points)
+    tris = mesh.regular_faces if mesh.n_cells else np.zeros((0, 3), np.int64)
+    kind = np.asarray(mesh.point_data["kind"])
+    rgb = _rgb(kind) / 255.0
+    fh.write(b"# growsim plant mesh: groups bark and leaf; v x y z r g b\n")
+    np.savetxt(fh, np.hstack([pts, rgb]), fmt="v %.6g %.6g %.6g %.3f %.3f %.3f")
+    leaf_tri = kind[tris[:, 0]] == 1 if tris.size else np.zeros(0, bool)
+    for name, sel in (("bark", ~leaf_tri), ("leaf", leaf_tri)):
+        if sel.any():
+            fh.write(f"g {name}\n".encode())
+            np.savetxt(fh, tris[sel] + 1, fmt="f %d %d %d")
+
+
+def export(plant_or_mesh, path: str | os.PathLike, **mesh_options) -> Path:
+    """Write a plant (meshed with ``mesh_options``, see :func:`plant_mesh`) or a mesh to
+    ``path``; the format follows the suffix:
+
+    - ``.vtp``: VTK XML PolyData with the ``kind`` point array;
+    - ``.ply``: binary PLY with per-vertex RGB colours (bark brown, leaf green);
+    - ``.obj``: Wavefront OBJ with vertex colours and groups ``bark`` and ``leaf``;
+    - ``.glb``: glTF binary (Blender, game engines) with two nodes, bark and leaves, with
+      vertex colours.
+
+    The file is written to a temporary name in the same directory and renamed, so it is
+    never half-written. A bad suffix or an unwritable directory raises
+    :class:`growsim.errors.UserInputError` naming the path.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
+    >>> f = export(p, pathlib.Path(tempfile.mkdtemp()) / "t.vtp")
+    >>> f.suffix
+    '.vtp'
+    """
+    import pyvista as pv
+
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in (".vtp", ".ply", ".obj", ".glb"):
+        raise UserInputError(
+            f"{path}: unknown mesh format {suffix!r}; use .vtp, .ply, .obj or .glb"
+        )
+    if isinstance(plant_or_mesh, Plant):
+        mesh = plant_mesh(plant_or_mesh, **mesh_options)
+    elif isinstance(plant_or_mesh, pv.PolyData):
+        mesh = plant_or_mesh
+        if "kind" not in mesh.point_data:
+            mesh = mesh.copy()
+            mesh.point_data["kind"] = np.zeros(mesh.n_points, np.uint8)
+    else:
+        raise UserInputError(
+            f"export: expected a Plant or pyvista.PolyData, got {type(plant_or_mesh).__name__}"
+        )
+
+    if suffix == ".obj":
+        return atomic_write(path, lambda fh: _write_obj(fh, mesh))
+
+    def write_to(tmp: Path) -> None:
+        if suffix == ".vtp":
+            mesh.save(tmp)
+        elif suffix == ".ply":
+            m = mesh.copy()
+            m.point_data["rgb"] = _rgb(np.asarray(mesh.point_data["kind"]))
+            m.save(tmp, texture="rgb")
+        else:
+            _write_glb(mesh, tmp)
+
+    # VTK writers take a file name, not a file object: write a temporary file with the
+    # right suffix in the target directory, then rename it over the target.
+    parent = path.parent
+    if not parent.is_dir():
+        raise UserInputError(f"{path}: directory {parent} does not exist")
+    if not os.access(parent, os.W_OK):
+        raise UserInputError(f"{path}: directory {parent} is not writable")
+    tmp = parent / f".{path.stem}.{os.getpid()}.{uuid.uuid4().hex[:8]}.tmp{suffix}"
+    try:
+        write_to(tmp)
+        if not tmp.is_file():
+            raise UserInputError(f"{path}: the {suffix} writer produced no file")
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return path
+
+
+def _write_glb(mesh, tmp: Path) -> None:
+    import pyvista as pv
+
+    pl = pv.Plotter(off_screen=True)
+    kind = np.asarray(mesh.point_data["kind"])
+    for value, rgb, name in ((0, BARK_RGB, "bark"), (1, LEAF_RGB, "leaf")):
+        if not (kind == value).any():
+            continue
+        tris = mesh.regular_faces
+        tris = tris[kind[tris[:, 0]] == value]
+        if tris.shape[0] == 0:
+            continue
+        used, local = np.unique(tris, return_inverse=True)
+        part = pv.PolyData.from_regular_faces(
+            np.asarray(mesh.points)[used], local.reshape(tris.shape)
+        )
+        part.point_data["rgb"] = np.tile(np.array(rgb, np.uint8), (part.n_points, 1))
+        pl.add_mesh(part, scalars="rgb", rgb=True, name=name)
+    if not pl.renderer.actors:
+        pl.add_mesh(mesh)
+    pl.export_gltf(str(tmp))
+    pl.close()

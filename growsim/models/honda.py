@@ -1,0 +1,289 @@
+"""Honda's nutrient-split tree (seed 003: Endo, "C G による枝ぶり生成法", ATR TR-C-0067, 1991,
+after Honda, Tomlinson & Fisher 1981).
+
+Topology: every branching makes two children; the continuation keeps the parent's ration
+per step, the lateral gets ``f`` times it; a tip accumulates its ration each step and
+branches when the total reaches 1; the main trunk's tip branches every step. Geometry: the
+seed's absolute angles (theta from vertical, phi azimuth), droop ``thq`` for the branches of
+the first two trunk nodes and their descendants, a straight-or-wandering trunk ``thr``.
+See ``docs/models/honda.md``.
+
+Random draws are continuous (``theta0 + U[0,1) * theta_max``) where the seed used integer
+``random() % n`` degrees, so every real parameter value is meaningful to the GA.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+import numpy as np
+
+from growsim.errors import ResourceError
+from growsim.kernels.honda import N_DRAWS, grow_kernel, sag_kernel, subtree_tips_kernel
+from growsim.models.base import Param, resolve_params
+from growsim.plant import LEAF, Plant
+
+__all__ = [
+    "MAX_SEGMENTS",
+    "NAME",
+    "PARAMS",
+    "PRESETS",
+    "count_topology",
+    "develop",
+    "leaf_bearing",
+]
+
+NAME = "honda"
+
+#: Largest tree :func:`develop` agrees to grow (stem + leaf segments). About 200 bytes per
+#: segment for the plant and its draws, ~1 GB of mesh at 8 sides: a safe ceiling on a
+#: small machine. Raise it knowingly.
+MAX_SEGMENTS = 4_000_000
+
+PARAMS: tuple[Param, ...] = (
+    Param("generations", 1, 30, 10, kind="int", doc="nutrient steps (the seed's class_cnt)"),
+    Param("seed", 0, 2**31 - 1, 3, kind="int", doc="random seed (the seed's set_rnd)"),
+    Param("f", 0.0, 1.0, 0.95, doc="lateral ration: lateral gets f times its parent's"),
+    Param("theta0", 0.0, 90.0, 10.0, doc="least angle from vertical", unit="deg"),
+    Param("phi0", 0.0, 180.0, 0.0, doc="least azimuth turn from the parent", unit="deg"),
+    Param("theta_max", 0.0, 90.0, 40.0, doc="random extra angle from vertical", unit="deg"),
+    Param("phi_max", 0.0, 180.0, 90.0, doc="random extra azimuth turn", unit="deg"),
+    Param("thq", 0.0, 1.0, 0.2, doc="droop added per level (first two trunk nodes' branches)"),
+    Param("thr", 0.0, 1.0, 0.7, doc="main-trunk angle factor: 0 straight (cedar), 1 wandering"),
+    Param("bd", 0.1, 100.0, 20.0, doc="length of the first trunk segment"),
+    Param("b0", 0.1, 50.0, 5.0, doc="least branch length"),
+    Param("b_max", 0.0, 50.0, 3.0, doc="random extra branch length"),
+    Param("radius", 0.01, 10.0, 1.0, doc="trunk base radius (the seed's mesh a)"),
+    Param("taper", 0.3, 1.0, 0.85, doc="radius ratio per level (the seed's mesh b)"),
+    Param("pipe", 0, 1, 0, kind="int", doc="1: pipe-model radii (area ~ tips above) instead"),
+    Param("leaves", 0, 8, 3, kind="int", doc="leaves per leaf-bearing branch (the seed's d)"),
+    Param("leaf_radius", 0.0, 10.0, 1.2, doc="leaf hexagon radius (the seed's e)"),
+    Param("leaf_cut", 0.0, 80.0, 40.0, doc="prism cut angle: blade length 2e/cos", unit="deg"),
+    Param("sag", 0.0, 1.0, 0.0, doc="beyond the seed: bending under sub-tree weight (0 off)"),
+    Param("avoid", 0.0, 1.0, 0.0, doc="beyond the seed: turn laterals away from crowding (0 off)"),
+)
+
+_SPECIES = {
+    # Table 2 of the seed: class_cnt, set_rnd, f, theta0, phi0, theta_max, phi_max, thq,
+    # thr, bd, b0, b_max. Columns e-h have no species name in the seed; the names below
+    # describe the shapes its Fig. 14 shows.
+    "zelkova": (10, 3, 0.95, 10, 0, 40, 90, 0.2, 0.7, 20, 5, 3),
+    "cherry": (10, 3, 0.99, 20, 0, 20, 90, 0.5, 0.6, 15, 5, 3),
+    "ginkgo": (13, 4, 0.45, 25, 0, 25, 90, 0.5, 0.1, 10, 6, 2),
+    "plane": (10, 3, 0.6, 30, 0, 30, 90, 0.6, 0.1, 15, 6, 2),
+    "e_wandering_bush": (10, 3, 0.9, 20, 0, 10, 90, 0.1, 0.9, 2, 10, 5),
+    "f_dome": (10, 2, 1.0, 40, 0, 40, 90, 0.2, 0.6, 3, 3, 6),
+    "g_tall_trunk": (10, 3, 0.78, 40, 0, 10, 90, 0.1, 0.3, 30, 2, 3),
+    "h_columnar": (10, 2, 0.2, 10, 0, 20, 90, 0.4, 0.1, 30, 5, 2),
+}
+_KEYS = ("generations", "seed", "f", "theta0", "phi0", "theta_max", "phi_max", "thq", "thr")
+_KEYS += ("bd", "b0", "b_max")
+
+#: The eight species of the seed's Table 2, each a full parameter dict (with its seed).
+PRESETS: dict[str, dict[str, float]] = {
+    name: resolve_params(PARAMS, dict(zip(_KEYS, row))) for name, row in _SPECIES.items()
+}
+
+
+def count_topology(f: float, generations: int) -> tuple[int, int]:
+    """``(n_stem_segments, n_tips)`` of the tree grown with ``(f, generations)``, computed
+    without growing it: tips are grouped by their state (accumulated, ration, main), which
+    is all the topology depends on. Cheap for any ``generations``.
+
+    Examples
+    --------
+    >>> count_topology(1.0, 10)        # the full binary tree of the seed's Table 3, f
+    (2047, 1024)
+    >>> count_topology(0.95, 10)[0]    # zelkova
+    125
+    """
+    f32 = np.float32(f)
+    one = np.float32(1.0)
+    # state: (acc, ration, is_main) -> number of tips in that state (float32 like the kernel)
+    states: dict[tuple, int] = {(np.float32(0.0), one, True): 1}
+    n_segments = 1
+    for _ in range(int(generations)):
+        nxt: dict[tuple, int] = {}
+        for (acc, ration, is_main), count in states.items():
+            if not is_main:
+                acc = np.float32(acc + ration)
+                if acc < one:
+                    key = (acc, ration, False)
+                    nxt[key] = nxt.get(key, 0) + count
+                    continue
+            cont = (np.float32(0.0), ration, is_main)
+            lat = (np.float32(0.0), f32 if is_main else np.float32(ration * f32), False)
+            for key in (cont, lat):
+                nxt[key] = nxt.get(key, 0) + count
+            n_segments += 2 * count
+        states = nxt
+    return n_segments, sum(states.values())
+
+
+def leaf_bearing(parent: np.ndarray) -> np.ndarray:
+    """``(n,)`` bool: the segments the seed puts leaves on, from the stem ``parent``
+    ``(n,)`` int64 array: every tip, and every segment whose children are all tips.
+
+    Examples
+    --------
+    >>> leaf_bearing(np.array([-1, 0, 0, 1, 1])).tolist()
+    [False, True, True, True, True]
+    """
+    n = parent.shape[0]
+    has = parent >= 0
+    nchild = np.bincount(parent[has], minlength=n)
+    tip = nchild == 0
+    # children that are not tips, counted per parent
+    nontip_child = np.bincount(parent[has & ~tip], minlength=n)
+    return tip | ((nchild > 0) & (nontip_child == 0))
+
+
+def _geo(p: Mapping[str, float]) -> np.ndarray:
+    rad = math.pi / 180.0
+    return np.array(
+        [
+            p["theta0"] * rad,
+            p["theta_max"] * rad,
+            p["phi0"] * rad,
+            p["phi_max"] * rad,
+            p["thq"],
+            p["thr"],
+            p["bd"],
+            p["b0"],
+            p["b_max"],
+            p["avoid"],
+        ]
+    )
+
+
+def _leaves(start, end, base_radius, seg_ids, order, per_branch, e, cut_deg):
+    """Leaf segments along the stem segments ``seg_ids``: ``per_branch`` leaves at the
+    branch's division points, turned 50 degrees off the branch, round the branch by the
+    golden angle (deterministic: the leaves do not consume random draws)."""
+    m = seg_ids.size * per_branch
+    if m == 0 or e <= 0.0:
+        return None
+    sid = np.repeat(seg_ids, per_branch)
+    j = np.tile(np.arange(per_branch), seg_ids.size)
+    a = start[sid]
+    d = end[sid] - a
+    t = ((j + 1) / per_branch)[:, None]
+    att = a + t * d
+    ax = d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-12)
+    helper = np.where(np.abs(ax[:, 1:2]) < 0.9, [[0.0, 1.0, 0.0]], [[1.0, 0.0, 0.0]])
+    e1 = np.cross(ax, helper)
+    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
+    e2 = np.cross(ax, e1)
+    psi = (j + sid) * (137.508 * math.pi / 180.0)
+    tilt = 50.0 * math.pi / 180.0
+    w = math.cos(tilt) * ax + math.sin(tilt) * (
+        np.cos(psi)[:, None] * e1 + np.sin(psi)[:, None] * e2
+    )
+    # the cut face of a hexagonal prism of radius e cut at angle g: a hexagon stretched
+    # to length 2e / cos(g) along the leaf, sqrt(3) e wide
+    length = 2.0 * e / math.cos(math.radians(cut_deg))
+    return att, att + length * w, np.full(m, e * math.sqrt(3.0) / 2.0), sid, order[sid]
+
+
+def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None) -> Plant:
+    """Grow one Honda tree.
+
+    ``params``: any subset of :data:`PARAMS` (defaults fill the rest; values are checked).
+    ``seed``: overrides ``params["seed"]`` when given. ``env`` is unused (the seed's tree
+    has no environment). Returns a :class:`growsim.plant.Plant` whose first
+    ``n_stems`` segments are the stems in the seed's vertex order (segment ``v - 1`` ends
+    at vertex ``v``), followed by the leaves (``kind == LEAF``). ``data`` holds
+    ``generation``, ``depth``, ``main`` (bool) and ``radius_end``.
+
+    Raises :class:`growsim.errors.ResourceError` before growing when the tree would exceed
+    :data:`MAX_SEGMENTS`, naming the count it would need.
+
+    Examples
+    --------
+    >>> t = develop(PRESETS["zelkova"])
+    >>> t.n_stems, t.n_tips, t.n_branch_points
+    (125, 63, 62)
+    >>> develop({"f": 1.0, "generations": 3}).n_stems
+    15
+    """
+    p = resolve_params(PARAMS, params, where="honda.")
+    if seed is not None:
+        p["seed"] = Param("seed", 0, 2**63 - 1, 0, kind="int").check(seed, "honda.")
+    gens = int(p["generations"])
+    n_stems, n_tips = count_topology(p["f"], gens)
+    n_leaf_max = int(p["leaves"]) * n_tips * 2  # tips and their parents at most
+    if n_stems + n_leaf_max > MAX_SEGMENTS:
+        raise ResourceError(
+            f"honda: generations={gens} with f={p['f']:g} needs {n_stems:,} stem segments "
+            f"(and up to {n_leaf_max:,} leaves); the limit is {MAX_SEGMENTS:,} segments "
+            "(growsim.models.honda.MAX_SEGMENTS): lower generations or f"
+        )
+    n_branch = (n_stems - 1) // 2
+    rng = np.random.default_rng(int(p["seed"]))
+    U = rng.random((n_branch, N_DRAWS))
+    pos, vpar, depth, order, gen, main, _theta, _phi = grow_kernel(
+        float(p["f"]), gens, _geo(p), U, n_stems + 1
+    )
+    start = pos[vpar[1:]]
+    end = pos[1:]
+    order = order[1:]
+    parent = vpar[1:] - 1  # vertex 1's parent (vertex 0) -> -1
+    a = p["radius"]
+    if int(p["pipe"]):
+        # pipe model: a branch's cross-section is proportional to the tips it feeds
+        tips_below = subtree_tips_kernel(parent)
+        radius = a * np.sqrt(tips_below / tips_below[0])
+        r_end = radius.copy()
+        has = parent >= 0
+        child_r = np.zeros(n_stems)
+        np.maximum.at(child_r, parent[has], radius[has])
+        r_end = np.where(child_r > 0, child_r, radius)
+    else:
+        # the seed: radius shrinks by `taper` per level from the ground
+        radius = a * p["taper"] ** depth[vpar[1:]]
+        r_end = a * p["taper"] ** depth[1:]
+    if p["sag"] > 0.0:
+        start, end = sag_kernel(start, end, radius, parent, p["sag"], math.radians(60.0))
+    data = {
+        "generation": gen[1:].astype(np.int32),
+        "depth": depth[1:].astype(np.int32),
+        "main": main[1:],
+        "radius_end": r_end,
+    }
+    kind = np.zeros(n_stems, np.int8)
+    lv = _leaves(
+        start,
+        end,
+        radius,
+        np.flatnonzero(leaf_bearing(parent)),
+        order,
+        int(p["leaves"]),
+        p["leaf_radius"],
+        p["leaf_cut"],
+    )
+    if lv is not None:
+        la, lb, lr, lpar, lorder = lv
+        m = la.shape[0]
+        start = np.concatenate([start, la])
+        end = np.concatenate([end, lb])
+        radius = np.concatenate([radius, lr])
+        parent = np.concatenate([parent, lpar])
+        order = np.concatenate([order, lorder])
+        kind = np.concatenate([kind, np.full(m, LEAF, np.int8)])
+        data = {
+            "generation": np.concatenate([data["generation"], data["generation"][lpar]]),
+            "depth": np.concatenate([data["depth"], data["depth"][lpar] + 1]),
+            "main": np.concatenate([data["main"], np.zeros(m, bool)]),
+            "radius_end": np.concatenate([data["radius_end"], lr]),
+        }
+    return Plant(
+        start,
+        end,
+        radius,
+        parent,
+        order,
+        kind,
+        data=data,
+        meta={"model": NAME, "params": p, "seed": int(p["seed"])},
+    )

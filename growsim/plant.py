@@ -1,0 +1,606 @@
+"""The Plant: one skeleton of segments shared by every plant model, and its measures.
+
+A :class:`Plant` is a set of per-segment arrays (y is up):
+
+========== ================= ===========================================================
+field      dtype, shape      meaning
+========== ================= ===========================================================
+``start``  float64 ``(n, 3)`` first end point of each segment
+``end``    float64 ``(n, 3)`` second end point (towards the tip)
+``radius`` float64 ``(n,)``   radius at the segment's base (leaves: half the blade width)
+``parent`` int64 ``(n,)``     index of the parent segment, ``-1`` for a root
+``order``  int32 ``(n,)``     branching order (0 = trunk)
+``kind``   int8 ``(n,)``      :data:`STEM` (0) or :data:`LEAF` (1)
+``data``   ``dict``           extra per-segment arrays (first axis ``n``): light, age, ...
+``meta``   ``dict``           model name, parameters, seed (JSON-able values)
+========== ================= ===========================================================
+
+A model may store ``data["radius_end"]`` (the radius at each segment's far end) so meshes
+taper exactly as the model means; otherwise meshes derive it from the children.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from growsim.errors import UserInputError
+
+__all__ = ["LEAF", "STEM", "Plant", "atomic_write", "view_basis"]
+
+#: ``kind`` of a woody segment (trunk, branch, twig).
+STEM = 0
+#: ``kind`` of a leaf segment (its radius is half the blade width).
+LEAF = 1
+
+
+def atomic_write(path: str | os.PathLike, write, *, mode: str = "wb") -> Path:
+    """Write a file atomically: ``write(fileobj)`` fills a temporary file in the same
+    directory, which then replaces ``path`` (nothing is half-written).
+
+    Raises :class:`UserInputError` naming ``path`` when its directory does not exist or is
+    not writable.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> atomic_write(d / "a.txt", lambda f: f.write("hi"), mode="w").read_text()
+    'hi'
+    """
+    path = Path(path)
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.is_dir():
+        raise UserInputError(f"{path}: directory {parent} does not exist")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=parent)
+    except OSError as exc:
+        raise UserInputError(f"{path}: cannot write in {parent} ({exc.strerror})") from None
+    try:
+        with os.fdopen(fd, mode) as fh:
+            write(fh)
+        # mkstemp creates 0600 files; give the result the usual umask-based mode
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+    return path
+
+
+def _as_array(name: str, value, dtype, shape_tail: tuple[int, ...], n: int | None) -> np.ndarray:
+    try:
+        arr = np.asarray(value, dtype=dtype)
+    except (TypeError, ValueError) as exc:
+        raise UserInputError(f"Plant.{name}: cannot convert to {np.dtype(dtype)} ({exc})") from None
+    if arr.ndim != 1 + len(shape_tail) or arr.shape[1:] != shape_tail:
+        want = "(n" + "".join(f", {s}" for s in shape_tail) + ")"
+        raise UserInputError(f"Plant.{name}: expected shape {want}, got {arr.shape}")
+    if n is not None and arr.shape[0] != n:
+        raise UserInputError(
+            f"Plant.{name}: has {arr.shape[0]} rows, expected {n} (one per segment)"
+        )
+    return np.ascontiguousarray(arr)
+
+
+@dataclass
+class Plant:
+    """A plant skeleton: per-segment arrays (see the module docstring for the fields).
+
+    Arrays are converted to their dtypes and checked on construction: shapes agree, points
+    and radii are finite, radii are non-negative, parents are ``-1`` or a valid other index,
+    kinds are :data:`STEM` or :data:`LEAF`. Any violation raises
+    :class:`growsim.errors.UserInputError` naming the field.
+
+    Examples
+    --------
+    >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0], [0.5, 1.5, 0]], parent=[-1, 0],
+    ...                       point_parent=[-1, 0, 1])
+    >>> p.n_segments, p.n_tips, round(p.height(), 3)
+    (2, 1, 1.5)
+    """
+
+    start: np.ndarray
+    end: np.ndarray
+    radius: np.ndarray
+    parent: np.ndarray
+    order: np.ndarray
+    kind: np.ndarray
+    data: dict[str, np.ndarray] = field(default_factory=dict)
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self.start = _as_array("start", self.start, np.float64, (3,), None)
+        n = self.start.shape[0]
+        self.end = _as_array("end", self.end, np.float64, (3,), n)
+        self.radius = _as_array("radius", self.radius, np.float64, (), n)
+        self.parent = _as_array("parent", self.parent, np.int64, (), n)
+        self.order = _as_array("order", self.order, np.int32, (), n)
+        self.kind = _as_array("kind", self.kind, np.int8, (), n)
+        for name in ("start", "end", "radius"):
+            if not np.all(np.isfinite(getattr(self, name))):
+                bad = int(
+                    np.flatnonzero(~np.isfinite(getattr(self, name)).reshape(n, -1).all(1))[0]
+                )
+                raise UserInputError(f"Plant.{name}: segment {bad} is not finite")
+        if n and self.radius.min() < 0:
+            raise UserInputError(
+                f"Plant.radius: segment {int(np.argmin(self.radius))} has a negative radius"
+            )
+        if n:
+            bad = (self.parent < -1) | (self.parent >= n) | (self.parent == np.arange(n))
+            if bad.any():
+                i = int(np.flatnonzero(bad)[0])
+                raise UserInputError(
+                    f"Plant.parent: segment {i} has parent {int(self.parent[i])} "
+                    f"(must be -1 or another index in [0, {n}))"
+                )
+            badk = (self.kind != STEM) & (self.kind != LEAF)
+            if badk.any():
+                i = int(np.flatnonzero(badk)[0])
+                raise UserInputError(f"Plant.kind: segment {i} has kind {int(self.kind[i])}")
+        data = {}
+        for key, value in dict(self.data or {}).items():
+            arr = np.asarray(value)
+            if arr.ndim == 0 or arr.shape[0] != n:
+                raise UserInputError(
+                    f"Plant.data[{key!r}]: first axis must have {n} rows, got shape {arr.shape}"
+                )
+            data[str(key)] = arr
+        self.data = data
+        self.meta = dict(self.meta or {})
+
+    # ------------------------------------------------------------------ construction
+    @classmethod
+    def empty(cls, meta: Mapping | None = None) -> Plant:
+        """A plant with no segments.
+
+        Examples
+        --------
+        >>> Plant.empty().n_segments
+        0
+        """
+        z = np.zeros((0, 3))
+        return cls(
+            z,
+            z,
+            np.zeros(0),
+            np.zeros(0, np.int64),
+            np.zeros(0, np.int32),
+            np.zeros(0, np.int8),
+            meta=dict(meta or {}),
+        )
+
+    @classmethod
+    def from_points(
+        cls,
+        points,
+        parent,
+        point_parent,
+        *,
+        radius=0.1,
+        order=None,
+        kind=None,
+        data: Mapping | None = None,
+        meta: Mapping | None = None,
+    ) -> Plant:
+        """Build from a tree of points: segment ``i`` joins ``points[point_parent[j]]`` to
+        ``points[j]`` for every point ``j`` with ``point_parent[j] >= 0``.
+
+        ``points`` ``(m, 3)``; ``point_parent`` ``(m,)`` int (-1 for roots); ``parent``
+        ``(n,)`` parent *segment* of each of the ``n`` segments, in the order of the points
+        that end them. ``radius`` scalar or ``(n,)``; ``order`` and ``kind`` default to 0.
+
+        Examples
+        --------
+        >>> p = Plant.from_points([[0, 0, 0], [0, 2, 0]], parent=[-1], point_parent=[-1, 0])
+        >>> p.end.tolist()
+        [[0.0, 2.0, 0.0]]
+        """
+        pts = np.asarray(points, dtype=np.float64)
+        pp = np.asarray(point_parent, dtype=np.int64)
+        if pts.ndim != 2 or pts.shape[1] != 3 or pp.shape != (pts.shape[0],):
+            raise UserInputError("Plant.from_points: points must be (m, 3) and point_parent (m,)")
+        j = np.flatnonzero(pp >= 0)
+        n = j.size
+        rad = np.broadcast_to(np.asarray(radius, dtype=np.float64), (n,)).copy()
+        return cls(
+            pts[pp[j]],
+            pts[j],
+            rad,
+            parent,
+            np.zeros(n, np.int32) if order is None else order,
+            np.zeros(n, np.int8) if kind is None else kind,
+            data=dict(data or {}),
+            meta=dict(meta or {}),
+        )
+
+    @classmethod
+    def concat(cls, plants: Sequence[Plant], offsets=None, meta: Mapping | None = None) -> Plant:
+        """Join plants into one (e.g. a stand of trees); parents are re-indexed.
+
+        ``offsets`` optional ``(k, 3)`` translation of each plant. Only ``data`` keys that all
+        plants share are kept.
+
+        Examples
+        --------
+        >>> a = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
+        >>> Plant.concat([a, a], offsets=[[0, 0, 0], [5, 0, 0]]).crown_width()
+        5.0
+        """
+        plants = list(plants)
+        if not plants:
+            return cls.empty(meta)
+        if offsets is None:
+            off = np.zeros((len(plants), 3))
+        else:
+            off = np.asarray(offsets, dtype=np.float64)
+            if off.shape != (len(plants), 3):
+                raise UserInputError(f"Plant.concat: offsets must be ({len(plants)}, 3)")
+        base = np.cumsum([0] + [p.n_segments for p in plants])[:-1]
+        parents = [np.where(p.parent >= 0, p.parent + b, -1) for p, b in zip(plants, base)]
+        keys = set(plants[0].data)
+        for p in plants[1:]:
+            keys &= set(p.data)
+        return cls(
+            np.concatenate([p.start + o for p, o in zip(plants, off)]),
+            np.concatenate([p.end + o for p, o in zip(plants, off)]),
+            np.concatenate([p.radius for p in plants]),
+            np.concatenate(parents),
+            np.concatenate([p.order for p in plants]),
+            np.concatenate([p.kind for p in plants]),
+            data={k: np.concatenate([p.data[k] for p in plants]) for k in sorted(keys)},
+            meta=dict(meta or {"parts": [p.meta for p in plants]}),
+        )
+
+    def subset(self, mask) -> Plant:
+        """The plant restricted to the segments where ``mask`` ``(n,)`` bool is true
+        (parents outside the subset become ``-1``).
+
+        Examples
+        --------
+        >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0], [0, 2, 0]], [-1, 0], [-1, 0, 1])
+        >>> p.subset([False, True]).parent.tolist()
+        [-1]
+        """
+        mask = np.asarray(mask, dtype=bool)
+        if mask.shape != (self.n_segments,):
+            raise UserInputError(f"Plant.subset: mask must have shape ({self.n_segments},)")
+        new_index = np.full(self.n_segments, -1, np.int64)
+        new_index[mask] = np.arange(int(mask.sum()))
+        par = self.parent[mask]
+        par = np.where(par >= 0, new_index[np.maximum(par, 0)], -1)
+        return Plant(
+            self.start[mask],
+            self.end[mask],
+            self.radius[mask],
+            par,
+            self.order[mask],
+            self.kind[mask],
+            data={k: v[mask] for k, v in self.data.items()},
+            meta=dict(self.meta),
+        )
+
+    # ------------------------------------------------------------------ topology
+    @property
+    def n_segments(self) -> int:
+        """Number of segments, stems and leaves (``int``)."""
+        return int(self.start.shape[0])
+
+    @property
+    def n_stems(self) -> int:
+        """Number of :data:`STEM` segments."""
+        return int(np.count_nonzero(self.kind == STEM))
+
+    @property
+    def n_leaves(self) -> int:
+        """Number of :data:`LEAF` segments."""
+        return int(np.count_nonzero(self.kind == LEAF))
+
+    def stem_children_count(self) -> np.ndarray:
+        """``(n,)`` int64: number of STEM children of each segment.
+
+        Examples
+        --------
+        >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0], [1, 2, 0], [-1, 2, 0]],
+        ...                       [-1, 0, 0], [-1, 0, 1, 1])
+        >>> p.stem_children_count().tolist()
+        [2, 0, 0]
+        """
+        stem = (self.kind == STEM) & (self.parent >= 0)
+        return np.bincount(self.parent[stem], minlength=self.n_segments).astype(np.int64)
+
+    @property
+    def n_tips(self) -> int:
+        """Number of STEM segments without a STEM child (branch tips)."""
+        c = self.stem_children_count()
+        return int(np.count_nonzero((self.kind == STEM) & (c == 0)))
+
+    @property
+    def n_branch_points(self) -> int:
+        """Number of STEM segments from whose end two or more STEM segments grow."""
+        c = self.stem_children_count()
+        return int(np.count_nonzero((self.kind == STEM) & (c >= 2)))
+
+    def lengths(self) -> np.ndarray:
+        """``(n,)`` float64 segment lengths."""
+        return np.linalg.norm(self.end - self.start, axis=1)
+
+    # ------------------------------------------------------------------ measures
+    def _points(self) -> np.ndarray:
+        return np.concatenate([self.start, self.end])
+
+    def bbox(self) -> np.ndarray:
+        """``(2, 3)`` float64 ``[min, max]`` corners of all segment end points (zeros when
+        empty).
+
+        Examples
+        --------
+        >>> Plant.from_points([[0, 0, 0], [1, 2, 3]], [-1], [-1, 0]).bbox().tolist()
+        [[0.0, 0.0, 0.0], [1.0, 2.0, 3.0]]
+        """
+        if self.n_segments == 0:
+            return np.zeros((2, 3))
+        pts = self._points()
+        return np.stack([pts.min(0), pts.max(0)])
+
+    def height(self) -> float:
+        """Vertical extent (y max minus y min) of the skeleton."""
+        b = self.bbox()
+        return float(b[1, 1] - b[0, 1])
+
+    def crown_width(self) -> float:
+        """Extent along x (the front view's width) of the skeleton."""
+        b = self.bbox()
+        return float(b[1, 0] - b[0, 0])
+
+    def crown_depth(self) -> float:
+        """Extent along z (the side view's width) of the skeleton."""
+        b = self.bbox()
+        return float(b[1, 2] - b[0, 2])
+
+    def total_length(self, kinds: Iterable[int] | None = (STEM,)) -> float:
+        """Sum of segment lengths of the given kinds (default stems only; ``None`` = all).
+
+        Examples
+        --------
+        >>> Plant.from_points([[0, 0, 0], [0, 2, 0]], [-1], [-1, 0]).total_length()
+        2.0
+        """
+        sel = self._select(kinds)
+        return float(self.lengths()[sel].sum())
+
+    def radius_end(self) -> np.ndarray:
+        """``(n,)`` radius at each segment's far end: ``data["radius_end"]`` if the model
+        gave it, else the largest radius of the segment's children of the same kind, else
+        the segment's own radius (a tip does not narrow).
+
+        Examples
+        --------
+        >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0], [0, 2, 0]], [-1, 0], [-1, 0, 1],
+        ...                       radius=[0.2, 0.1])
+        >>> p.radius_end().tolist()
+        [0.1, 0.1]
+        """
+        if "radius_end" in self.data:
+            return np.asarray(self.data["radius_end"], dtype=np.float64)
+        out = np.full(self.n_segments, -1.0)
+        has = self.parent >= 0
+        same = has & (self.kind == self.kind[np.maximum(self.parent, 0)])
+        np.maximum.at(out, self.parent[same], self.radius[same])
+        return np.where(out < 0, self.radius, np.minimum(out, self.radius))
+
+    def wood_volume(self) -> float:
+        """Volume of the STEM segments as truncated cones (radius to :meth:`radius_end`).
+
+        Examples
+        --------
+        >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0], radius=1.0)
+        >>> round(p.wood_volume(), 4)  # a cylinder of radius 1, height 1
+        3.1416
+        """
+        sel = self.kind == STEM
+        r0 = self.radius[sel]
+        r1 = self.radius_end()[sel]
+        L = self.lengths()[sel]
+        return float(np.sum(np.pi * L * (r0 * r0 + r0 * r1 + r1 * r1) / 3.0))
+
+    def _select(self, kinds) -> np.ndarray:
+        if kinds is None:
+            return np.ones(self.n_segments, bool)
+        kinds = [int(k) for k in kinds]
+        for k in kinds:
+            if k not in (STEM, LEAF):
+                raise UserInputError(f"kinds: unknown segment kind {k} (use STEM=0, LEAF=1)")
+        return np.isin(self.kind, kinds)
+
+    def projected_area(
+        self,
+        direction=(0.0, -1.0, 0.0),
+        kinds: Iterable[int] | None = None,
+        resolution: int = 256,
+    ) -> float:
+        """Area (world units²) of the plant's orthographic shadow along ``direction``.
+
+        Each selected segment is a tube of its radius; the shadow is rasterised with the
+        shared kernel :func:`growsim.kernels.raster.draw_segments` on a ``resolution`` ²
+        grid framing the shadow, and the covered pixels are counted. The default direction
+        is light from straight above. ``kinds=(LEAF,)`` measures the leaves only. Segments
+        thinner than a pixel count as one pixel wide, so thin twigs are over-estimated by at
+        most half a pixel on each side.
+
+        Examples
+        --------
+        >>> p = Plant.from_points([[0, 0, 0], [4, 0, 0]], [-1], [-1, 0], radius=0.5)
+        >>> round(p.projected_area(resolution=512), 1)  # 4 x 1 strip + round caps: 4 + pi/4
+        4.8
+        """
+        from growsim.kernels.raster import draw_segments
+
+        d = np.asarray(direction, dtype=np.float64)
+        if d.shape != (3,) or not np.all(np.isfinite(d)) or np.linalg.norm(d) == 0:
+            raise UserInputError(
+                f"projected_area: direction must be a non-zero 3-vector, got {direction!r}"
+            )
+        resolution = int(resolution)
+        if resolution < 8 or resolution > 8192:
+            raise UserInputError(f"projected_area: resolution {resolution} not in [8, 8192]")
+        sel = self._select(kinds)
+        if not sel.any():
+            return 0.0
+        u, v = view_basis(d)
+        a = np.stack([self.start[sel] @ u, self.start[sel] @ v], axis=1)
+        b = np.stack([self.end[sel] @ u, self.end[sel] @ v], axis=1)
+        r = self.radius[sel]
+        rmax = float(r.max())
+        lo = np.minimum(a.min(0), b.min(0)) - rmax
+        hi = np.maximum(a.max(0), b.max(0)) + rmax
+        size = float((hi - lo).max())
+        if size <= 0:
+            return 0.0
+        # Leave one pixel of margin each side so clipping never trims the shadow.
+        pix = size / (resolution - 2)
+        origin = lo - pix
+        img = np.zeros((resolution, resolution), np.uint8)
+        draw_segments(
+            np.ascontiguousarray((a - origin) / pix),
+            np.ascontiguousarray((b - origin) / pix),
+            np.ascontiguousarray(2.0 * r / pix),
+            img,
+        )
+        return float(np.count_nonzero(img)) * pix * pix
+
+    def measures(self, resolution: int = 256) -> dict:
+        """All measures as a JSON-able dict: counts, extents, lengths, volume, and the
+        shadow areas from above (all segments and leaves only).
+
+        Examples
+        --------
+        >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
+        >>> sorted(p.measures())[:3]
+        ['crown_depth', 'crown_width', 'height']
+        """
+        return {
+            "n_segments": self.n_segments,
+            "n_stems": self.n_stems,
+            "n_leaves": self.n_leaves,
+            "n_tips": self.n_tips,
+            "n_branch_points": self.n_branch_points,
+            "height": self.height(),
+            "crown_width": self.crown_width(),
+            "crown_depth": self.crown_depth(),
+            "total_length": self.total_length(),
+            "wood_volume": self.wood_volume(),
+            "projected_area_top": self.projected_area(resolution=resolution),
+            "leaf_area_top": self.projected_area(kinds=(LEAF,), resolution=resolution),
+        }
+
+    # ------------------------------------------------------------------ persistence
+    def save(self, path: str | os.PathLike) -> Path:
+        """Write the plant to ``path`` (``.npz``) atomically. ``meta`` must be JSON-able.
+
+        Examples
+        --------
+        >>> import tempfile, pathlib
+        >>> f = pathlib.Path(tempfile.mkdtemp()) / "p.npz"
+        >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0], meta={"model": "x"})
+        >>> Plant.load(p.save(f)).meta
+        {'model': 'x'}
+        """
+        path = Path(path)
+        if path.suffix != ".npz":
+            raise UserInputError(f"{path}: a Plant is saved as .npz")
+        try:
+            meta = json.dumps(self.meta, default=_json_default)
+        except (TypeError, ValueError) as exc:
+            raise UserInputError(f"Plant.meta is not JSON-able: {exc}") from None
+        arrays = {
+            "start": self.start,
+            "end": self.end,
+            "radius": self.radius,
+            "parent": self.parent,
+            "order": self.order,
+            "kind": self.kind,
+            "meta": np.array(meta),
+        }
+        arrays.update({f"data__{k}": v for k, v in self.data.items()})
+        return atomic_write(path, lambda fh: np.savez_compressed(fh, **arrays))
+
+    @classmethod
+    def load(cls, path: str | os.PathLike) -> Plant:
+        """Read a plant written by :meth:`save`.
+
+        Examples
+        --------
+        >>> import tempfile, pathlib
+        >>> f = pathlib.Path(tempfile.mkdtemp()) / "p.npz"
+        >>> Plant.load(Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0]).save(f)).n_segments
+        1
+        """
+        path = Path(path)
+        try:
+            with np.load(path, allow_pickle=False) as z:
+                files = set(z.files)
+                need = {"start", "end", "radius", "parent", "order", "kind", "meta"}
+                if not need <= files:
+                    raise UserInputError(
+                        f"{path}: not a growsim Plant (missing {sorted(need - files)})"
+                    )
+                return cls(
+                    z["start"],
+                    z["end"],
+                    z["radius"],
+                    z["parent"],
+                    z["order"],
+                    z["kind"],
+                    data={k[6:]: z[k] for k in files if k.startswith("data__")},
+                    meta=json.loads(str(z["meta"])),
+                )
+        except (OSError, ValueError) as exc:
+            if isinstance(exc, UserInputError):
+                raise
+            raise UserInputError(f"{path}: cannot read a Plant ({exc})") from None
+
+    def __repr__(self) -> str:
+        model = self.meta.get("model", "?")
+        return f"Plant(model={model!r}, segments={self.n_segments}, leaves={self.n_leaves})"
+
+
+def _json_default(o):
+    if isinstance(o, np.generic):
+        return o.item()
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    raise TypeError(f"{type(o).__name__} is not JSON-able")
+
+
+def view_basis(direction) -> tuple[np.ndarray, np.ndarray]:
+    """Two unit vectors ``(u, v)`` spanning the image plane of an orthographic view along
+    ``direction`` ``(3,)``: ``u`` is horizontal (right), ``v`` is the screen's up as far as
+    possible (world y, or world z when looking straight up or down).
+
+    Examples
+    --------
+    >>> u, v = view_basis((0, 0, -1))   # the front view, looking along -z
+    >>> u.round(3).tolist(), v.round(3).tolist()
+    ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0])
+    """
+    d = np.asarray(direction, dtype=np.float64)
+    d = d / np.linalg.norm(d)
+    up = np.array([0.0, 1.0, 0.0]) if abs(d[1]) < 0.99 else np.array([0.0, 0.0, -1.0])
+    u = np.cross(d, up)
+    u /= np.linalg.norm(u)
+    v = np.cross(u, d)
+    # ``+ 0.0`` turns -0.0 into 0.0 so printed bases read cleanly.
+    return u + 0.0, v / np.linalg.norm(v) + 0.0

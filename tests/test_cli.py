@@ -1,0 +1,181 @@
+"""The growsim command line as a user types it (subprocess): run, resume after SIGKILL,
+sweep, compare, show, and exit code 2 with a one-line message for bad input."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+QUICK = str(ROOT / "experiments" / "quickstart.toml")
+TINY = [
+    "--set",
+    "ga.population=8",
+    "--set",
+    "ga.generations=3",
+    "--set",
+    "output.screenshots=[]",
+    "--set",
+    "output.mesh=['vtp']",
+    "--set",
+    "model.params.generations=6",
+]
+
+
+def growsim(*args, cwd=None, timeout=240):
+    return subprocess.run(
+        [sys.executable, "-m", "growsim", *map(str, args)],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+        timeout=timeout,
+        env={**os.environ, "MPLBACKEND": "Agg"},
+    )
+
+
+def assert_clean_error(p, needle):
+    assert p.returncode == 2, (p.returncode, p.stdout, p.stderr)
+    assert "Traceback" not in p.stderr, p.stderr
+    err = [line for line in p.stderr.strip().splitlines() if line.startswith("growsim")]
+    assert err and err[-1].startswith("growsim: error:"), p.stderr
+    assert needle in err[-1], err[-1]
+
+
+def test_run_then_show(tmp_path):
+    out = tmp_path / "r"
+    p = growsim("run", QUICK, "--out", out, *TINY)
+    assert p.returncode == 0, p.stderr
+    assert f"results in {out}/" in p.stdout and f"growsim show {out}" in p.stdout
+    assert "gen/s" not in p.stderr and "it/s" not in p.stderr  # no bar: stderr is not a TTY
+    assert (out / "summary.json").is_file() and (out / "fitness.png").is_file()
+    png = tmp_path / "shot.png"
+    p = growsim("show", out, "--screenshot", png, "--size", 200, 200)
+    assert p.returncode == 0, p.stderr
+    assert png.stat().st_size > 1000
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["run", "nope.toml"], "nope.toml: no such config file"),
+        (["run", QUICK, "--set", "ga.population=-3"], "ga.population: Input should be greater"),
+        (["run", QUICK, "--set", "ga.popul=3"], "ga.popul: unknown key; allowed: population"),
+        (["run", QUICK, "--set", "model.evolve.zz=true"], "model.evolve.zz: unknown parameter"),
+        (["run", QUICK, "--set", "ga.population"], "expected key.path=value"),
+        (["run", QUICK, "--workers", "0"], "--workers: expected an integer >= 1"),
+        (["run", QUICK, "--scheduler", "foo"], "--scheduler: 'foo' is not 'local'"),
+        (["run"], "give a CONFIG to run, or --resume DIR"),
+        (["run", "--resume", "/nonexistent/dir"], "nothing to resume"),
+        (["sweep", QUICK, "--vary", "env.light"], "expected key.path=v1,v2"),
+        (["sweep", QUICK, "--vary", "env.light=1,-1"], "environment.light"),
+        (["compare", "/nonexistent/dir"], "no such directory"),
+        (["show", "/nonexistent/dir"], "not a growsim results directory"),
+    ],
+)
+def test_bad_input_exits_2_with_one_line(args, needle, tmp_path):
+    p = growsim(*args, cwd=tmp_path)
+    assert_clean_error(p, needle)
+    assert not (tmp_path / "runs").exists()  # nothing written
+
+
+def test_bad_toml_file_exits_2(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[model]\nkind = 'honda'\n[[objective]]\nkind = light\n")
+    assert_clean_error(growsim("run", bad), "invalid TOML")
+
+
+def _wait_for(path: Path, proc, timeout=120.0):
+    t0 = time.time()
+    while not path.exists():
+        if proc.poll() is not None:
+            raise AssertionError(proc.stderr.read() if proc.stderr else "exited")
+        if time.time() - t0 > timeout:
+            raise AssertionError(f"{path} did not appear")
+        time.sleep(0.02)
+
+
+def test_kill_and_resume_equals_uninterrupted(tmp_path):
+    args = [
+        "--set",
+        "ga.population=16",
+        "--set",
+        "ga.generations=12",
+        "--set",
+        "output.screenshots=[]",
+        "--set",
+        "output.mesh=[]",
+        "--set",
+        "output.plot=false",
+        "--set",
+        "model.params.generations=7",
+    ]
+    ref = tmp_path / "ref"
+    assert growsim("run", QUICK, "--out", ref, "--quiet", *args).returncode == 0
+    out = tmp_path / "killed"
+    # kill twice at different points: right after the first checkpoint, and later
+    for delay in (0.0, 0.4):
+        cmd = [sys.executable, "-m", "growsim", "run", "--quiet"]
+        cmd += ["--resume", str(out)] if out.exists() else [QUICK, "--out", str(out), *args]
+        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        _wait_for(out / "checkpoint.npz", proc)
+        time.sleep(delay)
+        proc.send_signal(signal.SIGKILL)
+        proc.wait()
+    # a second run on the same directory while one holds it refuses
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "growsim", "run", "--quiet", "--resume", str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        _wait_for(out / ".lock", proc)
+        time.sleep(0.3)
+        if proc.poll() is None:
+            assert_clean_error(growsim("run", "--resume", out), "in use by another growsim run")
+    finally:
+        proc.send_signal(signal.SIGKILL)
+        proc.wait()
+    p = growsim("run", "--resume", out, "--quiet")
+    assert p.returncode == 0, p.stderr
+    a = pd.read_parquet(ref / "history.parquet").drop(columns=["seconds"])
+    b = pd.read_parquet(out / "history.parquet").drop(columns=["seconds"])
+    pd.testing.assert_frame_equal(a, b)
+    assert json.loads((ref / "best.json").read_text()) == json.loads(
+        (out / "best.json").read_text()
+    )
+
+
+def test_sweep_then_compare(tmp_path):
+    sw = tmp_path / "sw"
+    p = growsim(
+        "sweep",
+        QUICK,
+        "--vary",
+        "env.light=1.0,0.5",
+        "--repeats",
+        2,
+        "--out",
+        sw,
+        *TINY,
+        "--set",
+        "output.plot=false",
+    )
+    assert p.returncode == 0, p.stderr
+    df = pd.read_csv(sw / "sweep.csv")
+    assert len(df) == 4 and "best_fitness" in p.stdout
+    cmp_dir = tmp_path / "cmp"
+    p = growsim("compare", sw, "--out", cmp_dir)
+    assert p.returncode == 0, p.stderr
+    assert "light=1.0" in p.stdout and "welch_t_p" in p.stdout
+    html = (cmp_dir / "report.html").read_text()
+    assert html.count("data:image/png;base64,") == 2  # curves and renders
+    assert (cmp_dir / "renders.png").stat().st_size > 1000
