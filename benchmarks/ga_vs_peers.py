@@ -80,7 +80,11 @@ def deap_run(problem, gens, seed):
         tb.register("evaluate", rastrigin)
         tb.register("mate", tools.cxSimulatedBinaryBounded, low=LOW, up=HIGH, eta=15.0)
         tb.register(
-            "mutate", tools.mutPolynomialBounded, low=LOW, up=HIGH, eta=20.0,
+            "mutate",
+            tools.mutPolynomialBounded,
+            low=LOW,
+            up=HIGH,
+            eta=20.0,
             indpb=1.0 / RASTRIGIN_DIM,
         )
         tb.register("select", tools.selTournament, tournsize=3)
@@ -152,8 +156,11 @@ def main(argv=None):
     growsim_run("onemax", 2, 99)
     growsim_run("rastrigin", 2, 99)
     out = {
-        "machine": {"cpus": os.cpu_count(), "python": platform.python_version(),
-                    "load_avg_1min": os.getloadavg()[0]},
+        "machine": {
+            "cpus": os.cpu_count(),
+            "python": platform.python_version(),
+            "load_avg_1min": os.getloadavg()[0],
+        },
         "population": POP,
         "generations": gens,
         "repeats": args.repeats,

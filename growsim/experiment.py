@@ -98,7 +98,7 @@ class ModelConfig(_Section):
         default_factory=dict,
         description="fixed parameter values (over the preset, over the model's defaults)",
     )
-    evolve: dict[str, bool | list[float]] = Field(
+    evolve: dict[str, Any] = Field(
         default_factory=dict,
         description="parameters the GA evolves: name = true (the model's range) or "
         "[low, high] (a range inside the model's range); at least one",
@@ -116,12 +116,18 @@ class ModelConfig(_Section):
         for name, spec in v.items():
             if spec is False:
                 raise ValueError(f"{name} = false: leave it out instead (or set true)")
-            if isinstance(spec, list):
-                if len(spec) != 2:
-                    raise ValueError(f"{name}: expected [low, high], got {spec!r}")
-                if not all(math.isfinite(x) for x in spec) or not spec[0] < spec[1]:
-                    raise ValueError(f"{name}: expected finite low < high, got {spec!r}")
-        return v
+            if spec is True:
+                continue
+            ok = (
+                isinstance(spec, list)
+                and len(spec) == 2
+                and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in spec)
+            )
+            if not ok:
+                raise ValueError(f"{name}: expected true or [low, high], got {spec!r}")
+            if not all(math.isfinite(x) for x in spec) or not spec[0] < spec[1]:
+                raise ValueError(f"{name}: expected finite low < high, got {spec!r}")
+        return {k: (True if x is True else [float(x[0]), float(x[1])]) for k, x in v.items()}
 
     @field_validator("params")
     @classmethod
@@ -349,7 +355,7 @@ def _validation_message(exc: ValidationError) -> str:
     elif kind == "missing":
         msg = f"{path}: required key missing"
     else:
-        text = first["msg"].removeprefix("Value error, ")
+        text = re.sub(r" or instance of \w+", "", first["msg"].removeprefix("Value error, "))
         got = first.get("input")
         got_s = repr(got)
         if len(got_s) > 60:
@@ -626,20 +632,22 @@ def _check_semantics(cfg: Config) -> None:
     _plan(cfg)
     for i in range(len(cfg.objective)):
         _build_objective(cfg, i)
+    # Build the GA once with a stand-in fitness: the GA checks operator names, their
+    # options and the generation model itself, so a typo fails before anything is written.
+    from growsim.ga import PolishOptions
+
     try:
-        from growsim.ga import CROSSOVER, MUTATION, SELECTION
-    except ImportError:  # the GA package is always there in a release; be lenient in dev
-        return
-    for key, registry in (
-        ("selection", SELECTION),
-        ("crossover", CROSSOVER),
-        ("mutation", MUTATION),
-    ):
-        name = getattr(cfg.ga, key)
-        if name is not None and name not in registry:
-            raise ConfigError(
-                f"ga.{key}: unknown operator {name!r}; allowed: {', '.join(sorted(registry))}"
-            )
+        _build_ga(cfg, _no_fitness, _plan(cfg))
+        if cfg.ga.polish is not None:
+            PolishOptions.from_dict(dict(cfg.ga.polish))
+    except GrowsimError as exc:
+        raise ConfigError(f"ga.{exc}") from None
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(f"ga: {exc}") from None
+
+
+def _no_fitness(x):  # pragma: no cover - never called: only lets the GA be built
+    raise AssertionError("not a real fitness")
 
 
 def _resolved(cfg: Config) -> Config:
@@ -983,6 +991,7 @@ def run(
     resume: bool = False,
     progress: bool = True,
     callback=None,
+    executor=None,
 ) -> RunResult:
     """Run one experiment into a results directory; return its :class:`RunResult`.
 
@@ -995,6 +1004,8 @@ def run(
     ``resume=True`` continues from ``out/checkpoint.npz`` to the same history and best as
     an uninterrupted run. ``progress``: a tqdm bar on stderr (only when stderr is a TTY).
     ``callback(ga, row)`` is called after every generation (return True to stop).
+    ``executor``: any ``concurrent.futures.Executor`` to evaluate on (instead of
+    ``workers``/``scheduler``; not shut down here), e.g. ``Client.get_executor(pure=False)``.
 
     Examples
     --------
@@ -1040,10 +1051,10 @@ def run(
         if not resume:
             rd.create_fresh()
             rd.write_text("config.toml", cfg.to_toml())
-        return _run_locked(cfg, rd, workers, scheduler, resume, progress, callback)
+        return _run_locked(cfg, rd, workers, scheduler, resume, progress, callback, executor)
 
 
-def _run_locked(cfg, rd, workers, scheduler, resume, progress, callback) -> RunResult:
+def _run_locked(cfg, rd, workers, scheduler, resume, progress, callback, ext) -> RunResult:
     from growsim import __version__
 
     plan = _plan(cfg)
@@ -1052,7 +1063,7 @@ def _run_locked(cfg, rd, workers, scheduler, resume, progress, callback) -> RunR
     g = cfg.ga
     show_bar = bool(progress) and sys.stderr.isatty()
     bar = _Progress(g.generations, show_bar, callback)
-    executor, close = _executor(workers, scheduler)
+    executor, close = (ext, lambda: None) if ext is not None else _executor(workers, scheduler)
     t0 = time.perf_counter()
     started = time.strftime("%Y-%m-%dT%H:%M:%S%z")
     try:
@@ -1071,7 +1082,9 @@ def _run_locked(cfg, rd, workers, scheduler, resume, progress, callback) -> RunR
     finally:
         bar.close()
         close()
-    wall = time.perf_counter() - t0
+    t_ga = time.perf_counter()
+    # the GA's own clock covers every session of a resumed run
+    ga_seconds = float(getattr(result, "seconds", t_ga - t0))
 
     best_row = fitness.full_params(np.asarray(result.best.params, dtype=np.float64)[None, :])[0]
     best_params = fitness.param_dict(best_row)
@@ -1115,7 +1128,8 @@ def _run_locked(cfg, rd, workers, scheduler, resume, progress, callback) -> RunR
         "best_generation": int(result.best.generation),
         "generations": int(history["generation"].max()) + 1 if len(history) else 0,
         "evaluations": int(result.evaluations),
-        "wall_seconds": round(wall, 3),
+        "wall_seconds": round(ga_seconds + time.perf_counter() - t_ga, 3),
+        "ga_seconds": round(ga_seconds, 3),
         "history_seconds": float(history["seconds"].max()) if "seconds" in history else None,
         "stop_reason": str(result.stop_reason),
         "resumed": bool(resume),
@@ -1353,11 +1367,10 @@ def sweep(
     >>> len(df)  # doctest: +SKIP
     4
     """
-    import json
 
     import pandas as pd
 
-    from growsim.results import RunDir, atomic_write
+    from growsim.results import atomic_write
 
     _check_executor_args(workers, scheduler)
     base = load_config(config, overrides)
@@ -1385,7 +1398,27 @@ def sweep(
         )
     )
     root.mkdir(parents=True, exist_ok=True)
+    executor, close = _executor(workers, scheduler)  # one pool/cluster for every run
+    try:
+        rows = _sweep_runs(variants, labels, n_rep, root, executor, workers, scheduler, progress)
+    finally:
+        close()
+    df = pd.DataFrame(rows)
+    atomic_write(root / "sweep.csv", df.to_csv(index=False))
+    from growsim.results import write_parquet
+
+    write_parquet(root / "sweep.parquet", df)
+    return df
+
+
+def _sweep_runs(variants, labels, n_rep, root, executor, workers, scheduler, progress):
+    import json
+
+    from growsim.results import RunDir
+
     rows = []
+    if isinstance(executor, int):  # a process-pool size: let each run make its pool
+        executor = None
     for (assign, cfg), label in zip(variants, labels):
         for r in range(n_rep):
             seed = cfg.experiment.seed + r
@@ -1401,10 +1434,17 @@ def sweep(
                     workers=workers,
                     scheduler=scheduler,
                     progress=progress,
+                    executor=executor,
                 ).summary
             else:
                 summary = run(
-                    cfg, run_dir, seed=seed, workers=workers, scheduler=scheduler, progress=progress
+                    cfg,
+                    run_dir,
+                    seed=seed,
+                    workers=workers,
+                    scheduler=scheduler,
+                    progress=progress,
+                    executor=executor,
                 ).summary
             row = {k: v for k, v in assign.items()}
             row.update(
@@ -1419,12 +1459,7 @@ def sweep(
             row.update({f"best_{k}": v for k, v in summary.get("measures", {}).items()})
             row["out"] = str(run_dir)
             rows.append(row)
-    df = pd.DataFrame(rows)
-    atomic_write(root / "sweep.csv", df.to_csv(index=False))
-    from growsim.results import write_parquet
-
-    write_parquet(root / "sweep.parquet", df)
-    return df
+    return rows
 
 
 # --------------------------------------------------------------------------------------

@@ -130,6 +130,8 @@ def silhouette(
     gray = np.asarray(image, dtype=np.float64)
     if gray.ndim != 2 or gray.size == 0:
         raise UserInputError(f"{name}: expected a 2-D grey image, got shape {gray.shape}")
+    if float(gray.max() - gray.min()) < 1e-6:
+        raise UserInputError(f"{name}: the picture is uniform (blank): no silhouette to fit")
     keep = np.ones(gray.shape, dtype=bool)
     if mask is not None:
         mname = str(mask) if isinstance(mask, (str, os.PathLike)) else f"{name} mask"

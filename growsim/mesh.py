@@ -69,14 +69,13 @@ def mesh_arrays(plant: Plant, sides: int = 6, segments: int = 1, leaves: bool = 
         raise UserInputError(f"mesh sides: {sides} not in [3, 64]")
     if not 1 <= segments <= 64:
         raise UserInputError(f"mesh segments: {segments} not in [1, 64]")
-    keep = np.ones(plant.n_segments, bool) if leaves else plant.kind != LEAF
     r1 = plant.radius_end()
+    arrays = (plant.start, plant.end, plant.radius, r1, plant.kind)
+    if not leaves:
+        keep = plant.kind != LEAF
+        arrays = tuple(a[keep] for a in arrays)
     return mesh_kernel(
-        np.ascontiguousarray(plant.start[keep]),
-        np.ascontiguousarray(plant.end[keep]),
-        np.ascontiguousarray(plant.radius[keep]),
-        np.ascontiguousarray(r1[keep]),
-        np.ascontiguousarray(plant.kind[keep]),
+        *(np.ascontiguousarray(a) for a in arrays),
         sides,
         segments,
     )
@@ -260,6 +259,8 @@ def export(plant_or_mesh, path: str | os.PathLike, **mesh_options) -> Path:
 
     if suffix == ".obj":
         return atomic_write(path, lambda fh: _write_obj(fh, mesh))
+    if suffix == ".glb":
+        return atomic_write(path, lambda fh: fh.write(_glb_bytes(mesh)))
 
     def write_to(tmp: Path) -> None:
         if suffix == ".vtp":
@@ -268,8 +269,6 @@ def export(plant_or_mesh, path: str | os.PathLike, **mesh_options) -> Path:
             m = mesh.copy()
             m.point_data["rgb"] = _rgb(np.asarray(mesh.point_data["kind"]))
             m.save(tmp, texture="rgb")
-        else:
-            _write_glb(mesh, tmp)
 
     # VTK writers take a file name, not a file object: write a temporary file with the
     # right suffix in the target directory, then rename it over the target.
@@ -290,25 +289,111 @@ def export(plant_or_mesh, path: str | os.PathLike, **mesh_options) -> Path:
     return path
 
 
-def _write_glb(mesh, tmp: Path) -> None:
-    import pyvista as pv
+def _glb_bytes(mesh) -> bytes:
+    """A glTF 2.0 binary (GLB) of ``mesh``: y up like growsim, one node and material per
+    part (``bark``, ``leaf``), positions, per-vertex colours (``COLOR_0``) and uint32
+    triangle indices. Written directly (VTK's exporter writes text glTF only)."""
+    import json
+    import struct
 
-    pl = pv.Plotter(off_screen=True)
+    pts = np.asarray(mesh.points, dtype=np.float32)
+    tris = mesh.regular_faces if mesh.n_cells else np.zeros((0, 3), np.int64)
     kind = np.asarray(mesh.point_data["kind"])
-    for value, rgb, name in ((0, BARK_RGB, "bark"), (1, LEAF_RGB, "leaf")):
-        if not (kind == value).any():
-            continue
-        tris = mesh.regular_faces
-        tris = tris[kind[tris[:, 0]] == value]
-        if tris.shape[0] == 0:
-            continue
-        used, local = np.unique(tris, return_inverse=True)
-        part = pv.PolyData.from_regular_faces(
-            np.asarray(mesh.points)[used], local.reshape(tris.shape)
+    blob = bytearray()
+    views: list[dict] = []
+    accessors: list[dict] = []
+    meshes: list[dict] = []
+    nodes: list[dict] = []
+    materials: list[dict] = []
+
+    def add_view(arr: np.ndarray, target: int) -> int:
+        while len(blob) % 4:
+            blob.append(0)
+        views.append(
+            {"buffer": 0, "byteOffset": len(blob), "byteLength": arr.nbytes, "target": target}
         )
-        part.point_data["rgb"] = np.tile(np.array(rgb, np.uint8), (part.n_points, 1))
-        pl.add_mesh(part, scalars="rgb", rgb=True, name=name)
-    if not pl.renderer.actors:
-        pl.add_mesh(mesh)
-    pl.export_gltf(str(tmp))
-    pl.close()
+        blob.extend(arr.tobytes())
+        return len(views) - 1
+
+    for value, rgb, name in ((0, BARK_RGB, "bark"), (1, LEAF_RGB, "leaf")):
+        part = tris[kind[tris[:, 0]] == value] if tris.size else tris
+        if part.shape[0] == 0:
+            continue
+        used, local = np.unique(part, return_inverse=True)
+        p = np.ascontiguousarray(pts[used])
+        col = np.tile(np.array((*rgb, 255), np.uint8), (p.shape[0], 1))
+        idx = np.ascontiguousarray(local.reshape(-1).astype(np.uint32))
+        a_pos = len(accessors)
+        accessors.append(
+            {
+                "bufferView": add_view(p, 34962),
+                "componentType": 5126,
+                "count": int(p.shape[0]),
+                "type": "VEC3",
+                "min": p.min(0).tolist(),
+                "max": p.max(0).tolist(),
+            }
+        )
+        accessors.append(
+            {
+                "bufferView": add_view(col, 34962),
+                "componentType": 5121,
+                "normalized": True,
+                "count": int(p.shape[0]),
+                "type": "VEC4",
+            }
+        )
+        accessors.append(
+            {
+                "bufferView": add_view(idx, 34963),
+                "componentType": 5125,
+                "count": int(idx.size),
+                "type": "SCALAR",
+            }
+        )
+        materials.append(
+            {
+                "name": name,
+                "pbrMetallicRoughness": {
+                    "baseColorFactor": [1.0, 1.0, 1.0, 1.0],
+                    "metallicFactor": 0.0,
+                    "roughnessFactor": 0.9,
+                },
+                "doubleSided": True,
+            }
+        )
+        meshes.append(
+            {
+                "name": name,
+                "primitives": [
+                    {
+                        "attributes": {"POSITION": a_pos, "COLOR_0": a_pos + 1},
+                        "indices": a_pos + 2,
+                        "material": len(materials) - 1,
+                        "mode": 4,
+                    }
+                ],
+            }
+        )
+        nodes.append({"name": name, "mesh": len(meshes) - 1})
+    while len(blob) % 4:
+        blob.append(0)
+    doc = {
+        "asset": {"version": "2.0", "generator": "growsim"},
+        "scene": 0,
+        "scenes": [{"nodes": list(range(len(nodes)))}],
+        "nodes": nodes,
+        "meshes": meshes,
+        "materials": materials,
+        "accessors": accessors,
+        "bufferViews": views,
+        "buffers": [{"byteLength": len(blob)}],
+    }
+    js = json.dumps(doc, separators=(",", ":")).encode()
+    js += b" " * (-len(js) % 4)
+    total = 12 + 8 + len(js) + (8 + len(blob) if blob else 0)
+    out = bytearray(struct.pack("<4sII", b"glTF", 2, total))
+    out += struct.pack("<I4s", len(js), b"JSON") + js
+    if blob:
+        out += struct.pack("<I4s", len(blob), b"BIN\x00") + bytes(blob)
+    return bytes(out)

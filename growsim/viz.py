@@ -245,6 +245,7 @@ def turntable(
             d = (-np.cos(el) * np.sin(a), -np.sin(el), -np.cos(el) * np.cos(a))
             if mesh.n_points:
                 _camera(pl, mesh.bounds, d)
+            pl.render()
             out.append(np.asarray(pl.screenshot(return_img=True))[..., :3].copy())
     finally:
         pl.close()

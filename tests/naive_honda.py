@@ -188,3 +188,32 @@ def sag_oracle(start, end, radius, parent, sag, max_bend):
             ux = uz = 0.0
         ne[s] = ns[s] + L[s] * np.array([math.sin(t) * ux, math.cos(t), math.sin(t) * uz])
     return ns, ne
+
+
+def leaves_oracle(start, end, seg_ids, per_branch, e, cut_deg):
+    """Leaf segments along the stem segments ``seg_ids``: ``per_branch`` leaves at the
+    branch's division points, turned 50 degrees off the branch, round the branch by the
+    golden angle (deterministic: the leaves do not consume random draws)."""
+    m = seg_ids.size * per_branch
+    if m == 0 or e <= 0.0:
+        return None
+    sid = np.repeat(seg_ids, per_branch)
+    j = np.tile(np.arange(per_branch), seg_ids.size)
+    a = start[sid]
+    d = end[sid] - a
+    t = ((j + 1) / per_branch)[:, None]
+    att = a + t * d
+    ax = d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-12)
+    helper = np.where(np.abs(ax[:, 1:2]) < 0.9, [[0.0, 1.0, 0.0]], [[1.0, 0.0, 0.0]])
+    e1 = np.cross(ax, helper)
+    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
+    e2 = np.cross(ax, e1)
+    psi = (j + sid) * (137.508 * math.pi / 180.0)
+    tilt = 50.0 * math.pi / 180.0
+    w = math.cos(tilt) * ax + math.sin(tilt) * (
+        np.cos(psi)[:, None] * e1 + np.sin(psi)[:, None] * e2
+    )
+    # the cut face of a hexagonal prism of radius e cut at angle g: a hexagon stretched
+    # to length 2e / cos(g) along the leaf, sqrt(3) e wide
+    length = 2.0 * e / math.cos(math.radians(cut_deg))
+    return att, att + length * w, np.full(m, e * math.sqrt(3.0) / 2.0), sid

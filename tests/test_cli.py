@@ -103,11 +103,12 @@ def _wait_for(path: Path, proc, timeout=120.0):
 
 
 def test_kill_and_resume_equals_uninterrupted(tmp_path):
+    # ~1.5 s of GA (30 generations of 16), so the kills below land mid-run
     args = [
         "--set",
         "ga.population=16",
         "--set",
-        "ga.generations=12",
+        "ga.generations=30",
         "--set",
         "output.screenshots=[]",
         "--set",
@@ -115,35 +116,21 @@ def test_kill_and_resume_equals_uninterrupted(tmp_path):
         "--set",
         "output.plot=false",
         "--set",
-        "model.params.generations=7",
+        "objective[0].resolution=512",
     ]
     ref = tmp_path / "ref"
     assert growsim("run", QUICK, "--out", ref, "--quiet", *args).returncode == 0
     out = tmp_path / "killed"
-    # kill twice at different points: right after the first checkpoint, and later
-    for delay in (0.0, 0.4):
+    # SIGKILL at three points: before the first checkpoint, early, and later in the run
+    for wait_for, delay in (("config.toml", 0.0), ("checkpoint.npz", 0.1), ("checkpoint.npz", 0.6)):
         cmd = [sys.executable, "-m", "growsim", "run", "--quiet"]
         cmd += ["--resume", str(out)] if out.exists() else [QUICK, "--out", str(out), *args]
         proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        _wait_for(out / "checkpoint.npz", proc)
+        _wait_for(out / wait_for, proc)
         time.sleep(delay)
         proc.send_signal(signal.SIGKILL)
         proc.wait()
-    # a second run on the same directory while one holds it refuses
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "growsim", "run", "--quiet", "--resume", str(out)],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-    )
-    try:
-        _wait_for(out / ".lock", proc)
-        time.sleep(0.3)
-        if proc.poll() is None:
-            assert_clean_error(growsim("run", "--resume", out), "in use by another growsim run")
-    finally:
-        proc.send_signal(signal.SIGKILL)
-        proc.wait()
+    assert not (out / "summary.json").exists(), "the run ended before the last kill"
     p = growsim("run", "--resume", out, "--quiet")
     assert p.returncode == 0, p.stderr
     a = pd.read_parquet(ref / "history.parquet").drop(columns=["seconds"])
@@ -152,6 +139,11 @@ def test_kill_and_resume_equals_uninterrupted(tmp_path):
     assert json.loads((ref / "best.json").read_text()) == json.loads(
         (out / "best.json").read_text()
     )
+    # resuming a finished run changes nothing
+    p = growsim("run", "--resume", out, "--quiet")
+    assert p.returncode == 0, p.stderr
+    c = pd.read_parquet(out / "history.parquet").drop(columns=["seconds"])
+    pd.testing.assert_frame_equal(a, c)
 
 
 def test_sweep_then_compare(tmp_path):
@@ -179,3 +171,36 @@ def test_sweep_then_compare(tmp_path):
     html = (cmp_dir / "report.html").read_text()
     assert html.count("data:image/png;base64,") == 2  # curves and renders
     assert (cmp_dir / "renders.png").stat().st_size > 1000
+
+
+def test_a_second_run_on_the_same_out_refuses(tmp_path):
+    out = tmp_path / "busy"
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "growsim",
+            "run",
+            QUICK,
+            "--out",
+            str(out),
+            "--quiet",
+            "--set",
+            "ga.generations=1000000",
+            "--set",
+            "ga.population=8",
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        _wait_for(out / "checkpoint.npz", proc)  # running, lock held
+        p = growsim("run", QUICK, "--out", out)
+        assert_clean_error(p, f"{out} is in use by another growsim run (pid {proc.pid})")
+        p = growsim("run", "--resume", out)
+        assert_clean_error(p, "in use by another growsim run")
+        assert proc.poll() is None  # the first run was not disturbed
+    finally:
+        proc.send_signal(signal.SIGKILL)
+        proc.wait()

@@ -95,7 +95,7 @@ def test_preset_values_are_used_and_params_override_them():
         (cfg_with(model__evolve={"f": [0.5, 2.0]}), "outside the model's range [0, 1]"),
         (cfg_with(model__evolve={"f": [0.9, 0.5]}), "expected finite low < high"),
         (cfg_with(model__evolve={"f": False}), "f = false"),
-        (cfg_with(model__evolve={"f": [1]}), "expected [low, high]"),
+        (cfg_with(model__evolve={"f": [1]}), "f: expected true or [low, high], got [1]"),
         (cfg_with(objective=[]), "objective: List should have at least 1 item"),
         (cfg_with(objective=[{"kind": "sun"}]), "objective[0].kind: unknown objective 'sun'"),
         (cfg_with(objective=[{"kind": "light", "wood": 1}]), "objective[0].wood: unknown option"),
@@ -211,7 +211,7 @@ def test_fitness_is_picklable_and_deterministic():
 
     f = build_fitness(load_config(QUICK))
     g = pickle.loads(pickle.dumps(f))
-    x = np.array([[0.8, 20.0, 20.0, 0.3, 0.5, 5.0, 2.0], [0.6, 10.0, 40.0, 0.1, 0.2, 8.0, 1.0]])
+    x = np.array([[0.8, 20.0, 20.0, 0.3, 5.0, 2.0], [0.6, 10.0, 40.0, 0.1, 8.0, 1.0]])
     assert x.shape[1] == len(f.evolved)
     a, b = f(x), g(x, seeds=np.array([1, 2], dtype=np.uint64))
     assert np.array_equal(a, b) and np.all(np.isfinite(a)) and a[0] != a[1]

@@ -214,7 +214,7 @@ def _fitness(objectives, weights, noise="fixed"):
 def test_fitness_weights_signs_and_batch_path():
     h = CountingHeight()
     fit = _fitness([h, BatchF()], [2.0, 0.5])
-    x = np.array([[0.8, 20.0, 20.0, 0.3, 0.5, 5.0, 2.0], [0.6, 10.0, 40.0, 0.1, 0.2, 8.0, 1.0]])
+    x = np.array([[0.8, 20.0, 20.0, 0.3, 5.0, 2.0], [0.6, 10.0, 40.0, 0.1, 8.0, 1.0]])
     got = fit(x)
     heights = [
         fit.develop(row, s).height()
@@ -227,7 +227,7 @@ def test_fitness_weights_signs_and_batch_path():
 
 def test_noise_modes():
     h = CountingHeight()
-    x = np.array([[0.8, 20.0, 20.0, 0.3, 0.5, 5.0, 2.0]] * 2)
+    x = np.array([[0.8, 20.0, 20.0, 0.3, 5.0, 2.0]] * 2)
     fixed = _fitness([h], [1.0])
     a = fixed(x, seeds=np.array([1, 2], dtype=np.uint64))
     assert a[0] == a[1]  # fixed: the model's own seed parameter, whatever the GA's seeds

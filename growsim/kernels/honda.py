@@ -24,6 +24,7 @@ __all__ = [
     "GEO_FIELDS",
     "N_DRAWS",
     "grow_kernel",
+    "leaves_kernel",
     "sag_kernel",
     "subtree_tips_kernel",
 ]
@@ -327,3 +328,87 @@ def sag_kernel(start, end, radius, parent, sag, max_bend):
         new_end[s, 1] = new_start[s, 1] + L * math.cos(t)
         new_end[s, 2] = new_start[s, 2] + L * math.sin(t) * uz
     return new_start, new_end
+
+
+@njit
+def leaves_kernel(start, end, parent, per_branch, e, cut):
+    """Leaf segments on the branches the seed gives leaves: every tip and every segment
+    whose children are all tips (``parent`` ``(n,)`` int64 of the stems, parents first).
+
+    Each such branch gets ``per_branch`` leaves at its division points ``(j + 1) / k``,
+    turned 50 degrees off the branch and spread round it by the golden angle (no random
+    draws, so leaves never change the tree). A leaf is the cut face of a hexagonal prism of
+    radius ``e`` cut at ``cut`` radians: length ``2 e / cos(cut)``, half-width
+    ``e sqrt(3) / 2``.
+
+    Returns ``lstart`` ``(m, 3)``, ``lend`` ``(m, 3)``, ``lradius`` ``(m,)``, ``lparent``
+    ``(m,)`` int64 (the stem each leaf is on).
+    """
+    n = parent.shape[0]
+    nchild = np.zeros(n, np.int64)
+    for s in range(n):
+        if parent[s] >= 0:
+            nchild[parent[s]] += 1
+    nontip = np.zeros(n, np.int64)
+    for s in range(n):
+        if parent[s] >= 0 and nchild[s] > 0:
+            nontip[parent[s]] += 1
+    nb = 0
+    for s in range(n):
+        if nchild[s] == 0 or nontip[s] == 0:
+            nb += 1
+    if e <= 0.0:
+        per_branch = 0
+    m = nb * per_branch
+    ls = np.empty((m, 3))
+    le = np.empty((m, 3))
+    lr = np.full(m, e * math.sqrt(3.0) / 2.0)
+    lp = np.empty(m, np.int64)
+    length = 2.0 * e / math.cos(cut)
+    golden = 137.508 * math.pi / 180.0
+    ct = math.cos(50.0 * math.pi / 180.0)
+    st = math.sin(50.0 * math.pi / 180.0)
+    q = 0
+    for s in range(n):
+        if per_branch == 0:
+            break
+        if not (nchild[s] == 0 or nontip[s] == 0):
+            continue
+        dx = end[s, 0] - start[s, 0]
+        dy = end[s, 1] - start[s, 1]
+        dz = end[s, 2] - start[s, 2]
+        L = math.sqrt(dx * dx + dy * dy + dz * dz)
+        if L < 1e-12:
+            L = 1e-12
+        ax, ay, az = dx / L, dy / L, dz / L
+        if abs(ay) < 0.9:  # helper axis y, or x for a near-vertical branch
+            hx, hy, hz = 0.0, 1.0, 0.0
+        else:
+            hx, hy, hz = 1.0, 0.0, 0.0
+        ux = ay * hz - az * hy
+        uy = az * hx - ax * hz
+        uz = ax * hy - ay * hx
+        un = math.sqrt(ux * ux + uy * uy + uz * uz)
+        ux /= un
+        uy /= un
+        uz /= un
+        vx = ay * uz - az * uy
+        vy = az * ux - ax * uz
+        vz = ax * uy - ay * ux
+        for j in range(per_branch):
+            t = (j + 1) / per_branch
+            psi = (j + s) * golden
+            cp = math.cos(psi)
+            sp = math.sin(psi)
+            wx = ct * ax + st * (cp * ux + sp * vx)
+            wy = ct * ay + st * (cp * uy + sp * vy)
+            wz = ct * az + st * (cp * uz + sp * vz)
+            ls[q, 0] = start[s, 0] + t * dx
+            ls[q, 1] = start[s, 1] + t * dy
+            ls[q, 2] = start[s, 2] + t * dz
+            le[q, 0] = ls[q, 0] + length * wx
+            le[q, 1] = ls[q, 1] + length * wy
+            le[q, 2] = ls[q, 2] + length * wz
+            lp[q] = s
+            q += 1
+    return ls, le, lr, lp

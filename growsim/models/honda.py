@@ -14,13 +14,20 @@ Random draws are continuous (``theta0 + U[0,1) * theta_max``) where the seed use
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping
 
 import numpy as np
 
 from growsim.errors import ResourceError
-from growsim.kernels.honda import N_DRAWS, grow_kernel, sag_kernel, subtree_tips_kernel
+from growsim.kernels.honda import (
+    N_DRAWS,
+    grow_kernel,
+    leaves_kernel,
+    sag_kernel,
+    subtree_tips_kernel,
+)
 from growsim.models.base import Param, resolve_params
 from growsim.plant import LEAF, Plant
 
@@ -29,6 +36,7 @@ __all__ = [
     "NAME",
     "PARAMS",
     "PRESETS",
+    "SAG_MAX_BEND",
     "count_topology",
     "develop",
     "leaf_bearing",
@@ -40,6 +48,10 @@ NAME = "honda"
 #: segment for the plant and its draws, ~1 GB of mesh at 8 sides: a safe ceiling on a
 #: small machine. Raise it knowingly.
 MAX_SEGMENTS = 4_000_000
+
+#: bend (radians) of the most loaded branch at ``sag = 1``; bends add up along a path, so
+#: a twig 10 levels out can droop several times this much (tuned by eye on the presets)
+SAG_MAX_BEND = math.radians(12.0)
 
 PARAMS: tuple[Param, ...] = (
     Param("generations", 1, 30, 10, kind="int", doc="nutrient steps (the seed's class_cnt)"),
@@ -86,6 +98,7 @@ PRESETS: dict[str, dict[str, float]] = {
 }
 
 
+@functools.lru_cache(maxsize=4096)
 def count_topology(f: float, generations: int) -> tuple[int, int]:
     """``(n_stem_segments, n_tips)`` of the tree grown with ``(f, generations)``, computed
     without growing it: tips are grouped by their state (accumulated, ration, main), which
@@ -157,35 +170,6 @@ def _geo(p: Mapping[str, float]) -> np.ndarray:
     )
 
 
-def _leaves(start, end, base_radius, seg_ids, order, per_branch, e, cut_deg):
-    """Leaf segments along the stem segments ``seg_ids``: ``per_branch`` leaves at the
-    branch's division points, turned 50 degrees off the branch, round the branch by the
-    golden angle (deterministic: the leaves do not consume random draws)."""
-    m = seg_ids.size * per_branch
-    if m == 0 or e <= 0.0:
-        return None
-    sid = np.repeat(seg_ids, per_branch)
-    j = np.tile(np.arange(per_branch), seg_ids.size)
-    a = start[sid]
-    d = end[sid] - a
-    t = ((j + 1) / per_branch)[:, None]
-    att = a + t * d
-    ax = d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-12)
-    helper = np.where(np.abs(ax[:, 1:2]) < 0.9, [[0.0, 1.0, 0.0]], [[1.0, 0.0, 0.0]])
-    e1 = np.cross(ax, helper)
-    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
-    e2 = np.cross(ax, e1)
-    psi = (j + sid) * (137.508 * math.pi / 180.0)
-    tilt = 50.0 * math.pi / 180.0
-    w = math.cos(tilt) * ax + math.sin(tilt) * (
-        np.cos(psi)[:, None] * e1 + np.sin(psi)[:, None] * e2
-    )
-    # the cut face of a hexagonal prism of radius e cut at angle g: a hexagon stretched
-    # to length 2e / cos(g) along the leaf, sqrt(3) e wide
-    length = 2.0 * e / math.cos(math.radians(cut_deg))
-    return att, att + length * w, np.full(m, e * math.sqrt(3.0) / 2.0), sid, order[sid]
-
-
 def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None) -> Plant:
     """Grow one Honda tree.
 
@@ -244,7 +228,7 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None) -
         radius = a * p["taper"] ** depth[vpar[1:]]
         r_end = a * p["taper"] ** depth[1:]
     if p["sag"] > 0.0:
-        start, end = sag_kernel(start, end, radius, parent, p["sag"], math.radians(60.0))
+        start, end = sag_kernel(start, end, radius, parent, p["sag"], SAG_MAX_BEND)
     data = {
         "generation": gen[1:].astype(np.int32),
         "depth": depth[1:].astype(np.int32),
@@ -252,24 +236,16 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None) -
         "radius_end": r_end,
     }
     kind = np.zeros(n_stems, np.int8)
-    lv = _leaves(
-        start,
-        end,
-        radius,
-        np.flatnonzero(leaf_bearing(parent)),
-        order,
-        int(p["leaves"]),
-        p["leaf_radius"],
-        p["leaf_cut"],
-    )
-    if lv is not None:
-        la, lb, lr, lpar, lorder = lv
+    if int(p["leaves"]) > 0 and p["leaf_radius"] > 0.0:
+        la, lb, lr, lpar = leaves_kernel(
+            start, end, parent, int(p["leaves"]), p["leaf_radius"], math.radians(p["leaf_cut"])
+        )
         m = la.shape[0]
         start = np.concatenate([start, la])
         end = np.concatenate([end, lb])
         radius = np.concatenate([radius, lr])
         parent = np.concatenate([parent, lpar])
-        order = np.concatenate([order, lorder])
+        order = np.concatenate([order, order[lpar]])
         kind = np.concatenate([kind, np.full(m, LEAF, np.int8)])
         data = {
             "generation": np.concatenate([data["generation"], data["generation"][lpar]]),
@@ -277,13 +253,15 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None) -
             "main": np.concatenate([data["main"], np.zeros(m, bool)]),
             "radius_end": np.concatenate([data["radius_end"], lr]),
         }
-    return Plant(
-        start,
-        end,
-        radius,
-        parent,
-        order,
+    # every array comes from the kernels with its final dtype and shape (the tests
+    # re-validate develop()'s output through Plant(...)), so skip the checks
+    return Plant._unchecked(
+        np.ascontiguousarray(start),
+        np.ascontiguousarray(end),
+        radius.astype(np.float64, copy=False),
+        parent.astype(np.int64, copy=False),
+        order.astype(np.int32, copy=False),
         kind,
-        data=data,
-        meta={"model": NAME, "params": p, "seed": int(p["seed"])},
+        data,
+        {"model": NAME, "params": p, "seed": int(p["seed"])},
     )

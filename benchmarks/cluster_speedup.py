@@ -1,0 +1,99 @@
+"""Speed-up of a growsim run on a Dask cluster from 1 to 2 workers (and a process pool).
+
+Runs the quickstart experiment with a heavier evaluation (bigger trees, a finer light
+raster) so that evaluation, not scheduling, dominates; the same seed in every mode, and
+checks the histories are identical. Prints JSON.
+
+    python benchmarks/cluster_speedup.py [--population 64] [--generations 6]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+QUICK = ROOT / "experiments" / "quickstart.toml"
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--population", type=int, default=64)
+    ap.add_argument("--generations", type=int, default=6)
+    ap.add_argument("--tree-generations", type=int, default=20)
+    ap.add_argument("--resolution", type=int, default=1024)
+    args = ap.parse_args()
+
+    from dask.distributed import LocalCluster
+
+    from growsim.experiment import build_fitness, load_config, run
+
+    overrides = [
+        f"ga.population={args.population}",
+        f"ga.generations={args.generations}",
+        f"model.params.generations={args.tree_generations}",
+        f"objective[0].resolution={args.resolution}",
+        "output.screenshots=[]",
+        "output.mesh=[]",
+        "output.plot=false",
+        "output.plant=false",
+    ]
+    cfg = load_config(QUICK, overrides)
+    # cost of one evaluation, serial, warm
+    f = build_fitness(cfg)
+    rng = np.random.default_rng(0)
+    lo = np.array([cfg.model.evolve[n][0] for n in f.evolved])
+    hi = np.array([cfg.model.evolve[n][1] for n in f.evolved])
+    x = lo + rng.random((16, len(lo))) * (hi - lo)
+    f(x[:2])
+    t = time.perf_counter()
+    f(x)
+    per_eval = (time.perf_counter() - t) / len(x)
+
+    results = {}
+    histories = {}
+    with tempfile.TemporaryDirectory() as tmp:
+
+        def timed(label, **kw):
+            t0 = time.perf_counter()
+            r = run(cfg, Path(tmp) / label, progress=False, **kw)
+            results[label] = round(time.perf_counter() - t0, 3)
+            histories[label] = r.history.drop(columns=["seconds"])
+
+        timed("serial")
+        timed("pool_2", workers=2)
+        for n in (1, 2):
+            with LocalCluster(
+                n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None
+            ) as cluster:
+                timed(f"dask_{n}", scheduler=cluster.scheduler_address)
+    ref = histories["serial"]
+    identical = all(h.equals(ref) for h in histories.values())
+    print(
+        json.dumps(
+            {
+                "benchmark": "cluster_speedup",
+                "population": args.population,
+                "generations": args.generations,
+                "evaluations": int(ref["evaluations"].iloc[-1]),
+                "seconds_per_evaluation": round(per_eval, 5),
+                "wall_seconds": results,
+                "speedup_dask_1_to_2": round(results["dask_1"] / results["dask_2"], 2),
+                "speedup_pool_2_vs_serial": round(results["serial"] / results["pool_2"], 2),
+                "identical_histories": bool(identical),
+                "cpu_count": os.cpu_count(),
+                "load_average": [round(v, 2) for v in os.getloadavg()],
+            },
+            indent=2,
+        )
+    )
+
+
+if __name__ == "__main__":
+    main()

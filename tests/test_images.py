@@ -1,0 +1,130 @@
+"""Reading pictures into silhouettes and framing them."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from growsim.errors import UserInputError
+from growsim.images import (
+    frame_silhouettes,
+    load_gray,
+    otsu_threshold,
+    read_silhouettes,
+    silhouette,
+    silhouette_image,
+)
+
+
+def _tree_picture(h=120, w=90, dark=True):
+    """A stick tree: trunk and two branches, drawn 3 px wide."""
+    fg = np.zeros((h, w), bool)
+    fg[40:h, w // 2 - 1 : w // 2 + 2] = True
+    for i in range(30):
+        fg[70 - i : 73 - i, w // 2 + i] = True
+        fg[60 - i : 63 - i, w // 2 - i] = True
+    rng = np.random.default_rng(0)
+    g = np.where(fg, 0.15, 0.85) + rng.normal(0, 0.03, fg.shape)
+    g = np.clip(g, 0, 1)
+    return (g if dark else 1 - g), fg
+
+
+def test_otsu_separates_two_levels():
+    g, fg = _tree_picture()
+    t = otsu_threshold(g)
+    assert 0.2 < t < 0.8
+    np.testing.assert_array_equal(g <= t, fg)
+
+
+@pytest.mark.parametrize("dark", [True, False])
+def test_polarity_auto(dark):
+    g, fg = _tree_picture(dark=dark)
+    np.testing.assert_array_equal(silhouette(g), fg)
+    wrong = "light" if dark else "dark"
+    np.testing.assert_array_equal(silhouette(g, polarity=wrong), ~fg)
+
+
+def test_fixed_threshold_and_mask():
+    g, fg = _tree_picture()
+    np.testing.assert_array_equal(silhouette(g, threshold=0.5), fg)
+    mask = np.zeros_like(g)
+    mask[:, :45] = 1.0  # keep the left half only
+    sil = silhouette(g, mask=mask)
+    assert sil[:, 46:].sum() == 0 and sil[:, :45].sum() == fg[:, :45].sum()
+    with pytest.raises(UserInputError, match="mask size"):
+        silhouette(g, mask=np.ones((3, 3)))
+    with pytest.raises(UserInputError, match="all black"):
+        silhouette(g, mask=np.zeros_like(g))
+
+
+def test_empty_and_full_silhouettes_raise():
+    with pytest.raises(UserInputError, match=r"white\.png: the picture is uniform"):
+        silhouette(np.ones((10, 10)), name="white.png")
+    nearly = np.ones((10, 10))
+    nearly[0, 0] = 0.9
+    with pytest.raises(UserInputError, match="empty"):
+        silhouette(nearly, threshold=0.5)
+    with pytest.raises(UserInputError, match="whole picture"):
+        silhouette(nearly * 0.5, threshold=0.9, polarity="dark")
+    with pytest.raises(UserInputError, match="threshold"):
+        silhouette(nearly, threshold=2.0)
+    with pytest.raises(UserInputError, match="polarity"):
+        silhouette(np.eye(10), polarity="up")
+
+
+def test_load_gray_formats(tmp_path):
+    rgb = np.zeros((6, 8, 3), np.uint8)
+    rgb[..., 0] = 255
+    Image.fromarray(rgb).save(tmp_path / "a.jpg")
+    g = load_gray(tmp_path / "a.jpg")
+    assert g.shape == (6, 8) and 0.2 < g.mean() < 0.4  # red luminance ~0.3
+    rgba = np.zeros((6, 8, 4), np.uint8)
+    rgba[2, 3] = [0, 0, 0, 255]  # one opaque black pixel, the rest transparent -> white
+    Image.fromarray(rgba).save(tmp_path / "b.png")
+    g = load_gray(tmp_path / "b.png")
+    assert g[2, 3] == 0.0 and g.sum() == 47.0
+    (tmp_path / "c.png").write_text("nope")
+    with pytest.raises(UserInputError, match="cannot read"):
+        load_gray(tmp_path / "c.png")
+    with pytest.raises(UserInputError, match="not found"):
+        load_gray(tmp_path / "d.png")
+
+
+def test_frame_is_size_and_margin_invariant():
+    _, fg = _tree_picture()
+    small = frame_silhouettes(fg, fg, 32)
+    # the same tree with a wide margin and 3x larger: the same framed silhouette
+    big = np.zeros((3 * fg.shape[0] + 100, 3 * fg.shape[1] + 300), bool)
+    big[60 : 60 + 3 * fg.shape[0], 200 : 200 + 3 * fg.shape[1]] = np.kron(fg, np.ones((3, 3)))
+    framed = frame_silhouettes(big, big, 32)
+    inter = (framed & small).sum()
+    assert inter / np.sqrt(framed.sum() * small.sum()) > 0.9
+    # trunk base at the bottom centre, top row reached
+    assert small[0, 31, 16] == 1 and small[0, 0].any()
+
+
+def test_frame_shares_scale_between_views():
+    _, fg = _tree_picture()
+    wide = np.zeros((120, 300), bool)
+    wide[40:120, 149:152] = True
+    wide[60, 20:280] = True  # a very wide side view constrains the common scale
+    out = frame_silhouettes(fg, wide, 32)
+    assert out[1, :, 0].any() or out[1, :, 31].any()  # the wide view touches the sides
+    assert not out[0, 0].any()  # so the front view no longer reaches the top
+
+
+def test_read_silhouettes_missing_view():
+    g, _ = _tree_picture()
+    with pytest.raises(UserInputError, match="side view is missing"):
+        read_silhouettes(g, None)
+    assert read_silhouettes(g, g, size=16).shape == (2, 16, 16)
+
+
+def test_silhouette_image(tmp_path):
+    p = silhouette_image([np.eye(8), np.ones((8, 8))], tmp_path / "s.png", titles=["a", "b"])
+    im = np.asarray(Image.open(p))
+    assert im.shape[0] == 14 + 32 and im.shape[1] == 32 + 4 + 32
+    assert im[14:, 32 + 4 :].max() == 0  # the all-foreground view is black
+    with pytest.raises(UserInputError):
+        silhouette_image([np.eye(4)], tmp_path / "missing_dir" / "s.png")

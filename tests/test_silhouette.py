@@ -1,0 +1,167 @@
+"""The silhouette objective: options, targets, scoring any plant, the ifs3d fast path."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from growsim.errors import ConfigError, UserInputError
+from growsim.models import ifs3d
+from growsim.objectives import get_objective
+from growsim.objectives.silhouette import SilhouetteObjective, ncc, plant_views
+from growsim.plant import Plant
+
+NAMES = [p.name for p in ifs3d.PARAMS]
+
+
+def _row(params):
+    return [params[n] for n in NAMES]
+
+
+@pytest.fixture(scope="module")
+def table1_obj():
+    return SilhouetteObjective(target_model="ifs3d", target_preset="table1")
+
+
+def test_registered_and_scores_table1(table1_obj):
+    assert get_objective("silhouette") is SilhouetteObjective
+    assert table1_obj(ifs3d.develop(ifs3d.PRESETS["table1"])) == 1.0
+    for name in ("seed_ga", "seed_gradient"):
+        s = table1_obj(ifs3d.develop(ifs3d.PRESETS[name]))
+        assert 0.3 < s < 0.9
+
+
+def test_batch_equals_call_for_ifs3d(table1_obj):
+    rng = np.random.default_rng(1)
+    spec = ifs3d.PARAMS
+    rows = np.array(
+        [[rng.uniform(p.low, p.high) for p in spec] for _ in range(6)]
+        + [_row(ifs3d.PRESETS[k]) for k in ifs3d.PRESETS]
+    )
+    rows[:, 0], rows[:, 1] = 5, 5
+    got = table1_obj.batch(ifs3d, rows, NAMES, np.zeros(len(rows), np.uint64))
+    want = [table1_obj(ifs3d.develop(dict(zip(NAMES, r)))) for r in rows]
+    np.testing.assert_allclose(got, want, atol=1e-12)
+    # columns in any order; a smaller depth and fewer maps grouped apart
+    perm = np.random.default_rng(0).permutation(len(NAMES))
+    got2 = table1_obj.batch(ifs3d, rows[:, perm], [NAMES[i] for i in perm])
+    np.testing.assert_allclose(got2, got)
+    spec3 = ifs3d.param_spec({"n_maps": 3})
+    p3 = {p.name: p.default for p in spec3} | {"n_maps": 3, "depth": 4}
+    names3 = [p.name for p in spec3]
+    b3 = table1_obj.batch(ifs3d, np.array([[p3[n] for n in names3]]), names3)
+    assert b3[0] == pytest.approx(table1_obj(ifs3d.develop(p3)))
+
+
+def test_batch_none_for_other_models(table1_obj):
+    class Other:
+        NAME = "honda"
+
+    assert table1_obj.batch(Other, np.zeros((2, 3)), ["a", "b", "c"]) is None
+    wide = SilhouetteObjective(target_model="ifs3d", target_preset="table1", line_width="radius")
+    assert wide.batch(ifs3d, np.array([_row(ifs3d.PRESETS["table1"])]), NAMES) is None
+    assert wide(ifs3d.develop(ifs3d.PRESETS["table1"])) == 1.0
+
+
+def test_any_plant_scores():
+    # a generic plant (not an IFS): an upright Y; scored against itself and a bent variant
+    pts = [[0, 0, 0], [0, 1, 0], [-0.5, 1.6, 0.2], [0.5, 1.5, -0.3]]
+    y = Plant.from_points(pts, parent=[-1, 0, 0], point_parent=[-1, 0, 1, 1])
+    bent = Plant.from_points(
+        [[0, 0, 0], [0, 1, 0], [-0.9, 1.1, 0.2], [0.5, 1.5, -0.3]],
+        parent=[-1, 0, 0],
+        point_parent=[-1, 0, 1, 1],
+    )
+    v = plant_views(y, 32)
+    assert v.shape == (2, 32, 32) and v[0, 31, 16] == 1
+    obj = SilhouetteObjective(target_model="ifs3d", target_preset="table1", size=32)
+    obj.target = v  # score against the Y's own silhouette
+    assert obj(y) == 1.0
+    assert 0 < obj(bent) < 1.0
+    assert obj(Plant.empty()) == 0.0
+
+
+def test_ncc_and_area_rejection():
+    a = np.zeros((2, 8, 8), np.uint8)
+    a[:, 2, :] = 1
+    assert ncc(a, a) == 1.0
+    b = np.zeros_like(a)
+    b[:, 5, :] = 1
+    assert ncc(a, b) == 0.0
+    big = np.ones_like(a)
+    assert ncc(big, a) == pytest.approx(np.sqrt(8 / 64))
+    assert ncc(big, a, area_rejection=True) == 0.0
+    assert ncc(np.zeros_like(a), a) == 0.0
+
+
+def test_area_rejection_in_batch():
+    obj = SilhouetteObjective(target_model="ifs3d", target_preset="table1", area_rejection=True)
+    sparse = dict(ifs3d.PRESETS["table1"]) | {f"s_{k}": 0.1 for k in range(1, 6)}
+    plain = SilhouetteObjective(target_model="ifs3d", target_preset="table1")
+    row = np.array([[sparse[n] for n in NAMES]])
+    assert plain.batch(ifs3d, row, NAMES)[0] > 0
+    assert obj.batch(ifs3d, row, NAMES)[0] == 0.0
+    assert obj(ifs3d.develop(sparse)) == 0.0
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({}, "no target"),
+        ({"target_model": "ifs3d", "size": 4}, "size"),
+        ({"target_model": "ifs3d", "size": 64.0}, "size"),
+        ({"target_model": "ifs3d", "line_width": "fat"}, "line_width"),
+        ({"target_model": "ifs3d", "polarity": "dark-ish"}, "polarity"),
+        ({"target_model": "ifs3d", "threshold": 1.5}, "threshold"),
+        ({"target_model": "ifs3d", "area_rejection": "yes"}, "area_rejection"),
+        ({"target_model": "nope"}, "target_model"),
+        ({"target_model": "ifs3d", "target_preset": "oak"}, "target_preset"),
+        ({"target_model": "ifs3d", "target_params": {"s_1": 5.0}}, "s_1"),
+        ({"target_model": "ifs3d", "front": "a.png", "side": "b.png"}, "not both"),
+        ({"front": "a.png"}, "side"),
+        ({"side": "a.png"}, "front"),
+        ({"target_preset": "table1"}, "target_model"),
+        ({"target_model": "ifs3d", "mask_front": "m.png"}, "mask"),
+    ],
+)
+def test_bad_options(kwargs, match):
+    with pytest.raises(ConfigError, match=match):
+        SilhouetteObjective(**kwargs)
+
+
+def test_picture_target_round_trip(tmp_path):
+    """A target drawn as a big photo-like picture frames back onto the rendered target."""
+    tree = ifs3d.develop(ifs3d.PRESETS["table1"])
+    views = plant_views(tree, 64)
+    paths = []
+    for v, label in zip(views, ("front", "side")):
+        # 5x up-sampled, dark on light, with a wide margin
+        img = np.full((400, 500), 235, np.uint8)
+        img[40:360, 90:410] = np.where(np.kron(v, np.ones((5, 5))) > 0, 30, 235)
+        p = tmp_path / f"{label}.png"
+        Image.fromarray(img).save(p)
+        paths.append(p)
+    obj = SilhouetteObjective(front=str(paths[0]), side=str(paths[1]))
+    assert ncc(obj.target, views) > 0.9
+    assert obj(tree) > 0.9
+    assert obj(tree) > obj(ifs3d.develop(ifs3d.PRESETS["seed_ga"])) + 0.2
+
+
+def test_bad_pictures(tmp_path):
+    good = tmp_path / "good.png"
+    img = np.full((50, 50), 255, np.uint8)
+    img[10:50, 25] = 0
+    Image.fromarray(img).save(good)
+    blank = tmp_path / "blank.png"
+    Image.fromarray(np.full((50, 50), 255, np.uint8)).save(blank)
+    junk = tmp_path / "junk.png"
+    junk.write_bytes(b"not an image")
+    with pytest.raises(UserInputError, match=r"junk\.png"):
+        SilhouetteObjective(front=str(good), side=str(junk))
+    with pytest.raises(UserInputError, match=r"missing\.png"):
+        SilhouetteObjective(front=str(tmp_path / "missing.png"), side=str(good))
+    with pytest.raises(UserInputError, match=r"blank\.png"):
+        SilhouetteObjective(front=str(good), side=str(blank))
+    obj = SilhouetteObjective(front=str(good), side=str(good), size=16)
+    assert obj.target[:, :, 8].all()
