@@ -150,7 +150,12 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--generations", type=int, default=20)
+    ap.add_argument("--libs", default="growsim,deap,pymoo", help="comma-separated subset")
     args = ap.parse_args(argv)
+    libs = [x.strip() for x in args.libs.split(",") if x.strip()]
+    unknown = sorted(set(libs) - set(RUNNERS))
+    if unknown or "growsim" not in libs:
+        ap.error(f"--libs: need growsim, allowed {', '.join(RUNNERS)}; got {args.libs}")
     gens = args.generations
     # warm-up: numba compiles (or loads its cache) once, outside the timings
     growsim_run("onemax", 2, 99)
@@ -168,7 +173,8 @@ def main(argv=None):
     }
     for problem in ("onemax", "rastrigin"):
         res = {}
-        for lib, fn in RUNNERS.items():
+        for lib in libs:
+            fn = RUNNERS[lib]
             times, fits = [], []
             for seed in range(args.repeats):
                 dt, f = fn(problem, gens, seed)
@@ -179,7 +185,10 @@ def main(argv=None):
                 "final_best_mean": round(statistics.fmean(fits), 2),
                 "final_best_runs": [round(f, 2) for f in fits],
             }
-        peers = [res["deap"], res["pymoo"]]
+        peers = [res[p] for p in ("deap", "pymoo") if p in res]
+        if not peers:
+            out["problems"][problem] = res
+            continue
         fastest = min(p["ms_per_generation"] for p in peers)
         if problem == "onemax":
             best_peer = max(p["final_best_mean"] for p in peers)

@@ -94,7 +94,7 @@ class ModelConfig(_Section):
 
     kind: str = Field(description="registered model name (growsim.models.MODELS)")
     preset: str | None = Field(None, description="named parameter set of the model to start from")
-    params: dict[str, float] = Field(
+    params: dict[str, int | float] = Field(
         default_factory=dict,
         description="fixed parameter values (over the preset, over the model's defaults)",
     )
@@ -338,16 +338,23 @@ def _fields_at(loc: Sequence[Any]) -> list[str] | None:
     return list(cls.model_fields)
 
 
+_UNION_TAGS = {"bool", "int", "float", "str", "list", "dict"}
+
+
+def _strip_union(loc: Sequence[Any]) -> list[Any]:
+    """Drop the union branch pydantic appends to a location (``...f.int``)."""
+    loc = list(loc)
+    while loc and isinstance(loc[-1], str) and ("[" in loc[-1] or loc[-1] in _UNION_TAGS):
+        loc.pop()
+    return loc
+
+
 def _validation_message(exc: ValidationError) -> str:
     """One line naming the key path of the first problem (and how many more there are)."""
     errors = exc.errors(include_url=False)
     first = errors[0]
-    loc = list(first["loc"])
+    loc = _strip_union(first["loc"])
     kind = first["type"]
-    # pydantic appends the branch tried for unions (e.g. "bool" / "list[float]"): drop it
-    # when it is not a key of the config.
-    while loc and isinstance(loc[-1], str) and ("[" in loc[-1] or loc[-1] in ("bool", "float")):
-        loc.pop()
     path = _loc_path(loc)
     if kind == "extra_forbidden":
         allowed = _fields_at(loc[:-1])
@@ -356,13 +363,18 @@ def _validation_message(exc: ValidationError) -> str:
         msg = f"{path}: required key missing"
     else:
         text = re.sub(r" or instance of \w+", "", first["msg"].removeprefix("Value error, "))
+        same = [e for e in errors if _strip_union(e["loc"]) == loc]
+        tags = {e["loc"][-1] for e in same if len(e["loc"]) > len(loc)}
+        if len(same) > 1 and tags == {"int", "float"}:  # the int | float of model.params
+            text = "expected a number"
         got = first.get("input")
         got_s = repr(got)
         if len(got_s) > 60:
             got_s = got_s[:57] + "..."
         msg = f"{path}: {text}" + ("" if isinstance(got, dict) else f" (got {got_s})")
-    if len(errors) > 1:
-        msg += f" (and {len(errors) - 1} more problem{'s' if len(errors) > 2 else ''})"
+    n_more = len({tuple(_strip_union(e["loc"])) for e in errors} - {tuple(loc)})
+    if n_more:
+        msg += f" (and {n_more} more problem{'s' if n_more > 1 else ''})"
     return msg
 
 
@@ -1051,7 +1063,11 @@ def run(
         if not resume:
             rd.create_fresh()
             rd.write_text("config.toml", cfg.to_toml())
-        return _run_locked(cfg, rd, workers, scheduler, resume, progress, callback, executor)
+        try:
+            return _run_locked(cfg, rd, workers, scheduler, resume, progress, callback, executor)
+        except KeyboardInterrupt:
+            print(f"growsim: to continue: growsim run --resume {rd.path}", file=sys.stderr)
+            raise
 
 
 def _run_locked(cfg, rd, workers, scheduler, resume, progress, callback, ext) -> RunResult:
@@ -1328,14 +1344,19 @@ def parse_vary(items: Sequence[str] | Mapping[str, Sequence[Any]]) -> dict[str, 
 
 
 def _label(assign: Mapping[str, Any]) -> str:
+    """A directory-safe name of one variant: ``light=0.5_light_direction=0,-1,0``."""
     if not assign:
         return "base"
-    parts = []
-    for k, v in assign.items():
-        short = k.split(".")[-1]
-        parts.append(f"{short}={v}")
-    text = "_".join(parts)
-    return re.sub(r"[^A-Za-z0-9_.=+-]", "-", text)[:120]
+
+    def text(v):
+        if isinstance(v, (list, tuple)):
+            return ",".join(text(x) for x in v)
+        if isinstance(v, bool):
+            return str(v).lower()
+        return str(v)
+
+    parts = [f"{k.split('.')[-1]}={text(v)}" for k, v in assign.items()]
+    return re.sub(r"[^A-Za-z0-9_.=,+-]", "-", "_".join(parts))[:120]
 
 
 def sweep(
@@ -1537,7 +1558,9 @@ def config_docs() -> str:
     ]
     for section, cls in SECTIONS.items():
         header = f"[[{section}]]" if section == "objective" else f"[{section}]"
-        lines += [f"## `{header}`", "", (cls.__doc__ or "").strip().split("\n")[0], ""]
+        first = (cls.__doc__ or "").strip().split("\n")[0]
+        first = re.sub(r"^``\[+\w+\]+``: ", "", first)
+        lines += [f"## `{header}`", "", first[:1].upper() + first[1:], ""]
         lines += ["| key | type | default | range | meaning |", "|---|---|---|---|---|"]
         for name, field in cls.model_fields.items():
             typ = _type_name(field.annotation).replace("|", "or")

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from growsim.errors import UserInputError
-from growsim.kernels.mesh import mesh_kernel
+from growsim.kernels.mesh import mesh_kernel, weld_targets
 from growsim.plant import LEAF, Plant, atomic_write
 
 __all__ = [
@@ -40,9 +40,9 @@ LEAF_RGB = (74, 140, 58)
 #: default levels of detail, finest first
 DEFAULT_LODS: tuple[dict, ...] = (
     {"sides": 8, "segments": 3},
-    {"sides": 6, "segments": 2},
-    {"sides": 4, "segments": 1, "cluster": True},
-    {"sides": 3, "segments": 1, "cluster": True},
+    {"sides": 6, "segments": 2, "merge": True},
+    {"sides": 4, "segments": 1, "merge": True, "cluster": True},
+    {"sides": 3, "segments": 1, "merge": True, "cluster": True},
 )
 
 
@@ -52,7 +52,9 @@ def _check_plant(plant) -> Plant:
     return plant
 
 
-def mesh_arrays(plant: Plant, sides: int = 6, segments: int = 1, leaves: bool = True):
+def mesh_arrays(
+    plant: Plant, sides: int = 6, segments: int = 1, leaves: bool = True, merge: bool = False
+):
     """The raw mesh of ``plant``: ``points`` ``(N, 3)`` float32, ``tris`` ``(M, 3)``
     int64, ``kind`` ``(N,)`` uint8 (0 bark, 1 leaf). See :func:`plant_mesh`.
 
@@ -70,23 +72,31 @@ def mesh_arrays(plant: Plant, sides: int = 6, segments: int = 1, leaves: bool = 
     if not 1 <= segments <= 64:
         raise UserInputError(f"mesh segments: {segments} not in [1, 64]")
     r1 = plant.radius_end()
+    parent = plant.parent
     arrays = (plant.start, plant.end, plant.radius, r1, plant.kind)
     if not leaves:
         keep = plant.kind != LEAF
         arrays = tuple(a[keep] for a in arrays)
-    return mesh_kernel(
-        *(np.ascontiguousarray(a) for a in arrays),
-        sides,
-        segments,
-    )
+        parent = plant.subset(keep).parent if merge else parent[keep]
+    arrays = tuple(np.ascontiguousarray(a) for a in arrays)
+    if merge:
+        weld = weld_targets(np.ascontiguousarray(parent), arrays[4], arrays[2])
+    else:
+        weld = np.full(arrays[4].shape[0], -1, np.int64)
+    return mesh_kernel(*arrays, sides, segments, weld)
 
 
-def plant_mesh(plant: Plant, sides: int = 6, segments: int = 1, leaves: bool = True):
+def plant_mesh(
+    plant: Plant, sides: int = 6, segments: int = 1, leaves: bool = True, merge: bool = False
+):
     """Triangle mesh (``pyvista.PolyData``) of a plant.
 
     Each stem is an open ``sides``-gon tube split into ``segments`` pieces, tapering from
     its radius to :meth:`growsim.plant.Plant.radius_end`; each leaf a flat hexagon (7
     vertices). ``point_data["kind"]`` is 0 for bark and 1 for leaf vertices.
+    ``merge=True`` merges consecutive segments of one axis into one tube: a segment that
+    continues its parent (its thickest stem child) starts from the parent's end ring
+    instead of its own, saving ``sides`` vertices per joint without moving any vertex.
 
     Examples
     --------
@@ -97,7 +107,7 @@ def plant_mesh(plant: Plant, sides: int = 6, segments: int = 1, leaves: bool = T
     """
     import pyvista as pv
 
-    pts, tris, kind = mesh_arrays(plant, sides=sides, segments=segments, leaves=leaves)
+    pts, tris, kind = mesh_arrays(plant, sides=sides, segments=segments, leaves=leaves, merge=merge)
     if tris.shape[0] == 0:
         mesh = pv.PolyData(pts.astype(np.float32)) if pts.shape[0] else pv.PolyData()
     else:
@@ -162,8 +172,9 @@ def cluster_leaves(plant: Plant) -> Plant:
 def lod_meshes(plant: Plant, levels: Sequence[dict] = DEFAULT_LODS) -> list:
     """Meshes of one skeleton at falling levels of detail, finest first.
 
-    ``levels``: dicts with ``sides``, ``segments`` and optional ``cluster`` (merge each
-    branch's leaves into one, :func:`cluster_leaves`). The skeleton is shared, so every
+    ``levels``: dicts with ``sides``, ``segments`` and optional ``merge`` (consecutive
+    segments of an axis share joint rings, see :func:`plant_mesh`) and ``cluster`` (merge
+    each branch's leaves into one, :func:`cluster_leaves`). The skeleton is shared, so every
     level keeps the plant's silhouette; only vertex counts fall.
 
     Examples
@@ -178,7 +189,7 @@ def lod_meshes(plant: Plant, levels: Sequence[dict] = DEFAULT_LODS) -> list:
     clustered = None
     out = []
     for i, lv in enumerate(levels):
-        unknown = set(lv) - {"sides", "segments", "cluster", "leaves"}
+        unknown = set(lv) - {"sides", "segments", "cluster", "leaves", "merge"}
         if unknown:
             raise UserInputError(f"lod level {i}: unknown key(s) {sorted(unknown)}")
         p = plant
@@ -192,6 +203,7 @@ def lod_meshes(plant: Plant, levels: Sequence[dict] = DEFAULT_LODS) -> list:
                 sides=lv.get("sides", 6),
                 segments=lv.get("segments", 1),
                 leaves=lv.get("leaves", True),
+                merge=lv.get("merge", False),
             )
         )
     return out
@@ -257,6 +269,8 @@ def export(plant_or_mesh, path: str | os.PathLike, **mesh_options) -> Path:
             f"export: expected a Plant or pyvista.PolyData, got {type(plant_or_mesh).__name__}"
         )
 
+    if mesh.n_points == 0:
+        raise UserInputError(f"{path}: nothing to export, the mesh is empty")
     if suffix == ".obj":
         return atomic_write(path, lambda fh: _write_obj(fh, mesh))
     if suffix == ".glb":

@@ -29,6 +29,17 @@ from growsim.errors import UserInputError
 __all__ = ["RunDir", "atomic_path", "atomic_write", "write_parquet"]
 
 
+def _umask() -> int:
+    # mkstemp makes 0600 files; results are meant to be shared like any file the user
+    # writes, so give them the permissions the umask allows (read once: os.umask sets it)
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+_MODE = 0o666 & ~_umask()
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | Path) -> Iterator[Path]:
     """Yield a temporary path beside ``path`` (same suffix); rename it onto ``path`` on
@@ -47,6 +58,7 @@ def atomic_path(path: str | Path) -> Iterator[Path]:
     fd, name = tempfile.mkstemp(
         prefix=f".{path.stem}.", suffix=f".tmp{path.suffix}", dir=path.parent
     )
+    os.fchmod(fd, _MODE)
     os.close(fd)
     tmp = Path(name)
     try:
@@ -73,6 +85,7 @@ def atomic_write(path: str | Path, data: str | bytes) -> Path:
     raw = data.encode("utf-8") if isinstance(data, str) else bytes(data)
     fd, name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
+        os.fchmod(fd, _MODE)
         with os.fdopen(fd, "wb") as fh:
             fh.write(raw)
             fh.flush()

@@ -101,6 +101,10 @@ def test_topology_depends_only_on_f_and_steps(f, gens, s1, s2):
 def test_seed_rules_by_hand():
     # f = 1: every tip branches every step: the full binary tree (2,047 segments at 10).
     assert honda.count_topology(1.0, 10) == (2047, 1024)
+    # nutrients in float32 like the seed's C floats: ten rations of 0.1 reach 1 (in float64
+    # they would not), so the trunk's first lateral branches at step 11
+    assert honda.count_topology(0.1, 11) == (25, 13)
+    assert honda.count_topology(0.1, 10) == (21, 11)
     # f = 0: only the trunk branches; laterals never grow.
     assert honda.count_topology(0.0, 10) == (21, 11)
     # the seed's Fig. 5 (f = 1/3, 4 steps): parents of vertices 1..11 are

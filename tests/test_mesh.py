@@ -13,7 +13,7 @@ import pyvista as pv
 from naive_honda import leaf_oracle, tube_oracle
 
 from growsim.errors import UserInputError
-from growsim.kernels.mesh import mesh_counts, mesh_kernel
+from growsim.kernels.mesh import mesh_counts, mesh_kernel, weld_targets
 from growsim.mesh import cluster_leaves, export, lod_meshes, mesh_arrays, plant_mesh
 from growsim.models import honda
 from growsim.plant import LEAF, STEM, Plant
@@ -39,7 +39,8 @@ def _random_plant(rng, n=40, leaf_frac=0.3):
 def test_mesh_kernel_matches_oracle(sides, segments):
     rng = np.random.default_rng(sides * 10 + segments)
     start, end, r0, r1, kind = _random_plant(rng)
-    pts, tris, vkind = mesh_kernel(start, end, r0, r1, kind, sides, segments)
+    no_weld = np.full(len(kind), -1, np.int64)
+    pts, tris, vkind = mesh_kernel(start, end, r0, r1, kind, sides, segments, no_weld)
     nv, nt = mesh_counts(int((kind == 0).sum()), int((kind == 1).sum()), sides, segments)
     assert pts.shape == (nv, 3) and tris.shape == (nt, 3)
     expect = [
@@ -153,8 +154,54 @@ def test_export_errors(tmp_path):
         export(t, tmp_path / "nope" / "t.glb")
     with pytest.raises(UserInputError, match="does not exist"):
         export(t, tmp_path / "nope" / "t.obj")
+    with pytest.raises(UserInputError, match="empty"):
+        export(Plant.empty(), tmp_path / "e.ply")
     (tmp_path / "file").write_text("x")
     for suffix in (".vtp", ".ply", ".obj", ".glb"):
         with pytest.raises(UserInputError, match="file"):
             export(t, tmp_path / "file" / f"t{suffix}")
     assert os.listdir(tmp_path) == ["file"]
+
+
+@pytest.mark.parametrize("sides,segments", [(3, 1), (6, 2)])
+def test_merged_tubes_match_unmerged(sides, segments):
+    t = honda.develop({**honda.PRESETS["plane"], "generations": 7})
+    r1 = t.radius_end()
+    weld = weld_targets(t.parent, t.kind, t.radius)
+    stems = np.flatnonzero(t.kind == STEM)
+    # oracle for the weld choice: each stem parent's thickest stem child (first on ties)
+    for p in stems:
+        kids = [s for s in stems if t.parent[s] == p]
+        if kids:
+            best = max(kids, key=lambda s: (t.radius[s], -s))
+            assert weld[best] == p and all(weld[k] == -1 for k in kids if k != best)
+    args = (t.start, t.end, t.radius, r1, t.kind, sides, segments)
+    p0, t0, k0 = mesh_kernel(*args, np.full(t.n_segments, -1, np.int64))
+    p1, t1, k1 = mesh_kernel(*args, weld)
+    n_weld = int((weld >= 0).sum())
+    assert p1.shape[0] == p0.shape[0] - n_weld * sides and t1.shape == t0.shape
+    # drop each welded stem's own base ring from the unmerged mesh: the rest is identical
+    ring = sides * (segments + 1)
+    keep = np.ones(p0.shape[0], bool)
+    for i, s in enumerate(stems):
+        if weld[s] >= 0:
+            keep[i * ring : i * ring + sides] = False
+    np.testing.assert_array_equal(p1, p0[keep])
+    assert np.array_equal(k1, k0[keep])
+    # triangles: same corners, except a welded base ring is now the parent's end ring
+    new_index = np.cumsum(keep) - 1
+    ends = {s: i * ring + segments * sides for i, s in enumerate(stems)}
+    remap = new_index.copy()
+    for i, s in enumerate(stems):
+        if weld[s] >= 0:
+            base = i * ring
+            remap[base : base + sides] = new_index[ends[weld[s]] : ends[weld[s]] + sides]
+    np.testing.assert_array_equal(t1, remap[t0])
+    # the merged mesh is watertight along an axis: fewer boundary edges than unmerged
+    m0 = pv.PolyData.from_regular_faces(p0, t0).extract_feature_edges(
+        boundary_edges=True, feature_edges=False, manifold_edges=False, non_manifold_edges=False
+    )
+    m1 = pv.PolyData.from_regular_faces(p1, t1).extract_feature_edges(
+        boundary_edges=True, feature_edges=False, manifold_edges=False, non_manifold_edges=False
+    )
+    assert m1.n_cells < m0.n_cells

@@ -16,7 +16,7 @@ import numpy as np
 
 from growsim.kernels.config import njit
 
-__all__ = ["LEAF_TRIS", "LEAF_VERTS", "mesh_counts", "mesh_kernel"]
+__all__ = ["LEAF_TRIS", "LEAF_VERTS", "mesh_counts", "mesh_kernel", "weld_targets"]
 
 #: vertices and triangles of one leaf
 LEAF_VERTS = 7
@@ -62,7 +62,31 @@ def _frame(ax, ay, az):
 
 
 @njit
-def mesh_kernel(start, end, r0, r1, kind, sides, segments):
+def weld_targets(parent, kind, radius):
+    """For each stem, the parent stem whose end ring its tube may share (``-1``: none).
+
+    A segment continues its parent's tube when it is the parent's thickest stem child
+    (the first one on ties): the continuation of a branch axis. ``parent`` ``(n,)`` int64,
+    ``kind`` ``(n,)`` int8, ``radius`` ``(n,)`` float64; returns ``(n,)`` int64.
+    """
+    n = parent.shape[0]
+    best = np.full(n, -1, np.int64)
+    for s in range(n):
+        p = parent[s]
+        if kind[s] != 0 or p < 0 or kind[p] != 0:
+            continue
+        b = best[p]
+        if b < 0 or radius[s] > radius[b]:
+            best[p] = s
+    out = np.full(n, -1, np.int64)
+    for p in range(n):
+        if best[p] >= 0:
+            out[best[p]] = p
+    return out
+
+
+@njit
+def mesh_kernel(start, end, r0, r1, kind, sides, segments, weld_to):
     """Build the mesh arrays.
 
     Parameters
@@ -71,11 +95,15 @@ def mesh_kernel(start, end, r0, r1, kind, sides, segments):
     r0, r1 : ``(n,)`` float64 radius at the base and at the end (leaves: half width, r0).
     kind : ``(n,)`` int8, 0 stem (tube), 1 leaf (hexagon).
     sides : int >= 3, tube polygon sides. segments : int >= 1, tube pieces per segment.
+    weld_to : ``(n,)`` int64, for a stem the stem whose end ring its tube starts from
+        (segment merging: consecutive segments of one axis share the joint ring), or
+        ``-1`` for a tube with its own base ring. See :func:`weld_targets`.
 
     Returns
     -------
     points ``(N, 3)`` float32, tris ``(M, 3)`` int64, vkind ``(N,)`` uint8 (0 bark, 1 leaf).
-    Stems come first in segment order, then leaves in segment order.
+    Stems come first in segment order (a welded stem without its base ring), then leaves
+    in segment order.
     """
     n = start.shape[0]
     n_leaf = 0
@@ -83,8 +111,19 @@ def mesh_kernel(start, end, r0, r1, kind, sides, segments):
         if kind[s] == 1:
             n_leaf += 1
     n_stem = n - n_leaf
-    ring = sides
-    nv = n_stem * ring * (segments + 1) + n_leaf * 7
+    # pass 1: where each stem's vertex block starts (a welded stem has one ring less)
+    vstart = np.full(n, -1, np.int64)
+    own = np.zeros(n, np.int64)
+    nv = 0
+    for s in range(n):
+        if kind[s] == 1:
+            continue
+        own[s] = segments + 1
+        if weld_to[s] >= 0:
+            own[s] = segments
+        vstart[s] = nv
+        nv += own[s] * sides
+    nv += n_leaf * 7
     nt = n_stem * 2 * sides * segments + n_leaf * 6
     pts = np.empty((nv, 3), np.float32)
     tris = np.empty((nt, 3), np.int64)
@@ -109,8 +148,9 @@ def mesh_kernel(start, end, r0, r1, kind, sides, segments):
         else:
             ax, ay, az = 0.0, 1.0, 0.0
         ux, uy, uz, wx, wy, wz = _frame(ax, ay, az)
-        v0 = v
-        for j in range(segments + 1):
+        w = weld_to[s]
+        first = 1 if w >= 0 else 0
+        for j in range(first, segments + 1):
             f = j / segments
             cx = start[s, 0] + f * dx
             cy = start[s, 1] + f * dy
@@ -122,8 +162,11 @@ def mesh_kernel(start, end, r0, r1, kind, sides, segments):
                 pts[v, 2] = cz + r * (cosa[k] * uz + sina[k] * wz)
                 v += 1
         for j in range(segments):
-            a0 = v0 + j * ring
-            b0 = a0 + ring
+            if j == 0 and w >= 0:
+                a0 = vstart[w] + (own[w] - 1) * sides  # the parent's end ring
+            else:
+                a0 = vstart[s] + (j - first) * sides
+            b0 = vstart[s] + (j + 1 - first) * sides
             for k in range(sides):
                 k1 = (k + 1) % sides
                 tris[t, 0] = a0 + k

@@ -218,7 +218,6 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None) -
         # pipe model: a branch's cross-section is proportional to the tips it feeds
         tips_below = subtree_tips_kernel(parent)
         radius = a * np.sqrt(tips_below / tips_below[0])
-        r_end = radius.copy()
         has = parent >= 0
         child_r = np.zeros(n_stems)
         np.maximum.at(child_r, parent[has], radius[has])
