@@ -950,7 +950,20 @@ def _executor(workers: int | None, scheduler: str | None):
     return client.get_executor(pure=False), close
 
 
-def _build_ga(cfg: Config, fitness: Fitness, plan: _Plan):
+def _executor_workers(executor) -> int | None:
+    """How many evaluations an executor runs at once (Dask: the cluster's threads)."""
+    client = getattr(executor, "_client", None)
+    if client is not None:
+        try:
+            workers = client.scheduler_info()["workers"].values()
+            return max(1, sum(int(w.get("nthreads", 1)) for w in workers))
+        except Exception:  # an unreachable or odd scheduler: fall back to the GA's default
+            return None
+    n = getattr(executor, "_max_workers", None)
+    return int(n) if n else None
+
+
+def _build_ga(cfg: Config, fitness: Fitness, plan: _Plan, batch_size: int | None = None):
     from growsim.ga import GA, genome_from_params
 
     g = cfg.ga
@@ -974,7 +987,7 @@ def _build_ga(cfg: Config, fitness: Fitness, plan: _Plan):
         migration_rate=g.migration_rate,
         migration_interval=g.migration_interval,
         extinction=g.extinction,
-        batch_size=g.batch_size,
+        batch_size=g.batch_size if batch_size is None else batch_size,
     )
 
 
@@ -1075,11 +1088,22 @@ def _run_locked(cfg, rd, workers, scheduler, resume, progress, callback, ext) ->
 
     plan = _plan(cfg)
     fitness = build_fitness(cfg)
-    ga = _build_ga(cfg, fitness, plan)
     g = cfg.ga
+    executor, close = (ext, lambda: None) if ext is not None else _executor(workers, scheduler)
+    # Tasks per generation: the GA splits a population into 4 tasks per worker, counting
+    # local CPUs when it cannot see the executor's size; give it the Dask cluster's size.
+    # (Batching never changes results: seeds follow the evaluation index.)
+    batch = None
+    n_exec = _executor_workers(executor) if executor is not None else None
+    if g.batch_size is None and n_exec is not None:
+        batch = max(1, math.ceil(g.population / (4 * n_exec)))
+    try:
+        ga = _build_ga(cfg, fitness, plan, batch_size=batch)
+    except BaseException:
+        close()
+        raise
     show_bar = bool(progress) and sys.stderr.isatty()
     bar = _Progress(g.generations, show_bar, callback)
-    executor, close = (ext, lambda: None) if ext is not None else _executor(workers, scheduler)
     t0 = time.perf_counter()
     started = time.strftime("%Y-%m-%dT%H:%M:%S%z")
     try:
