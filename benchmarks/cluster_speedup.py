@@ -28,6 +28,7 @@ def main() -> None:
     ap.add_argument("--generations", type=int, default=10)
     ap.add_argument("--tree-generations", type=int, default=20)
     ap.add_argument("--resolution", type=int, default=1024)
+    ap.add_argument("--repeat", type=int, default=2, help="time each mode N times, keep the min")
     args = ap.parse_args()
 
     from dask.distributed import LocalCluster
@@ -56,15 +57,22 @@ def main() -> None:
     f(x)
     per_eval = (time.perf_counter() - t) / len(x)
 
-    results = {}
+    results = {}  # whole run() call: connecting to the cluster, GA, writing results
+    ga_results = {}  # the GA loop alone (evaluations + GA), as the GA's clock measures it
     histories = {}
     with tempfile.TemporaryDirectory() as tmp:
 
         def timed(label, **kw):
-            t0 = time.perf_counter()
-            r = run(cfg, Path(tmp) / label, progress=False, **kw)
-            results[label] = round(time.perf_counter() - t0, 3)
-            histories[label] = r.history.drop(columns=["seconds"])
+            # the machine is shared: keep the fastest of a few timings of each mode
+            best, best_ga = float("inf"), float("inf")
+            for k in range(args.repeat):
+                t0 = time.perf_counter()
+                r = run(cfg, Path(tmp) / f"{label}_{k}", progress=False, **kw)
+                best = min(best, time.perf_counter() - t0)
+                best_ga = min(best_ga, r.summary["ga_seconds"])
+                histories[f"{label}_{k}"] = r.history.drop(columns=["seconds"])
+            results[label] = round(best, 3)
+            ga_results[label] = round(best_ga, 3)
 
         timed("serial")
         timed("pool_2", workers=2)
@@ -83,9 +91,8 @@ def main() -> None:
                 )
                 results[f"dask_{n}_warmup"] = round(time.perf_counter() - t0, 3)
                 timed(f"dask_{n}", scheduler=cluster.scheduler_address)
-    ref = histories["serial"]
+    ref = histories["serial_0"]
     identical = all(h.equals(ref) for h in histories.values())
-    # pandas' equals is exact; the warm-up runs are not in ``histories``
     print(
         json.dumps(
             {
@@ -93,9 +100,12 @@ def main() -> None:
                 "population": args.population,
                 "generations": args.generations,
                 "evaluations": int(ref["evaluations"].iloc[-1]),
+                "repeat": args.repeat,
                 "seconds_per_evaluation": round(per_eval, 5),
                 "wall_seconds": results,
+                "ga_seconds": ga_results,
                 "speedup_dask_1_to_2": round(results["dask_1"] / results["dask_2"], 2),
+                "speedup_dask_1_to_2_ga": round(ga_results["dask_1"] / ga_results["dask_2"], 2),
                 "speedup_pool_2_vs_serial": round(results["serial"] / results["pool_2"], 2),
                 "identical_histories": bool(identical),
                 "cpu_count": os.cpu_count(),

@@ -281,7 +281,7 @@ class Config(BaseModel):
 
         Examples
         --------
-        >>> load_config("experiments/quickstart.toml").to_dict()["model"]["kind"]  # doctest: +SKIP
+        >>> load_config("experiments/quickstart.toml").to_dict()["model"]["kind"]
         'honda'
         """
         return self.model_dump(mode="json", exclude_none=True)
@@ -469,6 +469,35 @@ def _read_toml(path: Path) -> dict:
         raise ConfigError(f"{path}: invalid TOML: {exc}") from None
 
 
+def _absolute_paths(data: Any, bases: Sequence[Path]) -> None:
+    """Make the file options of objectives absolute, in place.
+
+    A relative path in an objective table (e.g. a target image ``front = "front.png"``)
+    is looked up next to the config file first, then in the working directory; the first
+    existing file wins and is written as an absolute path, so the ``config.toml`` saved
+    with a run (and ``--resume``) works from any directory.
+    """
+    objectives = data.get("objective") if isinstance(data, dict) else None
+    if not isinstance(objectives, list):
+        return
+    for table in objectives:
+        if not isinstance(table, dict):
+            continue
+        for key, value in table.items():
+            if key in ("kind", "weight") or not isinstance(value, str) or not value:
+                continue
+            try:
+                p = Path(value)
+                if p.is_absolute() or not (p.suffix or len(p.parts) > 1):
+                    continue
+                for base in bases:
+                    if (base / p).is_file():
+                        table[key] = str((base / p).resolve())
+                        break
+            except (OSError, ValueError):  # not a usable path: leave it to the objective
+                continue
+
+
 def load_config(
     source: str | Path | Mapping[str, Any] | Config, overrides: Sequence[str] = ()
 ) -> Config:
@@ -478,6 +507,8 @@ def load_config(
     are ``key.path=value`` strings applied before validation. The model, its preset,
     fixed and evolved parameters, the objectives (built once from their options) and the
     GA operator names are all checked here, so a bad config fails before anything runs.
+    Relative file paths in objective tables are looked up next to the config file, then in
+    the working directory, and made absolute.
 
     Raises :class:`growsim.errors.ConfigError` with a one-line message naming the key path.
 
@@ -502,6 +533,10 @@ def load_config(
         label = str(path)
     for parts, value in parse_overrides(overrides):
         _set_path(data, parts, value, "--set " + _loc_path(parts))
+    bases = [Path.cwd()]
+    if not isinstance(source, (Mapping, Config)):
+        bases.insert(0, Path(source).resolve().parent)
+    _absolute_paths(data, bases)
     try:
         cfg = Config.model_validate(data)
     except ValidationError as exc:
@@ -577,6 +612,12 @@ def _plan(cfg: Config) -> _Plan:
         raise ConfigError(
             "model.evolve: nothing to evolve; name at least one parameter "
             f"(allowed: {', '.join(by_name)})"
+        )
+    unknown = [k for k in user if k not in by_name]
+    if unknown:
+        raise ConfigError(
+            f"model.params.{unknown[0]}: unknown parameter of model {cfg.model.kind!r}; "
+            f"allowed: {', '.join(by_name)}"
         )
     try:
         resolved = resolve_params(spec, user, where="model.params.")
@@ -697,9 +738,10 @@ class Fitness:
 
     Examples
     --------
-    >>> cfg = load_config("experiments/quickstart.toml")  # doctest: +SKIP
-    >>> f = build_fitness(cfg)  # doctest: +SKIP
-    >>> f(np.array([[0.8] * len(f.evolved)])).shape  # doctest: +SKIP
+    >>> f = build_fitness(load_config("experiments/quickstart.toml"))
+    >>> f.evolved
+    ('f', 'theta0', 'theta_max', 'thq', 'b0', 'b_max')
+    >>> f(np.array([[0.8, 80.0, 5.0, 0.2, 8.0, 4.0]])).shape
     (1,)
     """
 
@@ -791,7 +833,7 @@ def build_fitness(cfg: Config) -> Fitness:
 
     Examples
     --------
-    >>> f = build_fitness(load_config("experiments/quickstart.toml"))  # doctest: +SKIP
+    >>> f = build_fitness(load_config("experiments/quickstart.toml"))
     >>> f.model
     'honda'
     """
@@ -1464,11 +1506,15 @@ def _sweep_runs(variants, labels, n_rep, root, executor, workers, scheduler, pro
     rows = []
     if isinstance(executor, int):  # a process-pool size: let each run make its pool
         executor = None
+    total, k = len(variants) * n_rep, 0
     for (assign, cfg), label in zip(variants, labels):
         for r in range(n_rep):
             seed = cfg.experiment.seed + r
             run_dir = root / label / f"seed-{seed}"
             rd = RunDir(run_dir)
+            k += 1
+            if progress and sys.stderr.isatty():
+                print(f"sweep: run {k}/{total}: {label}/seed-{seed}", file=sys.stderr)
             if rd.summary_path.is_file():
                 summary = json.loads(rd.summary_path.read_text())
             elif rd.config_path.is_file():
@@ -1563,7 +1609,7 @@ def config_docs() -> str:
         "# Experiment configs: every key",
         "",
         "<!-- generated by `python -m growsim.experiment --docs > docs/configs.md`;",
-        "     tests/test_config_docs.py fails when it is out of date -->",
+        "     tests/test_config.py fails when it is out of date -->",
         "",
         "An experiment is a TOML file with the sections below. Unknown keys, wrong types and",
         "values out of range are rejected with a message naming the key path (exit code 2);",
@@ -1577,7 +1623,15 @@ def config_docs() -> str:
         "chosen model (see `docs/models/<model>.md`, or `growsim grow MODEL --help`);",
         "their ranges come from the model's parameter spec. Objective tables take the",
         "options of the objective class (`kind` and `weight` are common to all; see the",
-        "objective's docstring, e.g. `growsim.objectives.light.LightObjective`).",
+        "objective's docstring, e.g. `growsim.objectives.light.LightObjective`). A relative",
+        "file path in an objective table (a target image) is looked up next to the config",
+        "file first, then in the working directory, and saved as an absolute path.",
+        "",
+        "Randomness: `experiment.seed` seeds the run; the GA derives one seed per evaluation",
+        "from it by the evaluation's index, so results do not depend on `--workers` or",
+        '`--scheduler`. With `model.noise = "fixed"` a genome always grows the same plant',
+        "(the model's own `seed` parameter, fixed or evolved, else the run seed); with",
+        '`"per-evaluation"` each evaluation grows with its own seed.',
         "",
     ]
     for section, cls in SECTIONS.items():

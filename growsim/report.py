@@ -91,13 +91,16 @@ def find_runs(dirs: Sequence[str | Path]) -> list[Run]:
         raise UserInputError("compare: give at least one results directory")
     seen: set[Path] = set()
     runs: list[Run] = []
+    skipped: list[Path] = []
     for d in dirs:
         d = Path(d)
         if not d.is_dir():
             raise UserInputError(f"{d}: no such directory")
         found = sorted(p.parent for p in d.rglob("summary.json"))
         if not found:
-            raise UserInputError(f"{d}: holds no finished growsim run (no summary.json)")
+            # `growsim compare runs/*` also meets report directories: skip them, but say so
+            skipped.append(d)
+            continue
         for p in found:
             rp = p.resolve()
             if rp in seen:
@@ -110,6 +113,11 @@ def find_runs(dirs: Sequence[str | Path]) -> list[Run]:
             except (OSError, ValueError) as exc:
                 raise UserInputError(f"{p}: unreadable run ({exc})") from None
             runs.append(Run(p, summary, config, history))
+    if not runs:
+        where = ", ".join(str(d) for d in skipped)
+        raise UserInputError(f"{where}: holds no finished growsim run (no summary.json)")
+    for d in skipped:
+        log.warning("%s: no finished growsim run here; skipped", d)
     return runs
 
 

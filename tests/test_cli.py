@@ -9,10 +9,14 @@ import signal
 import subprocess
 import sys
 import time
+from contextlib import redirect_stderr, redirect_stdout
+from io import StringIO
 from pathlib import Path
 
 import pandas as pd
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 ROOT = Path(__file__).resolve().parents[1]
 QUICK = str(ROOT / "experiments" / "quickstart.toml")
@@ -204,3 +208,46 @@ def test_a_second_run_on_the_same_out_refuses(tmp_path):
     finally:
         proc.send_signal(signal.SIGKILL)
         proc.wait()
+
+
+# ---- fuzzing the command line in-process: malformed configs never give a traceback ----
+
+QUICK_TEXT = Path(QUICK).read_text()
+
+
+@settings(
+    max_examples=120,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
+)
+@given(
+    edits=st.lists(
+        st.tuples(
+            st.integers(0, len(QUICK_TEXT)),
+            st.integers(0, 12),
+            st.sampled_from(["", "[", "]", "=", '"', "x", "-1", "\n", "1e9", "{", ".", "#"]),
+        ),
+        min_size=1,
+        max_size=4,
+    )
+)
+def test_fuzz_mangled_quickstart_exits_2_or_runs(tmp_path, monkeypatch, edits):
+    import growsim.experiment as ex
+    from growsim.cli import main
+    from growsim.errors import GrowsimError
+
+    def no_run(*a, **k):  # a config that survives validation is not run here
+        raise GrowsimError("VALID")
+
+    monkeypatch.setattr(ex, "_run_locked", no_run)
+    text = QUICK_TEXT
+    for pos, cut, insert in edits:
+        text = text[:pos] + insert + text[pos + cut :]
+    cfg = tmp_path / f"c{abs(hash(text))}.toml"
+    cfg.write_text(text)
+    err = StringIO()
+    with redirect_stderr(err), redirect_stdout(StringIO()):
+        code = main(["run", str(cfg), "--out", str(tmp_path / f"o{abs(hash(text))}"), "--quiet"])
+    lines = [ln for ln in err.getvalue().splitlines() if ln.strip()]
+    assert code == 2, err.getvalue()
+    assert len(lines) == 1 and lines[0].startswith("growsim: error: "), err.getvalue()

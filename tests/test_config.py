@@ -87,7 +87,10 @@ def test_preset_values_are_used_and_params_override_them():
         (cfg_with(output__size=[8, 8]), "output.size"),
         (cfg_with(model__kind="oak"), "model.kind: unknown model 'oak'; available: honda"),
         (cfg_with(model__preset="oak"), "model.preset: unknown preset 'oak' of model 'honda'"),
-        (cfg_with(model__params={"zz": 1.0}), "unknown parameter(s) zz; allowed: generations"),
+        (
+            cfg_with(model__params={"zz": 1.0}),
+            "model.params.zz: unknown parameter of model 'honda'; allowed: generations",
+        ),
         (cfg_with(model__params={"f": 1.5}), "model.params.f: 1.5 is out of range [0, 1]"),
         (cfg_with(model__params={"f": "x"}), "model.params.f: expected a number (got 'x')"),
         (cfg_with(model__evolve={}), "model.evolve: nothing to evolve"),
@@ -317,3 +320,31 @@ def test_fuzz_structured_mutations_never_crash(mutations):
         load_config(data)
     except GrowsimError as exc:
         assert str(exc) and "\n" not in str(exc).strip()
+
+
+def test_relative_image_paths_resolve_next_to_the_config(tmp_path, monkeypatch):
+    from PIL import Image, ImageDraw
+
+    pytest.importorskip("growsim.objectives.silhouette")
+    d = tmp_path / "exp"
+    d.mkdir()
+    for name in ("front.png", "side.png"):
+        im = Image.new("L", (64, 64), 255)
+        ImageDraw.Draw(im).polygon([(32, 5), (10, 50), (54, 50)], fill=0)
+        ImageDraw.Draw(im).rectangle([30, 50, 34, 62], fill=0)
+        im.save(d / name)
+    (d / "fit.toml").write_text(
+        '[model]\nkind = "honda"\nevolve = { f = true }\n'
+        '[[objective]]\nkind = "silhouette"\nfront = "front.png"\nside = "side.png"\n'
+    )
+    monkeypatch.chdir(tmp_path)  # not the config's directory
+    cfg = load_config("exp/fit.toml")
+    opts = cfg.objective[0].options()
+    assert opts["front"] == str((d / "front.png").resolve())
+    assert Path(opts["side"]).is_absolute()
+    # the saved copy loads from anywhere
+    monkeypatch.chdir(d)
+    assert load_config(tomllib.loads(cfg.to_toml())).to_dict() == cfg.to_dict()
+    # a path that exists nowhere is left to the objective, which names it
+    with pytest.raises(GrowsimError, match=r"nope\.png"):
+        load_config("fit.toml", ["objective[0].front=nope.png"])

@@ -245,3 +245,34 @@ def test_dask_local_cluster_gives_the_same_results(tiny_run, tmp_path):
     history_eq(tiny_run.history, other.history)
     assert other.best_params == tiny_run.best_params
     assert other.summary["scheduler"] == "local"
+
+
+def test_light_objective_formula_and_environment():
+    from growsim.errors import ConfigError
+    from growsim.experiment import EnvironmentConfig
+    from growsim.models.honda import PRESETS, develop
+    from growsim.objectives.light import LightObjective
+    from growsim.plant import LEAF
+
+    plant = develop(PRESETS["zelkova"])
+    obj = LightObjective(wood_cost=0.5, resolution=64)
+    area = plant.projected_area((0.0, -1.0, 0.0), kinds=(LEAF,), resolution=64)
+    assert obj(plant) == pytest.approx(area - 0.5 * plant.wood_volume())
+    env = EnvironmentConfig(light=0.5, light_direction=[1.0, -1.0, 0.0])
+    bound = obj.with_environment(env)
+    side = plant.projected_area((1.0, -1.0, 0.0), kinds=(LEAF,), resolution=64)
+    assert bound(plant) == pytest.approx(0.5 * side - 0.5 * plant.wood_volume())
+    assert obj.direction is None  # the original is unchanged
+    mine = LightObjective(direction=(0, -1, 0), intensity=2.0, resolution=64)
+    assert mine.with_environment(env)(plant) == pytest.approx(
+        2.0 * area - 0.02 * plant.wood_volume()
+    )
+    for bad in (
+        {"wood_cost": -1},
+        {"resolution": 8},
+        {"resolution": 1.5},
+        {"direction": (0, 0, 0)},
+        {"intensity": "x"},
+    ):
+        with pytest.raises(ConfigError):
+            LightObjective(**bad)

@@ -142,3 +142,11 @@ def test_identical_groups_give_p_one(tmp_path):
     c = compare([tmp_path / "a", tmp_path / "b"], tmp_path / "cmp", renders=False)
     assert c.stats["welch_t_p"].iloc[0] == 1.0 and c.stats["mann_whitney_p"].iloc[0] == 1.0
     json.loads((tmp_path / "a" / "seed-0" / "summary.json").read_text())
+
+
+def test_directories_without_runs_are_skipped_when_others_have_runs(tmp_path, caplog):
+    fake_run(tmp_path / "r1", 0, 3.0)
+    (tmp_path / "compare-old").mkdir()
+    runs = find_runs([tmp_path / "r1", tmp_path / "compare-old"])
+    assert len(runs) == 1
+    assert "compare-old: no finished growsim run here; skipped" in caplog.text

@@ -30,8 +30,10 @@ from growsim.kernels.config import njit
 
 __all__ = [
     "MARGIN",
+    "blur_views",
     "compose_tree",
     "frame_points",
+    "gaussian_taps",
     "map_matrices",
     "n_segments",
     "render_views",
@@ -237,6 +239,56 @@ def _render(coords, img):
 
 
 @njit
+def _render_aa(coords, acc):
+    """Anti-aliased thin-line views into float ``acc`` ``(2, S, S)`` (zeroed first).
+
+    The samples of :func:`_render` each carry ``length / (n + 1)`` of ink (pixels), spread
+    bilinearly over the four pixels whose centres surround it; each pixel is then capped
+    at 1 (fully covered). The image, hence any score of it, moves continuously with the
+    segment end points, unlike the binary rendering, whose pixels jump.
+    """
+    flat = acc.reshape(-1)
+    for q in range(flat.size):
+        flat[q] = 0.0
+    M = coords.shape[2]
+    S0 = acc.shape[1]
+    S1 = acc.shape[2]
+    for v in range(2):
+        for i in range(M):
+            ax = coords[v, 0, i, 0] - 0.5
+            ay = coords[v, 0, i, 1] - 0.5
+            dx = coords[v, 1, i, 0] - coords[v, 0, i, 0]
+            dy = coords[v, 1, i, 1] - coords[v, 0, i, 1]
+            n = math.ceil(max(abs(dx), abs(dy)))
+            if n < 1:
+                n = 1
+            inv = 1.0 / n
+            w = math.sqrt(dx * dx + dy * dy) / (n + 1)
+            for t in range(n + 1):
+                f = t * inv
+                x = ax + dx * f
+                y = ay + dy * f
+                j0 = math.floor(x)
+                i0 = math.floor(y)
+                fx = x - j0
+                fy = y - i0
+                for di in range(2):
+                    ii = i0 + di
+                    if ii < 0 or ii >= S0:
+                        continue
+                    wy = fy if di == 1 else 1.0 - fy
+                    for dj in range(2):
+                        jj = j0 + dj
+                        if jj < 0 or jj >= S1:
+                            continue
+                        wx = fx if dj == 1 else 1.0 - fx
+                        acc[v, ii, jj] += w * wx * wy
+    for q in range(flat.size):
+        if flat[q] > 1.0:
+            flat[q] = 1.0
+
+
+@njit
 def _ncc(img, target, g_area, area_reject):
     """Mean over views of ``|F and G| / sqrt(|F| |G|)``; 0 when rejected by area ratio."""
     S0 = img.shape[1]
@@ -264,8 +316,93 @@ def _ncc(img, target, g_area, area_reject):
     return 0.5 * total
 
 
+def gaussian_taps(sigma: float) -> np.ndarray:
+    """Normalised 1D Gaussian taps ``(2 r + 1,)``, ``r = ceil(3 sigma)``, for :func:`blur_views`.
+
+    Examples
+    --------
+    >>> t = gaussian_taps(1.0)
+    >>> t.shape, round(float(t.sum()), 12), bool(t[3] == t.max())
+    ((7,), 1.0, True)
+    """
+    sigma = float(sigma)
+    if not sigma > 0.0:
+        raise ValueError(f"sigma must be > 0, got {sigma}")
+    r = int(math.ceil(3.0 * sigma))
+    x = np.arange(-r, r + 1, dtype=np.float64)
+    g = np.exp(-0.5 * (x / sigma) ** 2)
+    return g / g.sum()
+
+
+@njit
+def _blur(img, taps, tmp, out):
+    """Separable Gaussian blur of the ``(V, S, S)`` binary ``img`` into float ``out``.
+
+    Zero outside the raster. The horizontal pass scatters only the set pixels (most of a
+    silhouette is background); ``tmp`` ``(S, S)`` is scratch.
+    """
+    V = img.shape[0]
+    S0 = img.shape[1]
+    S1 = img.shape[2]
+    r = (taps.size - 1) // 2
+    for v in range(V):
+        for i in range(S0):
+            for j in range(S1):
+                tmp[i, j] = 0.0
+        for i in range(S0):
+            for j in range(S1):
+                x = img[v, i, j]
+                if x != 0:
+                    lo = max(0, j - r)
+                    hi = min(S1, j + r + 1)
+                    for q in range(lo, hi):
+                        tmp[i, q] += x * taps[q - j + r]
+        for i in range(S0):
+            lo = max(0, i - r)
+            hi = min(S0, i + r + 1)
+            for j in range(S1):
+                acc = 0.0
+                for q in range(lo, hi):
+                    acc += taps[q - i + r] * tmp[q, j]
+                out[v, i, j] = acc
+
+
+@njit
+def _ncc_blurred(img, taps, target_b, tb_norm, tmp, fb, g_area, area_reject):  # noqa: PLR0913
+    """Mean over views of the NCC ``<Fb, Gb> / (|Fb| |Gb|)`` of blurred silhouettes.
+
+    ``target_b`` is the blurred target, ``tb_norm`` ``(V,)`` its norms. The area rule uses
+    the binary areas, as :func:`_ncc`.
+    """
+    _blur(img, taps, tmp, fb)
+    S0 = img.shape[1]
+    S1 = img.shape[2]
+    total = 0.0
+    f_all = 0.0
+    g_all = 0.0
+    for v in range(2):
+        dot = 0.0
+        ff = 0.0
+        f = 0.0
+        for i in range(S0):
+            for j in range(S1):
+                x = fb[v, i, j]
+                dot += x * target_b[v, i, j]
+                ff += x * x
+                f += img[v, i, j]
+        if ff > 0.0 and tb_norm[v] > 0.0:
+            total += dot / (math.sqrt(ff) * tb_norm[v])
+        f_all += f
+        g_all += g_area[v]
+    if area_reject:
+        ratio = f_all / g_all
+        if ratio < 0.5 or ratio > 2.0:
+            return 0.0
+    return 0.5 * total
+
+
 @njit(parallel=True)
-def _score_population(params, depth, target, area_reject, n_chunks):
+def _score_population(params, depth, target, area_reject, n_chunks, taps):
     n = params.shape[0]
     N = params.shape[1]
     S = target.shape[1]
@@ -278,6 +415,13 @@ def _score_population(params, depth, target, area_reject, n_chunks):
     g_area = np.zeros(2)
     for v in range(2):
         g_area[v] = float(np.sum(target[v]))
+    blurred = taps.size > 0
+    target_b = np.zeros((2, S, S))
+    tb_norm = np.zeros(2)
+    if blurred:
+        _blur(target, taps, np.empty((S, S)), target_b)
+        for v in range(2):
+            tb_norm[v] = math.sqrt(np.sum(target_b[v] * target_b[v]))
     out = np.zeros(n)
     base = np.zeros(3)
     for c in numba.prange(n_chunks):
@@ -288,12 +432,19 @@ def _score_population(params, depth, target, area_reject, n_chunks):
         end = np.empty((M, 3))
         coords = np.empty((2, 2, M, 2))
         img = np.empty((2, S, S), dtype=np.uint8)
+        tmp = np.empty((S, S))
+        fb = np.empty((2, S, S))
+        aimg = np.empty((2, S, S))
         for i in range(c, n, n_chunks):
             _maps_of(params[i], W)
             _compose(W, depth, mats, start, end)
             _frame(start, end, base, S, coords)
-            _render(coords, img)
-            out[i] = _ncc(img, target, g_area, area_reject)
+            if blurred:
+                _render_aa(coords, aimg)
+                out[i] = _ncc_blurred(aimg, taps, target_b, tb_norm, tmp, fb, g_area, area_reject)
+            else:
+                _render(coords, img)
+                out[i] = _ncc(img, target, g_area, area_reject)
     return out
 
 
@@ -399,13 +550,39 @@ def render_views(start, end, base, size: int) -> np.ndarray:
     return img
 
 
-def score_population(params, depth: int, target, area_reject: bool = False) -> np.ndarray:
+def blur_views(img, sigma: float) -> np.ndarray:
+    """Gaussian-blurred ``(V, S, S)`` float64 copy of binary views ``img`` (zero outside).
+
+    ``sigma`` in pixels (> 0); the kernel is :func:`gaussian_taps`, applied separably.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((1, 9, 9), np.uint8); img[0, 4, 4] = 1
+    >>> b = blur_views(img, 1.0)
+    >>> round(float(b.sum()), 6), bool(b[0, 4, 4] == b.max())
+    (1.0, True)
+    """
+    img = np.ascontiguousarray(img, dtype=np.uint8)
+    if img.ndim != 3:
+        raise ValueError(f"img must have shape (V, S0, S1), got {img.shape}")
+    out = np.empty(img.shape)
+    _blur(img, gaussian_taps(sigma), np.empty(img.shape[1:]), out)
+    return out
+
+
+def score_population(
+    params, depth: int, target, area_reject: bool = False, blur: float = 0.0
+) -> np.ndarray:
     """Mean front/side binary NCC of a whole population of IFS trees (parallel kernel).
 
     ``params`` ``(n, N, 4)`` rows ``(s, y, theta_z, theta_y)`` per map (degrees); ``target``
     ``(2, S, S)`` uint8 front and side silhouettes (framed like :func:`render_views`).
     Returns ``(n,)`` float64 in ``[0, 1]``; ``area_reject`` scores 0 a tree whose total
     silhouette area is not within 0.5x-2x of the target's (the seed's rejection).
+    ``blur > 0``: the NCC ``<Fb, Gb> / (|Fb| |Gb|)`` of both silhouettes blurred by a
+    Gaussian of ``blur`` pixels (:func:`blur_views`), which gives near misses partial
+    credit; 0 is the binary NCC.
 
     Examples
     --------
@@ -424,5 +601,8 @@ def score_population(params, depth: int, target, area_reject: bool = False) -> n
         raise ValueError(f"target must have shape (2, S, S), got {target.shape}")
     if params.shape[0] == 0:
         return np.zeros(0)
+    if not blur >= 0.0:
+        raise ValueError(f"blur must be >= 0, got {blur}")
+    taps = gaussian_taps(blur) if blur > 0.0 else np.zeros(0)
     n_chunks = min(params.shape[0], 4 * numba.get_num_threads())
-    return _score_population(params, int(depth), target, bool(area_reject), n_chunks)
+    return _score_population(params, int(depth), target, bool(area_reject), n_chunks, taps)
