@@ -792,7 +792,9 @@ class Fitness:
         """``(n,)`` uint64 seeds the model develops each individual with."""
         n = len(full)
         if self.noise == "per-evaluation" and seeds is not None:
-            return np.asarray(seeds, dtype=np.uint64)
+            # the GA's seeds use all 64 bits; models take seeds as int parameters, often
+            # up to 2**31 - 1 (Honda's ``seed``): keep the top 31 bits
+            return np.asarray(seeds, dtype=np.uint64) >> np.uint64(33)
         if "seed" in self.names:
             return full[:, self.names.index("seed")].astype(np.uint64)
         return np.full(n, self.seed, dtype=np.uint64)
@@ -884,8 +886,8 @@ class RunResult:
     stop_reason: str = ""
 
 
-def default_out(cfg: Config, root: str | Path = "runs") -> Path:
-    """``runs/<name>-<YYYYmmdd-HHMMSS>`` (with ``-2``, ``-3``... if it exists).
+def default_out(cfg: Config, root: str | Path = "runs", kind: str = "") -> Path:
+    """``runs/<name>[-<kind>]-<YYYYmmdd-HHMMSS>`` (with ``-2``, ``-3``... if it exists).
 
     Examples
     --------
@@ -895,7 +897,7 @@ def default_out(cfg: Config, root: str | Path = "runs") -> Path:
     True
     """
     stamp = time.strftime("%Y%m%d-%H%M%S")
-    base = Path(root) / f"{cfg.experiment.name}-{stamp}"
+    base = Path(root) / "-".join(x for x in (cfg.experiment.name, kind, stamp) if x)
     out, k = base, 2
     while out.exists():
         out = base.with_name(f"{base.name}-{k}")
@@ -904,10 +906,17 @@ def default_out(cfg: Config, root: str | Path = "runs") -> Path:
 
 
 class _Progress:
-    """Per-generation callback: tqdm bar on stderr + the user's callback."""
+    """Per-generation callback: tqdm bar on stderr, a live history.parquet (at most every
+    ``every`` seconds, so a long run can be watched; the checkpoint is what resumes), and
+    the user's callback."""
 
-    def __init__(self, total: int | None, enabled: bool, user_callback=None):
+    def __init__(
+        self, total: int | None, enabled: bool, user_callback=None, rd=None, every: float = 5.0
+    ):
         self.user_callback = user_callback
+        self.rd = rd
+        self.every = every
+        self.last_write = time.perf_counter()
         self.bar = None
         self.t0 = time.perf_counter()
         self.evals0: int | None = None
@@ -932,6 +941,12 @@ class _Progress:
                 evals_s=f"{rate:.0f}",
                 refresh=False,
             )
+        if self.rd is not None and time.perf_counter() - self.last_write > self.every:
+            try:
+                self.rd.write_parquet("history.parquet", ga.history)
+            except Exception as exc:  # only a live view: never stop a run for it
+                log.warning("live history.parquet not written: %s", exc)
+            self.last_write = time.perf_counter()
         if self.user_callback is not None:
             return self.user_callback(ga, row)
         return None
@@ -1114,15 +1129,20 @@ def run(
             cfg = load_config(cfg, [f"experiment.seed={int(seed)}"])
         rd = RunDir(out if out is not None else default_out(cfg))
 
-    with rd.lock():
-        if not resume:
-            rd.create_fresh()
-            rd.write_text("config.toml", cfg.to_toml())
-        try:
-            return _run_locked(cfg, rd, workers, scheduler, resume, progress, callback, executor)
-        except KeyboardInterrupt:
-            print(f"growsim: to continue: growsim run --resume {rd.path}", file=sys.stderr)
-            raise
+    # connect to the evaluators first: an unreachable scheduler writes nothing
+    ext, close = (executor, lambda: None) if executor is not None else _executor(workers, scheduler)
+    try:
+        with rd.lock():
+            if not resume:
+                rd.create_fresh()
+                rd.write_text("config.toml", cfg.to_toml())
+            try:
+                return _run_locked(cfg, rd, workers, scheduler, resume, progress, callback, ext)
+            except KeyboardInterrupt:
+                print(f"growsim: to continue: growsim run --resume {rd.path}", file=sys.stderr)
+                raise
+    finally:
+        close()
 
 
 def _run_locked(cfg, rd, workers, scheduler, resume, progress, callback, ext) -> RunResult:
@@ -1131,7 +1151,7 @@ def _run_locked(cfg, rd, workers, scheduler, resume, progress, callback, ext) ->
     plan = _plan(cfg)
     fitness = build_fitness(cfg)
     g = cfg.ga
-    executor, close = (ext, lambda: None) if ext is not None else _executor(workers, scheduler)
+    executor = ext
     # Tasks per generation: the GA splits a population into 4 tasks per worker, counting
     # local CPUs when it cannot see the executor's size; give it the Dask cluster's size.
     # (Batching never changes results: seeds follow the evaluation index.)
@@ -1139,13 +1159,9 @@ def _run_locked(cfg, rd, workers, scheduler, resume, progress, callback, ext) ->
     n_exec = _executor_workers(executor) if executor is not None else None
     if g.batch_size is None and n_exec is not None:
         batch = max(1, math.ceil(g.population / (4 * n_exec)))
-    try:
-        ga = _build_ga(cfg, fitness, plan, batch_size=batch)
-    except BaseException:
-        close()
-        raise
+    ga = _build_ga(cfg, fitness, plan, batch_size=batch)
     show_bar = bool(progress) and sys.stderr.isatty()
-    bar = _Progress(g.generations, show_bar, callback)
+    bar = _Progress(g.generations, show_bar, callback, rd=rd)
     t0 = time.perf_counter()
     started = time.strftime("%Y-%m-%dT%H:%M:%S%z")
     try:
@@ -1163,7 +1179,6 @@ def _run_locked(cfg, rd, workers, scheduler, resume, progress, callback, ext) ->
         )
     finally:
         bar.close()
-        close()
     t_ga = time.perf_counter()
     # the GA's own clock covers every session of a resumed run
     ga_seconds = float(getattr(result, "seconds", t_ga - t0))
@@ -1477,13 +1492,7 @@ def sweep(
     labels = [_label(a) for a, _ in variants]
     if len(set(labels)) != len(labels):
         labels = [f"v{i}-{lab}" for i, lab in enumerate(labels)]
-    root = (
-        Path(out)
-        if out is not None
-        else default_out(base).with_name(
-            default_out(base).name.replace(base.experiment.name, base.experiment.name + "-sweep", 1)
-        )
-    )
+    root = Path(out) if out is not None else default_out(base, kind="sweep")
     root.mkdir(parents=True, exist_ok=True)
     executor, close = _executor(workers, scheduler)  # one pool/cluster for every run
     try:

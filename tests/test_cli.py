@@ -76,6 +76,7 @@ def test_run_then_show(tmp_path):
         (["run", QUICK, "--set", "ga.population"], "expected key.path=value"),
         (["run", QUICK, "--workers", "0"], "--workers: expected an integer >= 1"),
         (["run", QUICK, "--scheduler", "foo"], "--scheduler: 'foo' is not 'local'"),
+        (["run", QUICK, "--scheduler", "tcp://127.0.0.1:1"], "cannot reach tcp://127.0.0.1:1"),
         (["run"], "give a CONFIG to run, or --resume DIR"),
         (["run", "--resume", "/nonexistent/dir"], "nothing to resume"),
         (["sweep", QUICK, "--vary", "env.light"], "expected key.path=v1,v2"),

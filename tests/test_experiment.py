@@ -232,9 +232,13 @@ def test_noise_modes():
     a = fixed(x, seeds=np.array([1, 2], dtype=np.uint64))
     assert a[0] == a[1]  # fixed: the model's own seed parameter, whatever the GA's seeds
     noisy = _fitness([h], [1.0], noise="per-evaluation")
-    b = noisy(x, seeds=np.array([1, 2], dtype=np.uint64))
+    b = noisy(x, seeds=np.array([1 << 40, 2 << 40], dtype=np.uint64))
     assert b[0] != b[1]
-    assert np.array_equal(b, noisy(x, seeds=np.array([1, 2], dtype=np.uint64)))
+    assert np.array_equal(b, noisy(x, seeds=np.array([1 << 40, 2 << 40], dtype=np.uint64)))
+    big = np.array([2**64 - 1, 2**63 + 12345], dtype=np.uint64)  # the GA's full range
+    assert np.all(noisy.model_seeds(noisy.full_params(x), big) < 2**31)
+    c = noisy(x, seeds=big)
+    assert np.all(np.isfinite(c)) and c[0] != c[1]
 
 
 def test_dask_local_cluster_gives_the_same_results(tiny_run, tmp_path):
@@ -276,3 +280,29 @@ def test_light_objective_formula_and_environment():
     ):
         with pytest.raises(ConfigError):
             LightObjective(**bad)
+
+
+def test_live_history_is_written_during_a_run(tmp_path):
+    from growsim.experiment import _Progress
+
+    class FakeGA:
+        history = pd.DataFrame({"generation": [0, 1], "best": [1.0, 2.0]})
+
+    rd = RunDir(tmp_path)
+    seen = []
+    p = _Progress(None, False, lambda ga, row: seen.append(row) or True, rd=rd, every=0.0)
+    assert p(FakeGA(), {"generation": 1}) is True  # the user's callback can stop the run
+    pd.testing.assert_frame_equal(pd.read_parquet(rd.history_path), FakeGA.history)
+    slow = _Progress(None, False, None, rd=RunDir(tmp_path / "x"), every=3600.0)
+    slow(FakeGA(), {"generation": 0})
+    assert not (tmp_path / "x" / "history.parquet").exists()
+
+
+def test_per_evaluation_noise_is_reproducible_across_workers(tmp_path):
+    ov = [*TINY, "model.noise='per-evaluation'"]
+    a = run(QUICK, tmp_path / "a", overrides=ov, progress=False)
+    b = run(QUICK, tmp_path / "b", overrides=ov, workers=2, progress=False)
+    history_eq(a.history, b.history)
+    assert a.summary["warnings"] == []
+    if "failures" in a.history:  # no evaluation failed (e.g. on a seed out of range)
+        assert a.history["failures"].sum() == 0

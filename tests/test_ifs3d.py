@@ -91,6 +91,48 @@ def naive_score(maps, depth, target, area_reject):
     return float(np.mean(v))
 
 
+def naive_render_aa(coords, size):
+    """Anti-aliased lines: each sample's ink (segment length / samples) spread bilinearly."""
+    acc = np.zeros((2, size, size))
+    for v in range(2):
+        for (ax, ay), (bx, by) in zip(coords[v, 0], coords[v, 1]):
+            dx, dy = bx - ax, by - ay
+            n = max(1, int(np.ceil(max(abs(dx), abs(dy)))))
+            ink = np.hypot(dx, dy) / (n + 1)
+            for t in range(n + 1):
+                x, y = ax + dx * (t / n) - 0.5, ay + dy * (t / n) - 0.5
+                j0, i0 = int(np.floor(x)), int(np.floor(y))
+                for ii, wy in ((i0, 1 - (y - i0)), (i0 + 1, y - i0)):
+                    for jj, wx in ((j0, 1 - (x - j0)), (j0 + 1, x - j0)):
+                        if 0 <= ii < size and 0 <= jj < size:
+                            acc[v, ii, jj] += ink * wx * wy
+    return np.minimum(acc, 1.0)
+
+
+def naive_blur(img, sigma):
+    """Separable Gaussian (taps to 3 sigma, zero outside) by explicit 2D convolution."""
+    r = int(np.ceil(3 * sigma))
+    g = np.exp(-0.5 * (np.arange(-r, r + 1) / sigma) ** 2)
+    k2 = np.outer(g, g) / g.sum() ** 2
+    out = np.zeros(img.shape)
+    V, S0, S1 = img.shape
+    pad = np.zeros((V, S0 + 2 * r, S1 + 2 * r))
+    pad[:, r : r + S0, r : r + S1] = img
+    for i in range(S0):
+        for j in range(S1):
+            out[:, i, j] = (pad[:, i : i + 2 * r + 1, j : j + 2 * r + 1] * k2).sum(axis=(1, 2))
+    return out
+
+
+def naive_blurred_score(maps, depth, target, sigma):
+    s, e = naive_tree(maps, depth)
+    c, _ = naive_frame(s, e, np.zeros(3), target.shape[1])
+    F = naive_blur(naive_render_aa(c, target.shape[1]), sigma)
+    G = naive_blur(target.astype(float), sigma)
+    v = [(F[i] * G[i]).sum() / np.sqrt((F[i] ** 2).sum() * (G[i] ** 2).sum()) for i in range(2)]
+    return float(np.mean(v))
+
+
 def random_maps(rng, n, N=5):
     m = np.empty((n, N, 4))
     m[..., 0] = rng.uniform(0.1, 0.7, (n, N))
@@ -159,6 +201,48 @@ def test_score_population_matches_oracle(area):
     want = [naive_score(m, 3, target, area) for m in pop]
     np.testing.assert_allclose(got, want, atol=1e-12)
     assert K.score_population(pop[:0], 3, target).shape == (0,)
+
+
+@pytest.mark.parametrize("seed", range(2))
+def test_antialiased_render_and_blur_match_oracle(seed):
+    rng = np.random.default_rng(seed + 20)
+    s, e = K.compose_tree(random_maps(rng, 1, 3)[0], 3)
+    c, _ = K.frame_points(s, e, np.zeros(3), 24)
+    acc = np.empty((2, 24, 24))
+    K._render_aa(c, acc)
+    np.testing.assert_allclose(acc, naive_render_aa(c, 24), atol=1e-12)
+    assert acc.max() <= 1.0 and acc.sum() > 0
+    for sigma in (0.6, 1.5):
+        np.testing.assert_allclose(K.blur_views(acc, sigma), naive_blur(acc, sigma), atol=1e-12)
+        binary = (acc > 0.3).astype(np.uint8)
+        np.testing.assert_allclose(
+            K.blur_views(binary, sigma), naive_blur(binary.astype(float), sigma), atol=1e-12
+        )
+    with pytest.raises(ValueError, match="sigma"):
+        K.gaussian_taps(0.0)
+
+
+def test_blurred_score_matches_oracle_and_is_smoother():
+    rng = np.random.default_rng(7)
+    target = K.render_views(*K.compose_tree(random_maps(rng, 1, 3)[0], 3), np.zeros(3), 32)
+    pop = random_maps(rng, 6, 3)
+    got = K.score_population(pop, 3, target, False, 1.2)
+    want = [naive_blurred_score(m, 3, target, 1.2) for m in pop]
+    np.testing.assert_allclose(got, want, atol=1e-12)
+    # a branch shifted by a fraction of a pixel: the binary score jumps, the blurred one
+    # changes a little and continuously
+    s, e = K.compose_tree(TABLE1, 5)
+    t64 = K.render_views(s, e, np.zeros(3), 64)
+    y = TABLE1[1, 1] + np.linspace(-0.03, 0.03, 13)
+    pop = np.repeat(TABLE1[None], 13, axis=0)
+    pop[:, 1, 1] = y
+    hard = K.score_population(pop, 5, t64)
+    soft = K.score_population(pop, 5, t64, False, 1.0)
+    assert hard[6] == 1.0 and soft[6] > 0.99
+    assert np.abs(np.diff(soft)).max() < 0.5 * np.abs(np.diff(hard)).max()
+    assert soft.min() > hard.min()
+    with pytest.raises(ValueError, match="blur"):
+        K.score_population(pop, 5, t64, False, -1.0)
 
 
 def test_score_is_one_on_its_own_target_and_lower_elsewhere():

@@ -54,6 +54,23 @@ def test_batch_equals_call_for_ifs3d(table1_obj):
     assert b3[0] == pytest.approx(table1_obj(ifs3d.develop(p3)))
 
 
+def test_blur_option_batch_equals_call_and_exact_is_binary(table1_obj):
+    obj = SilhouetteObjective(target_model="ifs3d", target_preset="table1", blur=1.5)
+    rng = np.random.default_rng(3)
+    rows = np.array([[rng.uniform(p.low, p.high) for p in ifs3d.PARAMS] for _ in range(4)])
+    rows = np.vstack([rows, _row(ifs3d.PRESETS["table1"]), _row(ifs3d.PRESETS["seed_ga"])])
+    rows[:, 0], rows[:, 1] = 5, 5
+    got = obj.batch(ifs3d, rows, NAMES)
+    plants = [ifs3d.develop(dict(zip(NAMES, r))) for r in rows]
+    np.testing.assert_allclose(got, [obj(p) for p in plants], atol=1e-12)
+    # the true tree still scores near 1 (anti-aliased vs binary target), and far better
+    # than the paper's estimates; exact() is the binary NCC whatever the blur
+    assert got[4] > 0.99 and got[5] < got[4] - 0.1
+    assert [obj.exact(p) for p in plants] == [table1_obj(p) for p in plants]
+    # partial credit: blurred scores exceed binary ones away from the target
+    assert (got[:4] > np.array([table1_obj(p) for p in plants[:4]])).all()
+
+
 def test_batch_none_for_other_models(table1_obj):
     class Other:
         NAME = "honda"
@@ -123,6 +140,8 @@ def test_area_rejection_in_batch():
         ({"side": "a.png"}, "front"),
         ({"target_preset": "table1"}, "target_model"),
         ({"target_model": "ifs3d", "mask_front": "m.png"}, "mask"),
+        ({"target_model": "ifs3d", "blur": -1.0}, "blur"),
+        ({"target_model": "ifs3d", "blur": "wide"}, "blur"),
     ],
 )
 def test_bad_options(kwargs, match):

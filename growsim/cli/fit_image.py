@@ -17,8 +17,8 @@ __all__ = ["BEST_GA", "HONDA_EVOLVE", "fit_config", "register"]
 
 #: The GA of the best setup for ifs3d (see docs/models/ifs3d.md for how it was chosen).
 BEST_GA: dict = {
-    "population": 250,
-    "islands": 2,
+    "population": 100,
+    "islands": 4,
     "generations": None,
     "evaluations": 50_000,
     "coding": "real",

@@ -551,7 +551,9 @@ def render_views(start, end, base, size: int) -> np.ndarray:
 
 
 def blur_views(img, sigma: float) -> np.ndarray:
-    """Gaussian-blurred ``(V, S, S)`` float64 copy of binary views ``img`` (zero outside).
+    """Gaussian-blurred ``(V, S, S)`` float64 copy of views ``img`` (zero outside).
+
+    ``img``: binary (uint8) or grey-level (float) images.
 
     ``sigma`` in pixels (> 0); the kernel is :func:`gaussian_taps`, applied separably.
 
@@ -563,7 +565,8 @@ def blur_views(img, sigma: float) -> np.ndarray:
     >>> round(float(b.sum()), 6), bool(b[0, 4, 4] == b.max())
     (1.0, True)
     """
-    img = np.ascontiguousarray(img, dtype=np.uint8)
+    img = np.asarray(img)
+    img = np.ascontiguousarray(img, dtype=np.uint8 if img.dtype == np.uint8 else np.float64)
     if img.ndim != 3:
         raise ValueError(f"img must have shape (V, S0, S1), got {img.shape}")
     out = np.empty(img.shape)

@@ -20,6 +20,13 @@ size.
 
 Plants are drawn as thin (1-pixel supercover) lines by default, the seed's rendering; with
 ``line_width = "radius"`` each segment is as wide as its tube.
+
+``blur = sigma`` (pixels, default 0) scores a smoother landscape for the search: the plant
+is drawn anti-aliased (each line sample's ink spread bilinearly, so the image moves
+continuously with the parameters), both it and the target are blurred by a Gaussian of
+``sigma`` pixels, and the score is the NCC of these grey-level images (the seed's eq. 3 in
+its general form, ``<F, G> / (|F| |G|)``): a branch one pixel off still earns partial
+credit. :meth:`SilhouetteObjective.exact` always gives the binary NCC, the figure to report.
 """
 
 from __future__ import annotations
@@ -32,18 +39,27 @@ from pathlib import Path
 import numpy as np
 
 from growsim.errors import ConfigError, GrowsimError, UserInputError
-from growsim.kernels.ifs3d import _render, frame_points, score_population
+from growsim.kernels.ifs3d import (
+    _render,
+    _render_aa,
+    blur_views,
+    frame_points,
+    score_population,
+)
 from growsim.kernels.raster import draw_segments
 
-__all__ = ["SilhouetteObjective", "ncc", "plant_views"]
+__all__ = ["SilhouetteObjective", "blurred_ncc", "ncc", "plant_views"]
 
 
-def plant_views(plant, size: int = 64, line_width: str = "thin") -> np.ndarray:
+def plant_views(
+    plant, size: int = 64, line_width: str = "thin", antialias: bool = False
+) -> np.ndarray:
     """Front and side silhouettes ``(2, size, size)`` uint8 of any Plant, framed.
 
     The trunk base is the start of the first root segment (``parent == -1``). Every
     segment is drawn (stems and leaves). ``line_width``: ``"thin"`` (1-pixel lines) or
-    ``"radius"`` (lines ``2 * radius`` wide, at least thin).
+    ``"radius"`` (lines ``2 * radius`` wide, at least thin). ``antialias`` (thin lines
+    only): float64 coverage in [0, 1] instead (see ``blur`` of :class:`SilhouetteObjective`).
 
     Examples
     --------
@@ -53,19 +69,52 @@ def plant_views(plant, size: int = 64, line_width: str = "thin") -> np.ndarray:
     ((2, 64, 64), 1, 1)
     """
     size = int(size)
-    img = np.zeros((2, size, size), dtype=np.uint8)
+    aa = antialias and line_width == "thin"
+    img = np.zeros((2, size, size), dtype=np.float64 if aa else np.uint8)
     if plant.n_segments == 0:
         return img
     roots = np.flatnonzero(plant.parent < 0)
     base = plant.start[roots[0] if roots.size else 0]
     coords, k = frame_points(plant.start, plant.end, base, size)
-    if line_width == "thin":
+    if aa:
+        _render_aa(coords, img)
+    elif line_width == "thin":
         _render(coords, img)
     else:
         width = 2.0 * k * plant.radius
         for v in range(2):
             draw_segments(coords[v, 0], coords[v, 1], width, img[v])
     return img
+
+
+def blurred_ncc(views, target, sigma: float, area_rejection: bool = False) -> float:
+    """Mean over views of ``<Fb, Gb> / (|Fb| |Gb|)``, ``Fb``, ``Gb`` blurred by ``sigma`` px.
+
+    ``views`` ``(V, S, S)``: grey levels in [0, 1] (e.g. anti-aliased); ``target``
+    ``(V, S, S)`` binary. The area rule (``area_rejection``) compares the sums of the
+    unblurred images, as :func:`ncc`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.zeros((2, 16, 16)); a[:, 8, 4:12] = 1
+    >>> b = np.roll(a, 1, axis=1)  # one pixel lower: binary NCC 0
+    >>> ncc(a, b), round(blurred_ncc(a, b, 1.5), 3)
+    (0.0, 0.8)
+    """
+    F = np.asarray(views, dtype=np.float64)
+    G = (np.asarray(target) > 0).astype(np.uint8)
+    Fb = blur_views(F, sigma)
+    Gb = blur_views(G, sigma)
+    scores = []
+    for f, g in zip(Fb, Gb):
+        nf, ng = float(np.sqrt((f * f).sum())), float(np.sqrt((g * g).sum()))
+        scores.append(0.0 if nf == 0 or ng == 0 else float((f * g).sum()) / (nf * ng))
+    if area_rejection:
+        ratio = F.sum() / max(1, G.sum())
+        if ratio < 0.5 or ratio > 2.0:
+            return 0.0
+    return float(np.mean(scores))
 
 
 def ncc(views: np.ndarray, target: np.ndarray, area_rejection: bool = False) -> float:
@@ -117,7 +166,9 @@ class SilhouetteObjective:
     ``target_model``, ``target_preset``, ``target_params``, ``target_seed`` : a rendered target;
     ``size`` : raster size in pixels, 8..1024 (default 64, the seed's);
     ``area_rejection`` : the seed's 0.5x-2x area rule (default false);
-    ``line_width`` : ``"thin"`` (default) or ``"radius"``.
+    ``line_width`` : ``"thin"`` (default) or ``"radius"``;
+    ``blur`` : search on anti-aliased, Gaussian-blurred views, ``sigma`` in pixels
+    (default 0: the binary NCC; see the module doc). :meth:`exact` is always binary.
 
     Bad options raise :class:`growsim.errors.ConfigError` naming the option; unreadable
     pictures, empty or full silhouettes, or a missing view raise before any evolution.
@@ -151,6 +202,7 @@ class SilhouetteObjective:
         size: int = 64,
         area_rejection: bool = False,
         line_width: str = "thin",
+        blur: float = 0.0,
     ):
         if isinstance(size, bool) or not isinstance(size, (int, np.integer)):
             raise ConfigError(f"silhouette.size: expected an integer, got {size!r}")
@@ -163,6 +215,11 @@ class SilhouetteObjective:
         self.size = int(size)
         self.area_rejection = bool(area_rejection)
         self.line_width = _opt_str("line_width", line_width, ("thin", "radius"))
+        if isinstance(blur, bool) or not isinstance(blur, (int, float, np.number)):
+            raise ConfigError(f"silhouette.blur: expected a number of pixels, got {blur!r}")
+        if not 0.0 <= float(blur) <= 16.0:
+            raise ConfigError(f"silhouette.blur: {blur} is out of range [0, 16] pixels")
+        self.blur = float(blur)
         polarity = _opt_str("polarity", polarity, ("auto", "dark", "light"))
         if isinstance(threshold, bool) or not (
             threshold == "otsu"
@@ -258,7 +315,14 @@ class SilhouetteObjective:
         return plant_views(plant, self.size, self.line_width)
 
     def __call__(self, plant) -> float:
-        """Mean NCC over the front and side views, in [0, 1]."""
+        """Mean NCC over the front and side views, in [0, 1] (blurred if ``blur > 0``)."""
+        if self.blur > 0.0:
+            aa = plant_views(plant, self.size, self.line_width, antialias=True)
+            return blurred_ncc(aa, self.target, self.blur, self.area_rejection)
+        return ncc(self.views(plant), self.target, self.area_rejection)
+
+    def exact(self, plant) -> float:
+        """The binary mean NCC (the seed's eq. 3 on silhouettes), whatever ``blur`` is."""
         return ncc(self.views(plant), self.target, self.area_rejection)
 
     def batch(self, model, params, names, seeds=None) -> np.ndarray | None:
@@ -288,5 +352,5 @@ class SilhouetteObjective:
             for k in range(1, N + 1):
                 for f, field in enumerate(("s", "y", "theta_z", "theta_y")):
                     maps[:, k - 1, f] = params[rows, col[f"{field}_{k}"]]
-            out[rows] = score_population(maps, d, self.target, self.area_rejection)
+            out[rows] = score_population(maps, d, self.target, self.area_rejection, self.blur)
         return out
