@@ -21,6 +21,14 @@ from growsim.errors import GrowsimError
 __all__ = ["build_parser", "main"]
 
 
+class _Parser(argparse.ArgumentParser):
+    """An ``ArgumentParser`` whose usage errors are one line (``growsim: error: ...``),
+    exit code 2, like every other growsim error."""
+
+    def error(self, message: str):
+        self.exit(2, f"growsim: error: {self.prog}: {message} (see '{self.prog} --help')\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The top-level parser with every discovered subcommand.
 
@@ -30,7 +38,7 @@ def build_parser() -> argparse.ArgumentParser:
     >>> p.prog
     'growsim'
     """
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="growsim",
         description="growsim: evolutionary plant-growth simulator (one GA, many plant models).",
     )
