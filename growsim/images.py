@@ -121,7 +121,7 @@ def silhouette(
     --------
     >>> import numpy as np
     >>> g = np.ones((5, 5)); g[1:4, 2] = 0.0
-    >>> silhouette(g).sum()
+    >>> int(silhouette(g).sum())
     3
     """
     if isinstance(image, (str, os.PathLike)):
@@ -203,7 +203,7 @@ def frame_silhouettes(front: np.ndarray, side: np.ndarray, size: int = 64) -> np
     >>> import numpy as np
     >>> f = np.zeros((100, 60), bool); f[10:100, 30] = True
     >>> out = frame_silhouettes(f, f, 16)
-    >>> out.shape, out[0, :, 8].all()  # a vertical trunk fills the centre column
+    >>> out.shape, bool(out[0, :, 8].all())  # a vertical trunk fills the centre column
     ((2, 16, 16), True)
     """
     size = int(size)

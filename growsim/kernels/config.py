@@ -15,7 +15,7 @@ def njit(*args, **kwargs):
     Examples
     --------
     >>> from growsim.kernels.config import njit
-    >>> @njit
+    >>> @njit(cache=False)  # code typed at a prompt has no file to cache next to
     ... def add(a, b):
     ...     return a + b
     >>> add(1, 2)

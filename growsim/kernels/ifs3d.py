@@ -328,7 +328,7 @@ def gaussian_taps(sigma: float) -> np.ndarray:
     sigma = float(sigma)
     if not sigma > 0.0:
         raise ValueError(f"sigma must be > 0, got {sigma}")
-    r = int(math.ceil(3.0 * sigma))
+    r = math.ceil(3.0 * sigma)
     x = np.arange(-r, r + 1, dtype=np.float64)
     g = np.exp(-0.5 * (x / sigma) ** 2)
     return g / g.sum()
@@ -368,7 +368,7 @@ def _blur(img, taps, tmp, out):
 
 
 @njit
-def _ncc_blurred(img, taps, target_b, tb_norm, tmp, fb, g_area, area_reject):  # noqa: PLR0913
+def _ncc_blurred(img, taps, target_b, tb_norm, tmp, fb, g_area, area_reject):
     """Mean over views of the NCC ``<Fb, Gb> / (|Fb| |Gb|)`` of blurred silhouettes.
 
     ``target_b`` is the blurred target, ``tb_norm`` ``(V,)`` its norms. The area rule uses
