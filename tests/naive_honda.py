@@ -204,7 +204,7 @@ def leaves_oracle(start, end, seg_ids, per_branch, e, cut_deg):
     t = ((j + 1) / per_branch)[:, None]
     att = a + t * d
     ax = d / np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-12)
-    helper = np.where(np.abs(ax[:, 1:2]) < 0.9, [[0.0, 1.0, 0.0]], [[1.0, 0.0, 0.0]])
+    helper = np.eye(3)[np.argmin(np.abs(ax), axis=1)]  # least aligned axis, as the kernel
     e1 = np.cross(ax, helper)
     e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
     e2 = np.cross(ax, e1)

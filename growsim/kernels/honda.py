@@ -19,6 +19,7 @@ import math
 import numpy as np
 
 from growsim.kernels.config import njit
+from growsim.kernels.mesh import perpendicular_frame
 
 __all__ = [
     "GEO_FIELDS",
@@ -381,20 +382,7 @@ def leaves_kernel(start, end, parent, per_branch, e, cut):
         if L < 1e-12:
             L = 1e-12
         ax, ay, az = dx / L, dy / L, dz / L
-        if abs(ay) < 0.9:  # helper axis y, or x for a near-vertical branch
-            hx, hy, hz = 0.0, 1.0, 0.0
-        else:
-            hx, hy, hz = 1.0, 0.0, 0.0
-        ux = ay * hz - az * hy
-        uy = az * hx - ax * hz
-        uz = ax * hy - ay * hx
-        un = math.sqrt(ux * ux + uy * uy + uz * uz)
-        ux /= un
-        uy /= un
-        uz /= un
-        vx = ay * uz - az * uy
-        vy = az * ux - ax * uz
-        vz = ax * uy - ay * ux
+        ux, uy, uz, vx, vy, vz = perpendicular_frame(ax, ay, az)
         for j in range(per_branch):
             t = (j + 1) / per_branch
             psi = (j + s) * golden

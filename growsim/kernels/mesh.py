@@ -38,7 +38,7 @@ def mesh_counts(n_stems: int, n_leaves: int, sides: int, segments: int) -> tuple
 
 
 @njit
-def _frame(ax, ay, az):
+def perpendicular_frame(ax, ay, az):
     """Two unit vectors perpendicular to the unit axis ``a`` (and to each other)."""
     # the helper axis is the world axis least aligned with ``a``, so the cross product
     # never degenerates
@@ -147,7 +147,7 @@ def mesh_kernel(start, end, r0, r1, kind, sides, segments, weld_to):
             ax, ay, az = dx / L, dy / L, dz / L
         else:
             ax, ay, az = 0.0, 1.0, 0.0
-        ux, uy, uz, wx, wy, wz = _frame(ax, ay, az)
+        ux, uy, uz, wx, wy, wz = perpendicular_frame(ax, ay, az)
         w = weld_to[s]
         first = 1 if w >= 0 else 0
         for j in range(first, segments + 1):
@@ -197,7 +197,7 @@ def mesh_kernel(start, end, r0, r1, kind, sides, segments, weld_to):
             sy = 0.0
             sz /= sn
         else:
-            sx, sy, sz, _wx, _wy, _wz = _frame(ax, ay, az)
+            sx, sy, sz, _wx, _wy, _wz = perpendicular_frame(ax, ay, az)
         h = 0.5 * L
         w = r0[s]
         cx = start[s, 0] + 0.5 * dx

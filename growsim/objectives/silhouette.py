@@ -99,8 +99,9 @@ def blurred_ncc(views, target, sigma: float, area_rejection: bool = False) -> fl
     >>> import numpy as np
     >>> a = np.zeros((2, 16, 16)); a[:, 8, 4:12] = 1
     >>> b = np.roll(a, 1, axis=1)  # one pixel lower: binary NCC 0
+    >>> # a blurred line's profile is a Gaussian: overlap at 1 px is exp(-1 / (4 sigma^2))
     >>> ncc(a, b), round(blurred_ncc(a, b, 1.5), 3)
-    (0.0, 0.8)
+    (0.0, 0.895)
     """
     F = np.asarray(views, dtype=np.float64)
     G = (np.asarray(target) > 0).astype(np.uint8)
