@@ -102,8 +102,10 @@ def run_config(path: str, seeds: list[int]) -> list[dict]:
 
 
 def random_trees(n: int, evaluations: int = 50_000) -> list[dict]:
-    """The best setup (4 islands of 100, real coding, half the budget on polish) fitted
-    to ``n`` random trees (tree seeds 100.., parameters uniform within the ranges)."""
+    """The best setup (``growsim.cli.fit_image.BEST_GA``: 4 islands of 100, real coding,
+    CMA-ES polish) fitted to ``n`` random trees (tree seeds 100.., parameters uniform within
+    the ranges)."""
+    from growsim.cli.fit_image import BEST_GA
     from growsim.ga import GA, genome_from_params
 
     evolved = [p for p in ifs3d.PARAMS if p.name not in ("n_maps", "depth")]
@@ -121,9 +123,11 @@ def random_trees(n: int, evaluations: int = 50_000) -> list[dict]:
         target = {"n_maps": 5, "depth": 5} | {p.name: rng.uniform(p.low, p.high) for p in evolved}
         obj = SilhouetteObjective(target_model="ifs3d", target_params=target)
         t0 = time.perf_counter()
-        ga = GA(genome_from_params(evolved, coding="real"), fitness_of(obj), population=100,
-                islands=4, seed=0)  # fmt: skip
-        r = ga.run(evaluations=evaluations, polish={"evaluations": evaluations // 2, "sigma": 0.05})
+        ga = GA(genome_from_params(evolved, coding="real"), fitness_of(obj),
+                population=BEST_GA["population"], islands=BEST_GA["islands"], seed=0)  # fmt: skip
+        share = BEST_GA["polish"]["evaluations"] / BEST_GA["evaluations"]
+        polish = dict(BEST_GA["polish"], evaluations=int(evaluations * share))
+        r = ga.run(evaluations=evaluations, polish=polish)
         rows.append({"kind": "random_tree", "tree_seed": 100 + t,
                      "ncc": round(float(r.best.fitness), 4), "evaluations": int(r.evaluations),
                      "wall_s": round(time.perf_counter() - t0, 2)})  # fmt: skip

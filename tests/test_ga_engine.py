@@ -371,3 +371,50 @@ def test_polish_with_budget_counts_and_target():
         generations=5, target=1e-3, polish={"evaluations": 5000}
     )
     assert r.best.fitness <= 1e-3 and r.evaluations < 5 * 20 + 5000
+
+
+def rotated_ellipsoid(x):
+    """Ill-conditioned and non-separable (condition 1e4 along a rotated basis): what a
+    coordinate-wise or isotropic step struggles with and CMA-ES learns."""
+    d = x.shape[1]
+    q, _ = np.linalg.qr(np.random.default_rng(99).standard_normal((d, d)))
+    y = (x - 0.5) @ q
+    return (y**2 * np.logspace(0, 4, d)).sum(axis=1)
+
+
+def test_cmaes_polish_beats_the_es_on_a_rotated_ellipsoid_and_is_reproducible():
+    g = Genome([Real("x", -5, 5, size=10)])
+
+    def run(method, seed=3):
+        ga = GA(g, rotated_ellipsoid, population=30, maximize=False, seed=seed)
+        return ga.run(generations=10, polish={"evaluations": 3000, "method": method})
+
+    es, cma_a, cma_b = run("es"), run("cmaes"), run("cmaes")
+    assert cma_a.best.fitness < 1e-3 * es.best.fitness
+    assert cma_a.best.fitness < 1e-6
+    pd.testing.assert_frame_equal(
+        cma_a.history.drop(columns="seconds"), cma_b.history.drop(columns="seconds")
+    )
+    assert cma_a.evaluations == es.evaluations
+    h = cma_a.history
+    assert (h[h.phase == "polish"]["diversity"] > 0).all()  # CMA-ES's step size
+    assert np.all(cma_a.population >= -5) and np.all(cma_a.population <= 5)
+
+
+def test_cmaes_polish_keeps_bounds_rounds_integers_and_names_bad_methods():
+    g = Genome([Real("x", 0, 1, size=3), Integer("k", 0, 9)])
+    seen = []
+
+    def f(x):
+        seen.append(x.copy())
+        return ((x[:, :3] - 1.2) ** 2).sum(axis=1) + (x[:, 3] - 6.3) ** 2
+
+    r = GA(g, f, population=10, maximize=False, seed=0).run(
+        generations=3, polish={"evaluations": 500, "method": "cmaes", "sigma": 0.3}
+    )
+    allx = np.concatenate(seen)
+    assert allx.min() >= 0 and allx[:, :3].max() <= 1 and allx[:, 3].max() <= 9
+    assert np.all(allx[:, 3] == np.round(allx[:, 3]))
+    assert np.allclose(r.best.params, [1, 1, 1, 6])
+    with pytest.raises(UserInputError, match="polish.method"):
+        GA(g, f, population=10, seed=0).run(generations=2, polish={"method": "newton"})

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -42,3 +44,30 @@ def test_ga_fits_random_tree_small_budget(tree_seed):
     first = result.history.query("generation == 0")["best"].max()
     assert score >= 0.7
     assert score >= first + 0.1
+
+
+@pytest.mark.slow
+def test_best_setup_config_fits_table1_at_two_fifths_of_the_budget(tmp_path):
+    """The best-setup config, run as a user runs it (config -> GA -> CMA-ES polish), at
+    20,000 evaluations (the full 50,000 give NCC 0.977-0.998 over 5 seeds: docs)."""
+    from growsim.experiment import run
+
+    overrides = [
+        "ga.evaluations=20000",
+        'ga.polish={evaluations = 14000, sigma = 0.1, method = "cmaes", batch = 20}',
+        "output.mesh=[]",
+        "output.screenshots=[]",
+    ]
+    config = Path(__file__).resolve().parents[1] / "experiments" / "ifs_tree_best.toml"
+    result = run(config, tmp_path / "r", overrides=overrides,
+                 progress=False)  # fmt: skip
+    h = result.history
+    assert set(h["phase"]) == {"ga", "polish"}
+    ga_best = h.loc[h.phase == "ga", "best_so_far"].max()
+    # measured (seed 0): GA phase 0.851, after the CMA-ES polish 0.947; the GA alone at
+    # the full 50,000 evaluations stalls at 0.88-0.92 (docs/models/ifs3d.md)
+    assert result.best_fitness >= 0.93
+    assert result.best_fitness >= ga_best + 0.05
+    # the best plant in the results directory is the tree that scored it
+    obj = SilhouetteObjective(target_model="ifs3d", target_preset="table1", size=64)
+    assert obj(result.best_plant) == pytest.approx(result.best_fitness)
