@@ -218,7 +218,9 @@ class GAConfig(_Section):
     extinction: bool = Field(True, description="re-create a population that stops reproducing")
     batch_size: int | None = Field(None, ge=1, description="individuals per evaluation task")
     polish: dict[str, Any] | None = Field(
-        None, description="local refinement of the best, e.g. {evaluations = 500, sigma = 0.02}"
+        None,
+        description="local refinement of the best: evaluations, sigma, batch, min_sigma, "
+        'method ("es" or "cmaes"), e.g. {evaluations = 500, sigma = 0.02}',
     )
 
     @model_validator(mode="after")
