@@ -1474,7 +1474,7 @@ def sweep(
 
     import pandas as pd
 
-    from growsim.results import atomic_write
+    from growsim.files import atomic_write
 
     _check_executor_args(workers, scheduler)
     base = load_config(config, overrides)

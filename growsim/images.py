@@ -278,7 +278,7 @@ def silhouette_image(views, path: str | os.PathLike, *, titles=None, scale: int 
     """
     from PIL import Image, ImageDraw
 
-    from growsim.plant import atomic_write
+    from growsim.files import atomic_write
 
     views = [np.asarray(v) for v in views]
     if not views:

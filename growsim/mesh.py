@@ -12,15 +12,15 @@ loop is :func:`growsim.kernels.mesh.mesh_kernel`.
 from __future__ import annotations
 
 import os
-import uuid
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.files import atomic_path, atomic_write
 from growsim.kernels.mesh import mesh_kernel, weld_targets
-from growsim.plant import LEAF, Plant, atomic_write
+from growsim.plant import LEAF, Plant
 
 __all__ = [
     "BARK_RGB",
@@ -286,20 +286,11 @@ def export(plant_or_mesh, path: str | os.PathLike, **mesh_options) -> Path:
 
     # VTK writers take a file name, not a file object: write a temporary file with the
     # right suffix in the target directory, then rename it over the target.
-    parent = path.parent
-    if not parent.is_dir():
-        raise UserInputError(f"{path}: directory {parent} does not exist")
-    if not os.access(parent, os.W_OK):
-        raise UserInputError(f"{path}: directory {parent} is not writable")
-    tmp = parent / f".{path.stem}.{os.getpid()}.{uuid.uuid4().hex[:8]}.tmp{suffix}"
     try:
-        write_to(tmp)
-        if not tmp.is_file():
-            raise UserInputError(f"{path}: the {suffix} writer produced no file")
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
+        with atomic_path(path) as tmp:
+            write_to(tmp)
+    except OSError as exc:
+        raise UserInputError(f"{path}: the {suffix} writer failed ({exc})") from None
     return path
 
 

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import json
 import os
-import tempfile
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,52 +30,14 @@ from pathlib import Path
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.files import atomic_write
 
-__all__ = ["LEAF", "STEM", "Plant", "atomic_write", "view_basis"]
+__all__ = ["LEAF", "STEM", "Plant", "view_basis"]
 
 #: ``kind`` of a woody segment (trunk, branch, twig).
 STEM = 0
 #: ``kind`` of a leaf segment (its radius is half the blade width).
 LEAF = 1
-
-
-def atomic_write(path: str | os.PathLike, write, *, mode: str = "wb") -> Path:
-    """Write a file atomically: ``write(fileobj)`` fills a temporary file in the same
-    directory, which then replaces ``path`` (nothing is half-written).
-
-    Raises :class:`UserInputError` naming ``path`` when its directory does not exist or is
-    not writable.
-
-    Examples
-    --------
-    >>> import tempfile, pathlib
-    >>> d = pathlib.Path(tempfile.mkdtemp())
-    >>> atomic_write(d / "a.txt", lambda f: f.write("hi"), mode="w").read_text()
-    'hi'
-    """
-    path = Path(path)
-    parent = path.parent if str(path.parent) else Path(".")
-    if not parent.is_dir():
-        raise UserInputError(f"{path}: directory {parent} does not exist")
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=parent)
-    except OSError as exc:
-        raise UserInputError(f"{path}: cannot write in {parent} ({exc.strerror})") from None
-    try:
-        with os.fdopen(fd, mode) as fh:
-            write(fh)
-        # mkstemp creates 0600 files; give the result the usual umask-based mode
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
-    return path
 
 
 def _as_array(name: str, value, dtype, shape_tail: tuple[int, ...], n: int | None) -> np.ndarray:

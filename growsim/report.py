@@ -169,7 +169,7 @@ def _plot_curves(groups: dict[str, list[Run]], path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from growsim.results import atomic_path
+    from growsim.files import atomic_path
 
     fig, ax = plt.subplots(figsize=(7, 4.2), dpi=100)
     for name, members in groups.items():
@@ -303,7 +303,7 @@ def compare(
     """
     import pandas as pd
 
-    from growsim.results import atomic_write
+    from growsim.files import atomic_write
 
     runs = find_runs(dirs)
     groups = group_runs(runs)
@@ -366,7 +366,7 @@ def compare(
     files["curves"] = out / "curves.png"
     if renders and best_plants:
         from growsim import viz
-        from growsim.results import atomic_path
+        from growsim.files import atomic_path
 
         try:
             with atomic_path(out / "renders.png") as tmp:

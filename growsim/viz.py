@@ -14,7 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from growsim.errors import UserInputError
-from growsim.plant import Plant, atomic_write
+from growsim.files import atomic_path, atomic_write
+from growsim.plant import Plant
 
 __all__ = [
     "VIEWS",
@@ -194,18 +195,14 @@ def _frames_writer(path: Path, fps: int):
         raise UserInputError(f"{path}: directory {parent} does not exist")
 
     def write(frames: list[np.ndarray]) -> Path:
-        tmp = parent / f".{path.stem}.{os.getpid()}.tmp{suffix}"
         try:
-            if suffix == ".gif":
-                imageio.mimsave(tmp, frames, duration=1000.0 / fps, loop=0)
-            else:
-                imageio.mimsave(tmp, frames, fps=fps)
-            os.replace(tmp, path)
+            with atomic_path(path) as tmp:
+                if suffix == ".gif":
+                    imageio.mimsave(tmp, frames, duration=1000.0 / fps, loop=0)
+                else:
+                    imageio.mimsave(tmp, frames, fps=fps)
         except OSError as exc:
             raise UserInputError(f"{path}: cannot write ({exc})") from None
-        finally:
-            if tmp.exists():
-                tmp.unlink()
         return path
 
     return write

@@ -22,8 +22,6 @@ from __future__ import annotations
 
 import json
 import logging
-import os
-import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -32,6 +30,7 @@ import numpy as np
 import pandas as pd
 
 from growsim.errors import GrowsimError, UserInputError
+from growsim.files import atomic_write
 from growsim.ga.crossover import CROSSOVER, Crossover
 from growsim.ga.evaluate import Evaluator, evaluation_seeds
 from growsim.ga.genome import Genome
@@ -647,17 +646,7 @@ class GA:
             arrays["best_raw"] = self.best_raw
             arrays["best_params"] = self.best_params
         path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
-        try:
-            with os.fdopen(fd, "wb") as f:
-                np.savez(f, **arrays)
-                f.flush()
-                os.fsync(f.fileno())
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
+        atomic_write(path, lambda f: np.savez(f, **arrays))
 
     def load_checkpoint(self, path) -> dict:
         """Restore the state written by :meth:`save_checkpoint`; returns its extra info
