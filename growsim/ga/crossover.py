@@ -15,6 +15,7 @@ import numpy as np
 
 from growsim.errors import UserInputError
 from growsim.ga import _kernels as K
+from growsim.ga.operator import Operator
 
 __all__ = [
     "CROSSOVER",
@@ -37,28 +38,14 @@ def _check_prob(op: str, name: str, v: float, low_open=False) -> float:
     return v
 
 
-class Crossover:
+class Crossover(Operator):
     """Base class. Subclasses implement ``_cross(a, b, rng, genome) -> (c1, c2)`` for the
     pairs that cross; the base applies ``rate`` and checks the coding."""
 
-    name = "crossover"
-    #: genome kinds the operator accepts
-    kinds: tuple[str, ...] = ("bits", "real")
+    role = name = "crossover"
 
     def __init__(self, rate: float = 0.9):
         self.rate = _check_prob(self.name, "rate", rate)
-
-    def __repr__(self) -> str:
-        opts = ", ".join(f"{a}={v!r}" for a, v in vars(self).items())
-        return f"{type(self).__name__}({opts})"
-
-    def check(self, genome) -> None:
-        """Raise :class:`UserInputError` if the operator cannot handle ``genome``."""
-        if genome.kind not in self.kinds:
-            raise UserInputError(
-                f"crossover {self.name!r} works on {' or '.join(self.kinds)} genomes, "
-                f"not on a {genome.kind} genome"
-            )
 
     def __call__(self, a, b, rng, genome):
         a = np.ascontiguousarray(a)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.ga.operator import Operator
 
 __all__ = [
     "MUTATION",
@@ -34,24 +35,11 @@ def _flip_positions(size: int, rate: float, rng) -> np.ndarray:
     return rng.choice(size, size=k, replace=False)
 
 
-class Mutation:
+class Mutation(Operator):
     """Base class: ``__call__(x (m, L), rng, genome) -> x``."""
 
-    name = "mutation"
-    kinds: tuple[str, ...] = ("bits", "real")
+    role = name = "mutation"
     self_adaptive = False
-
-    def __repr__(self) -> str:
-        opts = ", ".join(f"{a}={v!r}" for a, v in vars(self).items())
-        return f"{type(self).__name__}({opts})"
-
-    def check(self, genome) -> None:
-        """Raise :class:`UserInputError` if the operator cannot handle ``genome``."""
-        if genome.kind not in self.kinds:
-            raise UserInputError(
-                f"mutation {self.name!r} works on {' or '.join(self.kinds)} genomes, "
-                f"not on a {genome.kind} genome"
-            )
 
     def __call__(self, x, rng, genome):
         raise NotImplementedError

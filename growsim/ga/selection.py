@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.ga.operator import Operator
 
 __all__ = [
     "SELECTION",
@@ -25,17 +26,13 @@ __all__ = [
 ]
 
 
-class Selection:
+class Selection(Operator):
     """Base class: ``__call__(score (n,), k, rng) -> (k,) int64`` indices."""
 
-    name = "selection"
+    role = name = "selection"
 
     def __call__(self, score: np.ndarray, k: int, rng: np.random.Generator) -> np.ndarray:
         raise NotImplementedError
-
-    def __repr__(self) -> str:
-        opts = ", ".join(f"{a}={v!r}" for a, v in vars(self).items())
-        return f"{type(self).__name__}({opts})"
 
 
 def _ranks(score: np.ndarray) -> np.ndarray:
