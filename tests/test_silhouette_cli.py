@@ -32,6 +32,30 @@ def test_fit_config_is_valid(pictures):
         cfg = load_config(fit_config(*pictures, model=model, evaluations=3000))
         assert cfg.model.kind == model
         assert cfg.objective[0].options()["front"] == pictures[0]
+        expected = "radius" if model == "honda" else "thin"
+        assert cfg.objective[0].options().get("line_width", "thin") == expected
+
+
+@pytest.mark.slow
+def test_a_photographed_honda_tree_scores_higher_drawn_at_its_radius(tmp_path):
+    """A rendered (shaded, leafy) photo of a zelkova, front and side: the true tree drawn
+    with its tubes' radius matches its own photo better than thin lines (why fit-image
+    uses line_width = "radius" for Honda)."""
+    from growsim import viz
+    from growsim.models.honda import PRESETS, develop
+    from growsim.objectives.silhouette import SilhouetteObjective
+
+    tree = develop(PRESETS["zelkova"])
+    front, side = tmp_path / "front.png", tmp_path / "side.png"
+    viz.screenshot(tree, front, view="front", size=(400, 400))
+    viz.screenshot(tree, side, view="side", size=(400, 400))
+    score = {
+        lw: SilhouetteObjective(front=str(front), side=str(side), line_width=lw)(tree)
+        for lw in ("thin", "radius")
+    }
+    # measured at 600 px: thin 0.882, radius 0.936
+    assert score["radius"] >= 0.9
+    assert score["radius"] > score["thin"] + 0.02
 
 
 def test_fit_image_end_to_end(pictures, tmp_path, capsys):
