@@ -416,5 +416,5 @@ def test_cmaes_polish_keeps_bounds_rounds_integers_and_names_bad_methods():
     assert allx.min() >= 0 and allx[:, :3].max() <= 1 and allx[:, 3].max() <= 9
     assert np.all(allx[:, 3] == np.round(allx[:, 3]))
     assert np.allclose(r.best.params, [1, 1, 1, 6])
-    with pytest.raises(UserInputError, match="polish.method"):
+    with pytest.raises(UserInputError, match=r"polish\.method"):
         GA(g, f, population=10, seed=0).run(generations=2, polish={"method": "newton"})
