@@ -43,7 +43,7 @@ def main() -> None:
         "output.screenshots=[]",
         "output.mesh=[]",
         "output.plot=false",
-        "output.plant=false",
+        "output.phenotype=false",
     ]
     cfg = load_config(QUICK, overrides)
     # cost of one evaluation, serial, warm

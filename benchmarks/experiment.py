@@ -37,7 +37,6 @@ def best_of(fn, n=5):
 
 def main() -> None:
     from growsim.experiment import build_fitness, load_config
-    from growsim.models import get_model
 
     quick = ROOT / "experiments" / "quickstart.toml"
     load_config(quick)
@@ -65,7 +64,7 @@ def main() -> None:
         x = lo + rng.random((n, len(lo))) * (hi - lo)
         seeds = np.arange(n, dtype=np.uint64)
         full = f.full_params(x)
-        model = get_model(cfg.model.kind)
+        model = f.model
         if obj.batch(model, full, f.names, f.model_seeds(full, seeds)) is not None:
             f(x, seeds)
             t_glue = best_of(lambda: f(x, seeds))

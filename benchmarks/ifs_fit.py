@@ -66,7 +66,7 @@ def run_config(path: str, seeds: list[int]) -> list[dict]:
     rows = []
     for seed in seeds:
         cfg = load_config(path)
-        obj = cfg.objective[0].options()
+        obj = cfg.objective[0].model_dump()
         with tempfile.TemporaryDirectory() as d:
             t = time.perf_counter()
             r = run(cfg, out=os.path.join(d, "run"), seed=seed, progress=False)

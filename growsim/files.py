@@ -1,4 +1,5 @@
-"""Atomic file writes: every file growsim writes appears whole or not at all.
+"""Atomic file writes: every file growsim writes appears whole or not at all; and the
+conversion of NumPy values to JSON for the files written as JSON.
 
 A temporary file is written in the target's directory, flushed to disk and renamed onto
 the target (``os.replace``, atomic on POSIX), so a reader or a crash (SIGKILL included)
@@ -8,15 +9,18 @@ never sees half a file, and a failed write leaves the earlier file untouched.
 from __future__ import annotations
 
 import contextlib
+import math
 import os
 import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import IO, Any
 
+import numpy as np
+
 from growsim.errors import UserInputError
 
-__all__ = ["atomic_path", "atomic_write"]
+__all__ = ["atomic_path", "atomic_write", "json_default", "jsonable"]
 
 
 def _file_mode() -> int:
@@ -106,3 +110,42 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
     finally:
         with contextlib.suppress(FileNotFoundError):
             tmp.unlink()
+
+
+def json_default(o: Any) -> Any:
+    """``default=`` of :func:`json.dumps` for NumPy scalars and arrays.
+
+    Examples
+    --------
+    >>> import json, numpy as np
+    >>> json.dumps({"a": np.float32(0.5), "b": np.arange(2)}, default=json_default)
+    '{"a": 0.5, "b": [0, 1]}'
+    """
+    if isinstance(o, np.generic):
+        return o.item()
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    raise TypeError(f"{type(o).__name__} is not JSON-able")
+
+
+def jsonable(x: Any) -> Any:
+    """``x`` as plain JSON data: NumPy values to Python, tuples to lists, keys to
+    strings, and non-finite floats to strings (``"nan"``, ``"inf"``: JSON has none).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> jsonable({1: (np.int64(2), float("nan")), "x": np.array([0.5])})
+    {'1': [2, 'nan'], 'x': [0.5]}
+    """
+    if isinstance(x, dict):
+        return {str(k): jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [jsonable(v) for v in x]
+    if isinstance(x, np.ndarray):
+        return jsonable(x.tolist())
+    if isinstance(x, np.generic):
+        return jsonable(x.item())
+    if isinstance(x, float) and not math.isfinite(x):
+        return str(x)
+    return x

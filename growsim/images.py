@@ -8,12 +8,16 @@ A user's front and side pictures (PNG, JPEG, ... any size) become binary silhoue
    on a light background, light on dark, or ``"auto"``: the class that covers less of the
    picture's border is the tree), an optional mask picture (only its white part is looked
    at); an empty or all-foreground result is an error naming the file;
-3. :func:`frame_silhouettes`: both views into ``(2, S, S)`` rasters with the framing that
-   :mod:`growsim.kernels.ifs3d` gives rendered plants: each view scaled to unit height (the
-   two pictures need not share a zoom), one common scale that fits the height into the
-   raster unless the half-width around the trunk base is tighter, the trunk base (the
-   middle of the silhouette's lowest rows) at the horizontal centre, the lowest point on
-   the bottom row.
+3. :func:`frame_silhouettes`: both views into ``(2, S, S)`` rasters with the framing of
+   rendered plants (:mod:`growsim.kernels.views`: the same scale rule,
+   :func:`~growsim.kernels.views.frame_scale`, and placement,
+   :func:`~growsim.kernels.views.frame_view`): one common scale that fits the height into
+   the raster unless the half-width around the trunk base is tighter, the trunk base at
+   the horizontal centre, the lowest point on the bottom row. What differs from plants:
+   each view is first scaled to unit height (the two pictures need not share a zoom); the
+   trunk base is the middle of the silhouette's lowest rows; the points placed are the
+   input pixels' squares (the lowest pixels' centres on the bottom row's centre line),
+   and every raster pixel a square overlaps is set.
 """
 
 from __future__ import annotations
@@ -24,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from growsim.errors import UserInputError
-from growsim.kernels.ifs3d import MARGIN
+from growsim.kernels.views import frame_scale, frame_view
 
 __all__ = [
     "frame_silhouettes",
@@ -209,15 +213,15 @@ def frame_silhouettes(front: np.ndarray, side: np.ndarray, size: int = 64) -> np
     size = int(size)
     out = np.zeros((2, size, size), dtype=np.uint8)
     geo = [_view_geometry(np.asarray(m, dtype=bool)) for m in (front, side)]
-    hw = max(g[5] for g in geo)
-    k = size - 2.0 * MARGIN
-    if hw > 0:
-        k = min(k, (0.5 * size - MARGIN) / hw)
+    # both views at unit height: one scale for both, as a rendered plant's views
+    k = frame_scale(1.0, max(g[5] for g in geo), size)
     for v, (rows, cols, rmax, h, base, _) in enumerate(geo):
         f = k / h  # raster pixels per input pixel
-        x0 = 0.5 * size + f * (cols - base)
-        y0 = (size - MARGIN) - f * (rmax + 1.0 - rows) + f * 0.5
-        # the input square [x0, x0 + f) x [y0 - ..]: rows grow downwards
+        # the top edge of each input pixel, at height rmax + 1 - row above the lowest
+        # pixels' bottom edge; half a pixel lower, so their centres sit on the bottom row
+        x0, y0 = frame_view(cols, rmax + 1.0 - rows, base, 0.0, f, size)
+        y0 = y0 + f * 0.5
+        # the input square [x0, x0 + f) x [y0, y0 + f): rows grow downwards
         x1 = x0 + f
         y1 = y0 + f
         c0 = np.floor(x0).astype(np.int64)

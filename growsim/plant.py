@@ -26,13 +26,15 @@ import os
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any, ClassVar
 
 import numpy as np
 
 from growsim.errors import UserInputError
-from growsim.files import atomic_write
+from growsim.files import atomic_write, json_default
+from growsim.phenotype import Phenotype
 
-__all__ = ["LEAF", "STEM", "Plant", "view_basis"]
+__all__ = ["LEAF", "STEM", "Plant"]
 
 #: ``kind`` of a woody segment (trunk, branch, twig).
 STEM = 0
@@ -56,8 +58,11 @@ def _as_array(name: str, value, dtype, shape_tail: tuple[int, ...], n: int | Non
 
 
 @dataclass
-class Plant:
+class Plant(Phenotype):
     """A plant skeleton: per-segment arrays (see the module docstring for the fields).
+
+    The phenotype of every plant model (kind ``"plant"`` under the contract of
+    :mod:`growsim.phenotype`).
 
     Arrays are converted to their dtypes and checked on construction: shapes agree, points
     and radii are finite, radii are non-negative, parents are ``-1`` or a valid other index,
@@ -71,6 +76,8 @@ class Plant:
     >>> p.n_segments, p.n_tips, round(p.height(), 3)
     (2, 1, 1.5)
     """
+
+    phenotype: ClassVar[str] = "plant"
 
     start: np.ndarray
     end: np.ndarray
@@ -396,65 +403,26 @@ class Plant:
                 raise UserInputError(f"kinds: unknown segment kind {k} (use STEM=0, LEAF=1)")
         return np.isin(self.kind, kinds)
 
-    def projected_area(
-        self,
-        direction=(0.0, -1.0, 0.0),
-        kinds: Iterable[int] | None = None,
-        resolution: int = 256,
-    ) -> float:
-        """Area (world units²) of the plant's orthographic shadow along ``direction``.
-
-        Each selected segment is a tube of its radius; the shadow is rasterised with the
-        shared kernel :func:`growsim.kernels.raster.draw_segments` on a ``resolution`` ²
-        grid framing the shadow, and the covered pixels are counted. The default direction
-        is light from straight above. ``kinds=(LEAF,)`` measures the leaves only. Segments
-        thinner than a pixel count as one pixel wide, so thin twigs are over-estimated by at
-        most half a pixel on each side.
+    def leaf_area(self, direction=(0.0, -1.0, 0.0), resolution: int = 256) -> float:
+        """Area of the leaves' orthographic shadow along ``direction`` (leaves that overlap
+        seen from there count once): :func:`growsim.env.light.projected_area` of the LEAF
+        segments.
 
         Examples
         --------
-        >>> p = Plant.from_points([[0, 0, 0], [4, 0, 0]], [-1], [-1, 0], radius=0.5)
-        >>> round(p.projected_area(resolution=512), 1)  # 4 x 1 strip + round caps: 4 + pi/4
-        4.8
+        >>> Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0]).leaf_area()
+        0.0
         """
-        from growsim.kernels.raster import draw_segments
+        from growsim.env.light import projected_area
 
-        d = np.asarray(direction, dtype=np.float64)
-        if d.shape != (3,) or not np.all(np.isfinite(d)) or np.linalg.norm(d) == 0:
-            raise UserInputError(
-                f"projected_area: direction must be a non-zero 3-vector, got {direction!r}"
-            )
-        resolution = int(resolution)
-        if resolution < 8 or resolution > 8192:
-            raise UserInputError(f"projected_area: resolution {resolution} not in [8, 8192]")
-        sel = self._select(kinds)
-        if not sel.any():
-            return 0.0
-        u, v = view_basis(d)
-        a = np.stack([self.start[sel] @ u, self.start[sel] @ v], axis=1)
-        b = np.stack([self.end[sel] @ u, self.end[sel] @ v], axis=1)
-        r = self.radius[sel]
-        rmax = float(r.max())
-        lo = np.minimum(a.min(0), b.min(0)) - rmax
-        hi = np.maximum(a.max(0), b.max(0)) + rmax
-        size = float((hi - lo).max())
-        if size <= 0:
-            return 0.0
-        # Leave one pixel of margin each side so clipping never trims the shadow.
-        pix = size / (resolution - 2)
-        origin = lo - pix
-        img = np.zeros((resolution, resolution), np.uint8)
-        draw_segments(
-            np.ascontiguousarray((a - origin) / pix),
-            np.ascontiguousarray((b - origin) / pix),
-            np.ascontiguousarray(2.0 * r / pix),
-            img,
-        )
-        return float(np.count_nonzero(img)) * pix * pix
+        sel = self.kind == LEAF
+        return projected_area(self.start[sel], self.end[sel], self.radius[sel], direction, resolution)
 
-    def measures(self, resolution: int = 256) -> dict:
+    def measures(self, env=None, resolution: int = 256) -> dict[str, float]:
         """All measures as a JSON-able dict: counts, extents, lengths, volume, and the
-        shadow areas from above (all segments and leaves only).
+        shadow areas from above (all segments and leaves only). With an environment
+        (:class:`growsim.env.Environment`), also ``light_captured``: the light the leaves
+        intercept (:meth:`growsim.env.Light.captured`).
 
         Examples
         --------
@@ -462,7 +430,9 @@ class Plant:
         >>> sorted(p.measures())[:3]
         ['crown_depth', 'crown_width', 'height']
         """
-        return {
+        from growsim.env.light import projected_area
+
+        out = {
             "n_segments": self.n_segments,
             "n_stems": self.n_stems,
             "n_leaves": self.n_leaves,
@@ -473,9 +443,51 @@ class Plant:
             "crown_depth": self.crown_depth(),
             "total_length": self.total_length(),
             "wood_volume": self.wood_volume(),
-            "projected_area_top": self.projected_area(resolution=resolution),
-            "leaf_area_top": self.projected_area(kinds=(LEAF,), resolution=resolution),
+            "projected_area_top": projected_area(
+                self.start, self.end, self.radius, resolution=resolution
+            ),
+            "leaf_area_top": self.leaf_area(resolution=resolution),
         }
+        if env is not None:
+            sel = self.kind == LEAF
+            out["light_captured"] = env.light.captured(
+                self.start[sel], self.end[sel], self.radius[sel], resolution
+            )
+        return out
+
+    def artefacts(self, output) -> dict[str, Any]:
+        """Meshes (``best.<format>`` for each of ``output.mesh``, one mesh shared) and
+        renders (``best_<view>.png`` for each of ``output.screenshots``)."""
+        from growsim import mesh as gmesh
+
+        shared: dict[str, Any] = {}
+
+        def mesh_writer(path):
+            if "mesh" not in shared:
+                shared["mesh"] = gmesh.plant_mesh(self)
+            return gmesh.export(shared["mesh"], path)
+
+        files = {f"best.{fmt}": mesh_writer for fmt in output.mesh}
+        files.update(super().artefacts(output))
+        return files
+
+    def render_image(self, *, view: str = "iso", size=(800, 800)) -> np.ndarray:
+        """An ``(H, W, 3)`` render (pyvista, off-screen): :func:`growsim.viz.render_image`."""
+        from growsim import viz
+
+        return viz.render_image(self, view=view, size=size)
+
+    def screenshot(self, path, *, view: str = "iso", size=(800, 800)) -> Path:
+        """A PNG render: :func:`growsim.viz.screenshot`."""
+        from growsim import viz
+
+        return viz.screenshot(self, path, view=view, size=size)
+
+    def show(self, *, view: str = "iso") -> None:
+        """An interactive pyvista window: :func:`growsim.viz.show`."""
+        from growsim import viz
+
+        viz.show(self, view=view)
 
     # ------------------------------------------------------------------ persistence
     def save(self, path: str | os.PathLike) -> Path:
@@ -493,7 +505,7 @@ class Plant:
         if path.suffix != ".npz":
             raise UserInputError(f"{path}: a Plant is saved as .npz")
         try:
-            meta = json.dumps(self.meta, default=_json_default)
+            meta = json.dumps(self.meta, default=json_default)
         except (TypeError, ValueError) as exc:
             raise UserInputError(f"Plant.meta is not JSON-able: {exc}") from None
         arrays = {
@@ -504,6 +516,7 @@ class Plant:
             "order": self.order,
             "kind": self.kind,
             "meta": np.array(meta),
+            "phenotype": np.array(self.phenotype),
         }
         arrays.update({f"data__{k}": v for k, v in self.data.items()})
         return atomic_write(path, lambda fh: np.savez_compressed(fh, **arrays))
@@ -547,31 +560,3 @@ class Plant:
         model = self.meta.get("model", "?")
         return f"Plant(model={model!r}, segments={self.n_segments}, leaves={self.n_leaves})"
 
-
-def _json_default(o):
-    if isinstance(o, np.generic):
-        return o.item()
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    raise TypeError(f"{type(o).__name__} is not JSON-able")
-
-
-def view_basis(direction) -> tuple[np.ndarray, np.ndarray]:
-    """Two unit vectors ``(u, v)`` spanning the image plane of an orthographic view along
-    ``direction`` ``(3,)``: ``u`` is horizontal (right), ``v`` is the screen's up as far as
-    possible (world y, or world z when looking straight up or down).
-
-    Examples
-    --------
-    >>> u, v = view_basis((0, 0, -1))   # the front view, looking along -z
-    >>> u.round(3).tolist(), v.round(3).tolist()
-    ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0])
-    """
-    d = np.asarray(direction, dtype=np.float64)
-    d = d / np.linalg.norm(d)
-    up = np.array([0.0, 1.0, 0.0]) if abs(d[1]) < 0.99 else np.array([0.0, 0.0, -1.0])
-    u = np.cross(d, up)
-    u /= np.linalg.norm(u)
-    v = np.cross(u, d)
-    # ``+ 0.0`` turns -0.0 into 0.0 so printed bases read cleanly.
-    return u + 0.0, v / np.linalg.norm(v) + 0.0

@@ -32,36 +32,25 @@ from typing import Any
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.results import RunRecord, find_runs
 
-__all__ = ["Comparison", "Run", "compare", "find_runs", "group_runs"]
+__all__ = ["Comparison", "compare", "group_runs", "run_key", "run_label"]
 
 log = logging.getLogger(__name__)
 
 
-@dataclasses.dataclass
-class Run:
-    """One finished run: its directory, summary, resolved config and history."""
+def run_key(run: RunRecord) -> str:
+    """The config without its seed: runs with the same key are repeats."""
+    cfg = json.loads(json.dumps(run.config))
+    cfg.get("experiment", {}).pop("seed", None)
+    return json.dumps(cfg, sort_keys=True)
 
-    path: Path
-    summary: dict[str, Any]
-    config: dict[str, Any]
-    history: Any
 
-    @property
-    def best_fitness(self) -> float:
-        return float(self.summary["best_fitness"])
-
-    def key(self) -> str:
-        """The config without its seed: runs with the same key are repeats."""
-        cfg = json.loads(json.dumps(self.config))
-        cfg.get("experiment", {}).pop("seed", None)
-        return json.dumps(cfg, sort_keys=True)
-
-    def label(self) -> str:
-        """``variant`` for ``.../variant/seed-N``, else the directory name."""
-        if self.path.name.startswith("seed-"):
-            return self.path.parent.name
-        return self.path.name
+def run_label(run: RunRecord) -> str:
+    """``variant`` for ``.../variant/seed-N``, else the directory name."""
+    if run.path.name.startswith("seed-"):
+        return run.path.parent.name
+    return run.path.name
 
 
 @dataclasses.dataclass
@@ -75,53 +64,7 @@ class Comparison:
     files: dict[str, Path]
 
 
-def find_runs(dirs: Sequence[str | Path]) -> list[Run]:
-    """Every finished run (a directory with ``summary.json``) in or under ``dirs``.
-
-    Examples
-    --------
-    >>> find_runs(["runs/quickstart-20261122-101500"])  # doctest: +SKIP
-    [Run(path=PosixPath('runs/quickstart-20261122-101500'), ...)]
-    """
-    import tomllib
-
-    import pandas as pd
-
-    if not dirs:
-        raise UserInputError("compare: give at least one results directory")
-    seen: set[Path] = set()
-    runs: list[Run] = []
-    skipped: list[Path] = []
-    for d in dirs:
-        d = Path(d)
-        if not d.is_dir():
-            raise UserInputError(f"{d}: no such directory")
-        found = sorted(p.parent for p in d.rglob("summary.json"))
-        if not found:
-            # `growsim compare runs/*` also meets report directories: skip them, but say so
-            skipped.append(d)
-            continue
-        for p in found:
-            rp = p.resolve()
-            if rp in seen:
-                continue
-            seen.add(rp)
-            try:
-                summary = json.loads((p / "summary.json").read_text())
-                config = tomllib.loads((p / "config.toml").read_text())
-                history = pd.read_parquet(p / "history.parquet")
-            except (OSError, ValueError) as exc:
-                raise UserInputError(f"{p}: unreadable run ({exc})") from None
-            runs.append(Run(p, summary, config, history))
-    if not runs:
-        where = ", ".join(str(d) for d in skipped)
-        raise UserInputError(f"{where}: holds no finished growsim run (no summary.json)")
-    for d in skipped:
-        log.warning("%s: no finished growsim run here; skipped", d)
-    return runs
-
-
-def group_runs(runs: Sequence[Run]) -> dict[str, list[Run]]:
+def group_runs(runs: Sequence[RunRecord]) -> dict[str, list[RunRecord]]:
     """Group runs by config up to the seed; name each group by its runs' common label.
 
     Examples
@@ -129,12 +72,12 @@ def group_runs(runs: Sequence[Run]) -> dict[str, list[Run]]:
     >>> group_runs([])
     {}
     """
-    by_key: dict[str, list[Run]] = {}
+    by_key: dict[str, list[RunRecord]] = {}
     for r in runs:
-        by_key.setdefault(r.key(), []).append(r)
-    groups: dict[str, list[Run]] = {}
+        by_key.setdefault(run_key(r), []).append(r)
+    groups: dict[str, list[RunRecord]] = {}
     for members in by_key.values():
-        labels = {r.label() for r in members}
+        labels = {run_label(r) for r in members}
         name = labels.pop() if len(labels) == 1 else members[0].summary.get("experiment", "run")
         base, k = name, 2
         while name in groups:
@@ -163,7 +106,7 @@ def _curve(history) -> tuple[np.ndarray, np.ndarray]:
     return h[col].max().index.to_numpy(), best
 
 
-def _plot_curves(groups: dict[str, list[Run]], path: Path) -> None:
+def _plot_curves(groups: dict[str, list[RunRecord]], path: Path) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -192,13 +135,7 @@ def _plot_curves(groups: dict[str, list[Run]], path: Path) -> None:
     plt.close(fig)
 
 
-def _best_plant(run: Run):
-    from growsim.experiment import best_plant
-
-    return best_plant(run.path)
-
-
-def _stats_table(groups: dict[str, list[Run]]):
+def _stats_table(groups: dict[str, list[RunRecord]]):
     import pandas as pd
     from scipy import stats
 
@@ -351,7 +288,7 @@ def compare(
             )
         if renders:
             try:
-                best_plants[name] = _best_plant(best_run)
+                best_plants[name] = best_run.phenotype()
             except Exception as exc:  # a missing plant must not lose the table
                 log.warning("%s: no best plant to render (%s)", best_run.path, exc)
     table = pd.DataFrame(rows)

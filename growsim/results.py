@@ -1,4 +1,8 @@
-"""The results directory of a run: atomic writes, a lock, the paths of every file.
+"""The results directory of a run: the one place that writes and reads it back.
+
+:class:`RunDir` writes (atomic writes, a lock, the paths of every file);
+:func:`read_run` and :func:`find_runs` read finished runs back as :class:`RunRecord`
+(``growsim show``, ``compare``, ``sweep`` and the Python API use them).
 
 A run directory holds (see ``ARCHITECTURE.md``)::
 
@@ -6,7 +10,8 @@ A run directory holds (see ``ARCHITECTURE.md``)::
     checkpoint.npz     GA state incl. RNG state (the GA writes it every generation)
     history.parquet    one row per generation (and island)
     best.json          best genome, parameters, fitness, generation
-    best_plant.npz     the best Plant; best.vtp/.glb/...; best_<view>.png; fitness.png
+    best_<kind>.npz    the best phenotype (best_plant.npz for plants); its artefacts
+                       (best.vtp/.glb/..., best_<view>.png); fitness.png
     summary.json       written last: its presence marks a finished run
     .lock              held (flock) while a process writes here
 
@@ -17,16 +22,21 @@ Every file is written to a temporary name in the same directory and renamed with
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import json
+import logging
 import os
-from collections.abc import Callable, Iterator
+import tomllib
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
 from growsim.errors import UserInputError
 from growsim.files import atomic_path, atomic_write
 
-__all__ = ["RunDir", "write_parquet"]
+__all__ = ["RunDir", "RunRecord", "find_runs", "read_run", "write_parquet"]
+
+log = logging.getLogger(__name__)
 
 
 def write_parquet(path: str | Path, df) -> Path:
@@ -67,6 +77,10 @@ class RunDir:
     best_path = property(lambda self: self.path / "best.json")
     summary_path = property(lambda self: self.path / "summary.json")
     checkpoint_path = property(lambda self: self.path / "checkpoint.npz")
+
+    def phenotype_path(self, kind: str = "plant") -> Path:
+        """``best_<kind>.npz``: where the best phenotype of that kind is saved."""
+        return self.path / f"best_{kind}.npz"
     lock_path = property(lambda self: self.path / ".lock")
 
     def is_complete(self) -> bool:
@@ -136,3 +150,119 @@ class RunDir:
         with atomic_path(self.path / name) as tmp:
             writer(tmp)
         return self.path / name
+
+
+@dataclasses.dataclass
+class RunRecord:
+    """A results directory read back: ``summary`` (None while unfinished), ``config``
+    (the resolved config as data), ``best`` (best.json), ``history`` (DataFrame, or None
+    when not read).
+
+    Examples
+    --------
+    >>> r = read_run("runs/quickstart-20261122-101500")  # doctest: +SKIP
+    >>> r.best_fitness, r.phenotype().phenotype  # doctest: +SKIP
+    (112.5, 'plant')
+    """
+
+    path: Path
+    config: dict[str, Any]
+    best: dict[str, Any]
+    summary: dict[str, Any] | None = None
+    history: Any = None
+
+    @property
+    def finished(self) -> bool:
+        """True when the run finished (it has a summary)."""
+        return self.summary is not None
+
+    @property
+    def best_fitness(self) -> float:
+        """The best fitness of the run."""
+        return float(self.best["fitness"])
+
+    def phenotype(self):
+        """The best phenotype: its saved ``best_<kind>.npz``, else grown again from
+        ``best.json`` and the model of ``config.toml`` (no objective is built)."""
+        from growsim.phenotype import load_phenotype
+
+        kind = self.best.get("phenotype", "plant")
+        saved = RunDir(self.path).phenotype_path(kind)
+        if saved.is_file():
+            return load_phenotype(saved)
+        from growsim.experiment.load import validate
+        from growsim.experiment.plan import plan_model
+
+        mp = plan_model(validate(self.config, str(self.path / "config.toml")))
+        params = {n: float(self.best["params"][n]) for n in mp.names}
+        return mp.develop(params, int(self.best.get("plant_seed", mp.seed)))
+
+
+def _read_json(path: Path) -> dict:
+    try:
+        return json.loads(path.read_text())
+    except (OSError, ValueError) as exc:
+        raise UserInputError(f"{path}: unreadable ({exc})") from None
+
+
+def read_run(path: str | Path, *, finished: bool = True, history: bool = True) -> RunRecord:
+    """Read a results directory: config, best, summary and history.
+
+    ``finished=True`` refuses a run without ``summary.json``; ``finished=False`` reads
+    what is there (``best.json`` and ``config.toml`` at least, e.g. for ``growsim show``
+    of a run still going).
+    """
+    rd = RunDir(path)
+    if finished and not rd.summary_path.is_file():
+        raise UserInputError(f"{rd.path}: not a finished growsim run (no summary.json)")
+    if not rd.best_path.is_file() or not rd.config_path.is_file():
+        raise UserInputError(f"{rd.path}: not a growsim results directory (no best.json)")
+    try:
+        config = tomllib.loads(rd.config_path.read_text())
+    except (OSError, ValueError) as exc:
+        raise UserInputError(f"{rd.config_path}: unreadable ({exc})") from None
+    summary = _read_json(rd.summary_path) if rd.summary_path.is_file() else None
+    frame = None
+    if history and rd.history_path.is_file():
+        import pandas as pd
+
+        try:
+            frame = pd.read_parquet(rd.history_path)
+        except (OSError, ValueError) as exc:
+            raise UserInputError(f"{rd.history_path}: unreadable ({exc})") from None
+    return RunRecord(rd.path, config, _read_json(rd.best_path), summary, frame)
+
+
+def find_runs(dirs: Sequence[str | Path]) -> list[RunRecord]:
+    """Every finished run (a directory with ``summary.json``) in or under ``dirs``.
+
+    Examples
+    --------
+    >>> find_runs(["runs/quickstart-20261122-101500"])  # doctest: +SKIP
+    [RunRecord(path=PosixPath('runs/quickstart-20261122-101500'), ...)]
+    """
+    if not dirs:
+        raise UserInputError("compare: give at least one results directory")
+    seen: set[Path] = set()
+    runs: list[RunRecord] = []
+    skipped: list[Path] = []
+    for d in dirs:
+        d = Path(d)
+        if not d.is_dir():
+            raise UserInputError(f"{d}: no such directory")
+        found = sorted(p.parent for p in d.rglob("summary.json"))
+        if not found:
+            # `growsim compare runs/*` also meets report directories: skip them, but say so
+            skipped.append(d)
+            continue
+        for p in found:
+            rp = p.resolve()
+            if rp not in seen:
+                seen.add(rp)
+                runs.append(read_run(p))
+    if not runs:
+        where = ", ".join(str(d) for d in skipped)
+        raise UserInputError(f"{where}: holds no finished growsim run (no summary.json)")
+    for d in skipped:
+        log.warning("%s: no finished growsim run here; skipped", d)
+    return runs

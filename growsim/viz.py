@@ -301,7 +301,8 @@ def render_grid(
     cell=(300, 300),
     columns: int | None = None,
 ) -> Path:
-    """Several plants side by side in one PNG (``columns`` per row, titles under each).
+    """Several phenotypes (plants, meshes) side by side in one PNG (``columns`` per row,
+    titles under each).
 
     Examples
     --------
@@ -325,8 +326,13 @@ def render_grid(
     text_h = 18 if titles else 0
     grid = Image.new("RGB", (cols * cw, rows * (ch + text_h)), "white")
     draw = ImageDraw.Draw(grid)
+    from growsim.phenotype import Phenotype
+
     for i, p in enumerate(plants):
-        img = render_image(p, view=view, size=(cw, ch))
+        if isinstance(p, Phenotype):
+            img = p.render_image(view=view, size=(cw, ch))
+        else:
+            img = render_image(p, view=view, size=(cw, ch))
         x, y = (i % cols) * cw, (i // cols) * (ch + text_h)
         grid.paste(Image.fromarray(img), (x, y))
         if titles:

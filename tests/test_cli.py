@@ -233,7 +233,7 @@ QUICK_TEXT = Path(QUICK).read_text()
     )
 )
 def test_fuzz_mangled_quickstart_exits_2_or_runs(tmp_path, monkeypatch, edits):
-    import growsim.experiment as ex
+    import growsim.experiment.runner as ex
     from growsim.cli import main
     from growsim.errors import GrowsimError
 

@@ -13,6 +13,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from growsim.errors import ConfigError, GrowsimError, UserInputError
+from growsim.objectives import OBJECTIVES, get_objective
 from growsim.experiment import (
     Config,
     build_fitness,
@@ -47,7 +48,7 @@ def test_defaults_are_filled_and_model_resolved():
     cfg = load_config(BASE)
     assert cfg.experiment.seed == 0 and cfg.experiment.name == "experiment"
     assert cfg.ga.coding == "real" and cfg.ga.elite == 1
-    assert cfg.environment.light_direction == [0.0, -1.0, 0.0]
+    assert cfg.environment.light.direction == [0.0, -1.0, 0.0]
     # every fixed honda parameter is written out, the evolved ones are ranges
     from growsim.models.honda import PARAMS
 
@@ -80,9 +81,16 @@ def test_preset_values_are_used_and_params_override_them():
         (cfg_with(ga__elite=10), "elite (10) must be below population (10)"),
         (cfg_with(experiment__name="a b"), "experiment.name: String should match pattern"),
         (cfg_with(experiment__seed=-1), "experiment.seed"),
-        (cfg_with(environment__light=-1.0), "environment.light: Input should be greater"),
-        (cfg_with(environment__light_direction=[0, 0, 0]), "environment.light_direction"),
-        (cfg_with(environment__light_direction=[0, 1]), "environment.light_direction"),
+        (cfg_with(environment__light=-1.0), "environment.light.intensity: Input should be greater"),
+        (cfg_with(environment__light_direction=[0, 0, 0]), "environment.light.direction"),
+        (cfg_with(environment__light_direction=[0, 1]), "environment.light.direction"),
+        (cfg_with(environment__light={"direction": [0, 1]}), "environment.light.direction"),
+        (cfg_with(environment__water={"supply": -1}), "environment.water.supply"),
+        (cfg_with(environment__gravity={"gee": 1}), "environment.gravity.gee: unknown key"),
+        (
+            cfg_with(environment__tank={"size": [10, 10, 10], "obstacles": [{"shape": "egg"}]}),
+            "environment.tank.obstacles[0].shape",
+        ),
         (cfg_with(output__mesh=["stl"]), "output.mesh[0]: Input should be 'vtp', 'ply'"),
         (cfg_with(output__size=[8, 8]), "output.size"),
         (cfg_with(model__kind="oak"), "model.kind: unknown model 'oak'; available: honda"),
@@ -101,8 +109,9 @@ def test_preset_values_are_used_and_params_override_them():
         (cfg_with(model__evolve={"f": [1]}), "f: expected true or [low, high], got [1]"),
         (cfg_with(objective=[]), "objective: List should have at least 1 item"),
         (cfg_with(objective=[{"kind": "sun"}]), "objective[0].kind: unknown objective 'sun'"),
-        (cfg_with(objective=[{"kind": "light", "wood": 1}]), "objective[0].wood: unknown option"),
-        (cfg_with(objective=[{"kind": "light", "wood_cost": -1}]), "objective[0]: wood_cost"),
+        (cfg_with(objective=[{"kind": "light", "wood": 1}]), "objective[0].wood: unknown key"),
+        (cfg_with(objective=[{"kind": "light", "wood_cost": -1}]), "objective[0].wood_cost"),
+        (cfg_with(objective=[{"weight": 2.0}]), "objective[0].kind: required key missing"),
         (cfg_with(objective=[{"kind": "light", "weight": 0}]), "objective[0].weight"),
         (cfg_with(objective=[{"weight": 1.0}]), "objective[0].kind: required key missing"),
         ({"objective": [{"kind": "light"}]}, "model: required key missing"),
@@ -119,7 +128,7 @@ def test_bad_configs_name_the_key_path(data, needle):
 
 def test_unknown_operator_is_rejected():
     pytest.importorskip("growsim.ga", exc_type=ImportError).SELECTION  # noqa: B018
-    with pytest.raises(ConfigError, match=r"ga.selection: unknown operator 'nope'; allowed: "):
+    with pytest.raises(ConfigError, match=r"ga.selection: unknown selection operator 'nope'; available: "):
         load_config(cfg_with(ga__selection="nope"))
 
 
@@ -158,7 +167,7 @@ def test_overrides_apply_before_validation():
             "model.params.generations=5",
         ],
     )
-    assert cfg.ga.population == 12 and cfg.environment.light == 0.25
+    assert cfg.ga.population == 12 and cfg.environment.light.intensity == 0.25
     assert cfg.objective[0].weight == 3.0 and len(cfg.objective) == 2
     assert "thq" in cfg.model.evolve and cfg.model.params["generations"] == 5
     with pytest.raises(ConfigError, match=r"ga.population: Input should be greater"):
@@ -203,7 +212,7 @@ def test_every_shipped_experiment_validates(path):
     cfg = load_config(path)
     assert isinstance(cfg, Config)
     f = build_fitness(cfg)
-    assert f.model == cfg.model.kind and len(f.evolved) >= 1
+    assert f.model.name == cfg.model.kind and len(f.evolved) >= 1
     # the resolved copy a run saves loads back to the same config
     assert load_config(tomllib.loads(cfg.to_toml())).to_dict() == cfg.to_dict()
 
@@ -225,9 +234,14 @@ def test_docs_configs_md_is_generated_from_the_schema():
     doc = (ROOT / "docs" / "configs.md").read_text()
     assert doc == config_docs(), "regenerate: python -m growsim.experiment --docs > docs/configs.md"
     for section, cls in Config.model_fields.items():
-        sub = cls.annotation.__args__[0] if section == "objective" else cls.annotation
-        for key in sub.model_fields:
-            assert f"`{section}.{key}`" in doc
+        subs = [cls.annotation]
+        if section == "objective":  # one options class per registered objective
+            subs = [get_objective(name).Options for name in OBJECTIVES]
+        for sub in subs:
+            for key in sub.model_fields:
+                assert f"`{section}.{key}`" in doc
+    for key in ("environment.light.direction", "environment.tank.obstacles.shape"):
+        assert f"`{key}`" in doc
 
 
 def test_docs_entry_point():
@@ -339,9 +353,9 @@ def test_relative_image_paths_resolve_next_to_the_config(tmp_path, monkeypatch):
     )
     monkeypatch.chdir(tmp_path)  # not the config's directory
     cfg = load_config("exp/fit.toml")
-    opts = cfg.objective[0].options()
-    assert opts["front"] == str((d / "front.png").resolve())
-    assert Path(opts["side"]).is_absolute()
+    opts = cfg.objective[0]
+    assert opts.front == str((d / "front.png").resolve())
+    assert Path(opts.side).is_absolute()
     # the saved copy loads from anywhere
     monkeypatch.chdir(d)
     assert load_config(tomllib.loads(cfg.to_toml())).to_dict() == cfg.to_dict()

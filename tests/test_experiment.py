@@ -65,7 +65,12 @@ def test_run_writes_a_complete_results_directory(tiny_run):
     assert best["fitness"] == pytest.approx(hist["best_so_far"].max())
     assert summary["evaluations"] == hist["evaluations"].iloc[-1] >= 8 * 3 - 3
     assert summary["generations"] == 3
-    assert summary["measures"]["segments"] == r.best_plant.n_segments
+    assert summary["measures"]["n_segments"] == r.best_plant.n_segments
+    # the objective's terms of the best, in best.json and summary.json
+    terms = best["terms"]["light"]
+    assert summary["terms"] == best["terms"] and set(terms) == {"score", "leaf_area", "wood_volume"}
+    assert terms["score"] == pytest.approx(terms["leaf_area"] - 1.0 * terms["wood_volume"])
+    assert best["phenotype"] == summary["phenotype"] == "plant"
     # the glue is right: re-scoring the best parameters gives the recorded fitness
     f = build_fitness(cfg)
     x = np.array([[best["params"][n] for n in f.evolved]])
@@ -144,6 +149,10 @@ def test_sweep_grid_and_reuse(tmp_path):
     )
     assert len(df) == 4
     assert sorted(df["environment.light"].unique()) == [0.5, 1.0]
+    assert (Path(df["out"][0]).parent.name, Path(df["out"][3]).parent.name) == (
+        "light=1.0",
+        "light=0.5",
+    )
     assert sorted(df["seed"].unique()) == [1, 2]
     # light intensity scales the leaf term: fitness differs between variants
     by = df.groupby("environment.light")["best_fitness"].mean()
@@ -252,30 +261,26 @@ def test_dask_local_cluster_gives_the_same_results(tiny_run, tmp_path):
 
 
 def test_light_objective_formula_and_environment():
+    from growsim.env import Environment
     from growsim.errors import ConfigError
-    from growsim.experiment import EnvironmentConfig
     from growsim.models.honda import PRESETS, develop
     from growsim.objectives.light import LightObjective
-    from growsim.plant import LEAF
 
     plant = develop(PRESETS["zelkova"])
     obj = LightObjective(wood_cost=0.5, resolution=64)
-    area = plant.projected_area((0.0, -1.0, 0.0), kinds=(LEAF,), resolution=64)
+    area = plant.leaf_area((0.0, -1.0, 0.0), resolution=64)
     assert obj(plant) == pytest.approx(area - 0.5 * plant.wood_volume())
-    env = EnvironmentConfig(light=0.5, light_direction=[1.0, -1.0, 0.0])
-    bound = obj.with_environment(env)
-    side = plant.projected_area((1.0, -1.0, 0.0), kinds=(LEAF,), resolution=64)
+    env = Environment.model_validate({"light": {"intensity": 0.5, "direction": [1.0, -1.0, 0.0]}})
+    bound = LightObjective(wood_cost=0.5, resolution=64, env=env)
+    side = plant.leaf_area((1.0, -1.0, 0.0), resolution=64)
     assert bound(plant) == pytest.approx(0.5 * side - 0.5 * plant.wood_volume())
-    assert obj.direction is None  # the original is unchanged
-    mine = LightObjective(direction=(0, -1, 0), intensity=2.0, resolution=64)
-    assert mine.with_environment(env)(plant) == pytest.approx(
-        2.0 * area - 0.02 * plant.wood_volume()
-    )
+    mine = LightObjective(direction=[0, -1, 0], intensity=2.0, resolution=64, env=env)
+    assert mine(plant) == pytest.approx(2.0 * area - 0.02 * plant.wood_volume())
     for bad in (
         {"wood_cost": -1},
         {"resolution": 8},
         {"resolution": 1.5},
-        {"direction": (0, 0, 0)},
+        {"direction": [0, 0, 0]},
         {"intensity": "x"},
     ):
         with pytest.raises(ConfigError):
@@ -283,17 +288,17 @@ def test_light_objective_formula_and_environment():
 
 
 def test_live_history_is_written_during_a_run(tmp_path):
-    from growsim.experiment import _Progress
+    from growsim.experiment.runner import Progress
 
     class FakeGA:
         history = pd.DataFrame({"generation": [0, 1], "best": [1.0, 2.0]})
 
     rd = RunDir(tmp_path)
     seen = []
-    p = _Progress(None, False, lambda ga, row: seen.append(row) or True, rd=rd, every=0.0)
+    p = Progress(None, False, lambda ga, row: seen.append(row) or True, rd=rd, every=0.0)
     assert p(FakeGA(), {"generation": 1}) is True  # the user's callback can stop the run
     pd.testing.assert_frame_equal(pd.read_parquet(rd.history_path), FakeGA.history)
-    slow = _Progress(None, False, None, rd=RunDir(tmp_path / "x"), every=3600.0)
+    slow = Progress(None, False, None, rd=RunDir(tmp_path / "x"), every=3600.0)
     slow(FakeGA(), {"generation": 0})
     assert not (tmp_path / "x" / "history.parquet").exists()
 
@@ -306,3 +311,46 @@ def test_per_evaluation_noise_is_reproducible_across_workers(tmp_path):
     assert a.summary["warnings"] == []
     if "failures" in a.history:  # no evaluation failed (e.g. on a seed out of range)
         assert a.history["failures"].sum() == 0
+
+
+# ---- one compiled plan: each objective built once per run ---------------------------
+
+
+def test_one_objective_construction_per_run(tmp_path, monkeypatch):
+    from growsim.objectives.light import LightObjective
+
+    made = []
+    real_setup = LightObjective.setup
+
+    def counting_setup(self):
+        made.append(self)
+        real_setup(self)
+
+    monkeypatch.setattr(LightObjective, "setup", counting_setup)
+    run(QUICK, tmp_path / "a", overrides=TINY, seed=4, progress=False)
+    assert len(made) == 1
+    made.clear()
+    # resuming compiles the saved config once
+    run(None, tmp_path / "a", resume=True, progress=False)
+    assert len(made) == 1
+    made.clear()
+    # a sweep builds each variant's objectives once, whatever the repeats
+    sweep(QUICK, ["env.light=1.0,0.5"], repeats=2, out=tmp_path / "sw", overrides=TINY,
+          progress=False)
+    assert len(made) == 2
+    made.clear()
+    # reading a results directory back grows the best plant with the model alone
+    from growsim.experiment import best_phenotype
+
+    (tmp_path / "a" / "best_plant.npz").unlink()
+    assert best_phenotype(tmp_path / "a").n_segments > 0
+    assert made == []
+
+
+def test_objective_must_accept_the_phenotype(monkeypatch):
+    from growsim.errors import ConfigError
+    from growsim.models.honda import MODEL
+
+    monkeypatch.setattr(type(MODEL), "phenotype", "trajectory")
+    with pytest.raises(ConfigError, match="objective\\[0\\].*'light'.*plant.*'trajectory'"):
+        load_config(QUICK)

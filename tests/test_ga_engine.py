@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 
 import numpy as np
@@ -9,7 +10,18 @@ import pandas as pd
 import pytest
 
 from growsim.errors import GrowsimError, UserInputError
-from growsim.ga import GA, HISTORY_COLUMNS, Bits, Genome, Integer, Real, evaluation_seeds
+from growsim.ga import (
+    GA,
+    GENERATION_MODELS,
+    HISTORY_COLUMNS,
+    Bits,
+    GAOptions,
+    GAState,
+    Genome,
+    Integer,
+    Real,
+    evaluation_seeds,
+)
 from growsim.ga.problems import onemax, rastrigin, sphere
 
 ONEMAX200 = Genome([Bits("b", 0, 1, bits=1, size=200)])
@@ -79,7 +91,7 @@ def test_generational_without_elite_can_lose_the_best_but_best_so_far_is_kept():
 
 def test_elite_rate():
     ga = GA(R10, sphere, population=40, elite_rate=0.05)
-    assert ga.elite == 2 and ga.offspring == 38
+    assert ga.model.elite == 2 and ga.model.offspring == 38
 
 
 def test_islands_history_and_migration():
@@ -110,17 +122,17 @@ def test_islands_history_and_migration():
     )
     ga2.tell(sphere(ga2.genome.decode(ga2.ask())))
     ga2.tell(sphere(ga2.genome.decode(ga2.ask())))
-    pops = [p.copy() for p in ga2.pops]
-    scores = [s.copy() for s in ga2.scores]
-    ga2._migrate()
+    pops = [p.copy() for p in ga2.state.pops]
+    scores = [s.copy() for s in ga2.state.scores]
+    ga2.migrate()
     for i in range(3):
         j = (i + 1) % 3
         best_i = pops[i][np.argsort(-scores[i])[:3]]
         worst_j = np.argsort(scores[j])[:3]
         keep_j = np.setdiff1d(np.arange(12), worst_j)
-        assert np.array_equal(ga2.pops[j][worst_j], best_i)
-        assert np.array_equal(ga2.pops[j][keep_j], pops[j][keep_j])
-    # and tell() migrates on schedule: after generation 2 (not 1), as _migrate() does
+        assert np.array_equal(ga2.state.pops[j][worst_j], best_i)
+        assert np.array_equal(ga2.state.pops[j][keep_j], pops[j][keep_j])
+    # and tell() migrates on schedule: after generation 2 (not 1), as migrate() does
     runs = {}
     for interval in (2, 1000):
         ga3 = GA(
@@ -136,12 +148,12 @@ def test_islands_history_and_migration():
         runs[interval] = ga3
         for _ in range(2):
             ga3.tell(sphere(ga3.genome.decode(ga3.ask())))
-    assert all(np.array_equal(a, b) for a, b in zip(runs[2].pops, runs[1000].pops))
+    assert all(np.array_equal(a, b) for a, b in zip(runs[2].state.pops, runs[1000].state.pops))
     for ga3 in runs.values():
         ga3.tell(sphere(ga3.genome.decode(ga3.ask())))
-    assert not all(np.array_equal(a, b) for a, b in zip(runs[2].pops, runs[1000].pops))
-    runs[1000]._migrate()
-    assert all(np.array_equal(a, b) for a, b in zip(runs[2].pops, runs[1000].pops))
+    assert not all(np.array_equal(a, b) for a, b in zip(runs[2].state.pops, runs[1000].state.pops))
+    runs[1000].migrate()
+    assert all(np.array_equal(a, b) for a, b in zip(runs[2].state.pops, runs[1000].state.pops))
 
 
 def test_extinction_recreates_a_collapsed_population():
@@ -209,7 +221,7 @@ def test_seeds_come_from_the_global_evaluation_index():
     allseeds = np.concatenate(seen)
     assert allseeds.dtype == np.uint64 and len(allseeds) == 10 + 9 + 9
     assert len(set(allseeds.tolist())) == len(allseeds)
-    assert np.array_equal(allseeds, evaluation_seeds(ga._eval_key, 0, len(allseeds)))
+    assert np.array_equal(allseeds, evaluation_seeds(ga.eval_key, 0, len(allseeds)))
 
 
 def row_sphere(row, seeds=None):
@@ -276,14 +288,14 @@ def test_ask_tell_api():
     with pytest.raises(UserInputError, match="expected 10"):
         ga.tell(np.zeros(3))
     ga.tell(sphere(ga.genome.decode(raw)))
-    assert ga.generation == 1 and ga.best.fitness == sphere(ga.genome.decode(raw)).min()
+    assert ga.state.generation == 1 and ga.best.fitness == sphere(ga.genome.decode(raw)).min()
     assert len(ga.ask()) == 9  # population - elite
 
 
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
-        ({"selection": "lottery"}, "allowed: .*tournament"),
+        ({"selection": "lottery"}, "available: .*tournament"),
         ({"crossover": "sbx", "crossover_options": {"etaa": 3}}, "sbx"),
         ({"mutation": "bitflip"}, "bitflip"),
         ({"model": "elitist"}, "model"),
@@ -292,6 +304,9 @@ def test_ask_tell_api():
         ({"islands": 0}, "islands"),
         ({"offspring": 3}, "offspring"),
         ({"model": "steady", "offspring": 10}, "offspring"),
+        ({"elite_rate": 1.0}, "elite_rate"),
+        ({"selection": "rank", "selection_options": None, "mutation_options": []}, "mutation_opt"),
+        ({"populaton": 10}, "populaton.*allowed: population, selection"),
     ],
 )
 def test_bad_settings_raise_user_errors(kwargs, match):
@@ -309,6 +324,97 @@ def test_bad_run_arguments():
         ga.run(evaluations=100, polish={"evaluations": 100})
     with pytest.raises(UserInputError, match="checkpoint"):
         ga.run(resume=True)
+
+
+@pytest.mark.parametrize(
+    ("polish", "match"),
+    [
+        ({"evaluations": 0}, r"polish\.evaluations"),
+        ({"sigma": 2.0}, r"polish\.sigma"),
+        ({"sigma": 0.1, "min_sigma": 0.2}, r"polish\.min_sigma"),
+        ({"batch": 2.5}, r"polish\.batch"),
+        ("fast", "polish must be a dict"),
+    ],
+)
+def test_bad_polish_options_name_the_key(polish, match):
+    with pytest.raises(UserInputError, match=match):
+        GA(R10, sphere, population=10).run(generations=2, polish=polish)
+
+
+# -- options, generation models, state -------------------------------------------------
+def test_options_object_and_keywords_make_the_same_ga():
+    kw = dict(model="steady", offspring=4, islands=2, migration_interval=2)
+    runs = [
+        GA(R10, sphere, GAOptions(population=12, **kw), maximize=False, seed=3),
+        GA(R10, sphere, maximize=False, seed=3, population=12, **kw),
+        GA(R10, sphere, GAOptions(population=12, islands=5), maximize=False, seed=3, **kw),
+    ]
+    hist = [ga.run(generations=6).history.drop(columns="seconds") for ga in runs]
+    pd.testing.assert_frame_equal(hist[0], hist[1])
+    pd.testing.assert_frame_equal(hist[0], hist[2])
+    assert runs[2].options == GAOptions(population=12, **kw)
+    assert GA(R10, sphere).options.population == 50  # the one default, as in the config
+    with pytest.raises(UserInputError, match="options must be a GAOptions"):
+        GA(R10, sphere, 10)
+
+
+@pytest.mark.parametrize("model", sorted(GENERATION_MODELS))
+@pytest.mark.parametrize("mutation", ["bitflip", "meta"])
+def test_every_generation_model_keeps_islands_whole(model, mutation):
+    g = Genome([Bits("b", 0, 1, bits=1, size=30)])
+    ga = GA(
+        g,
+        onemax,
+        population=10,
+        model=model,
+        mutation=mutation,
+        islands=2,
+        seed=1,
+        migration_interval=2,
+        extinction=False,
+    )
+    assert ga.model.name == model
+    for _ in range(5):
+        ga.tell(onemax(ga.genome.decode(ga.ask())))
+    st = ga.state
+    for i in range(2):
+        assert st.pops[i].shape == (10, 30) and st.scores[i].shape == (10,)
+        assert np.array_equal(st.scores[i], onemax(g.decode(st.pops[i])))
+        if mutation == "meta":
+            assert st.strategies[i].shape == (10,) and (st.strategies[i] >= 1).all()
+        else:
+            assert st.strategies[i] is None
+    assert len(ga.ask()) == 2 * ga.model.offspring
+    assert st.evaluations == 20 + 4 * 2 * ga.model.offspring
+    assert ga.history["best_so_far"].is_monotonic_increasing
+
+
+def test_the_state_is_the_checkpoint(tmp_path):
+    def make():
+        g = Genome([Bits("b", 0, 1, bits=3, size=6)], diploid=True)
+        return GA(g, onemax, population=10, islands=2, mutation="meta", seed=4)
+
+    ga, ck = make(), tmp_path / "c.npz"
+    ga.run(generations=5, checkpoint=ck)
+    again = make()
+    assert again.load_checkpoint(ck) == {"stop_reason": "generations", "polished": False}
+    for f in dataclasses.fields(GAState):
+        a, b = getattr(ga.state, f.name), getattr(again.state, f.name)
+        if f.name == "rng":
+            assert a.bit_generator.state == b.bit_generator.state
+        elif f.name in ("pops", "scores", "strategies"):  # one array per island
+            assert len(a) == len(b) == 2
+            assert all(np.array_equal(x, y) for x, y in zip(a, b)), f.name
+        elif isinstance(a, np.ndarray):
+            assert np.array_equal(a, b), f.name
+        else:
+            assert a == b, f.name
+    ga.ask()
+    with pytest.raises(GrowsimError, match="asked but not told"):
+        ga.save_checkpoint(ck)
+    np.savez(ck, meta=np.array('{"version": 1}'))
+    with pytest.raises(UserInputError, match="unknown version 1"):
+        make().run(generations=6, checkpoint=ck, resume=True)
 
 
 def test_operator_instances_and_all_models_run_with_every_coding():

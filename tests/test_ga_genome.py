@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import itertools
 
-import naive_ga
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from naive import ga as naive_ga
 
 from growsim.errors import UserInputError
 from growsim.ga import (

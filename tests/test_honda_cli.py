@@ -89,8 +89,7 @@ def test_grow_other_registered_model(capsys):
     # the command is generic over growsim.models.MODELS: grow the IFS tree the same way
     from growsim.models import get_model
 
-    mod = get_model("ifs3d")
-    preset = sorted(getattr(mod, "PRESETS", {}) or {})
+    preset = sorted(get_model("ifs3d").presets)
     args = ["grow", "ifs3d", "--json"] + (["--preset", preset[0]] if preset else [])
     assert main(args) == 0
     info = json.loads(capsys.readouterr().out)

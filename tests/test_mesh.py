@@ -10,7 +10,8 @@ import struct
 import numpy as np
 import pytest
 import pyvista as pv
-from naive_honda import leaf_oracle, tube_oracle
+from naive.mesh import leaf as leaf_oracle
+from naive.mesh import tube as tube_oracle
 
 from growsim.errors import UserInputError
 from growsim.kernels.mesh import mesh_counts, mesh_kernel, weld_targets

@@ -83,22 +83,27 @@ def test_wood_volume_cone_and_cylinder():
 
 
 def test_projected_area_known_shapes():
+    from growsim.env.light import projected_area
+
+    def area(p, **kw):
+        return projected_area(p.start, p.end, p.radius, **kw)
+
     # a vertical pole seen from above is a disc
     pole = Plant.from_points([[0, 0, 0], [0, 5, 0]], [-1], [-1, 0], radius=1.0)
-    assert pole.projected_area(resolution=512) == pytest.approx(math.pi, rel=0.02)
+    assert area(pole, resolution=512) == pytest.approx(math.pi, rel=0.02)
     # seen from the front it is a 2 x 5 rectangle with round caps (2 x 5 + pi)
-    side = pole.projected_area(direction=(0, 0, -1), resolution=512)
+    side = area(pole, direction=(0, 0, -1), resolution=512)
     assert side == pytest.approx(10 + math.pi, rel=0.02)
     # two far apart horizontal rods from above: areas add
     rods = Plant.from_points(
         [[0, 0, 0], [4, 0, 0], [0, 0, 10], [4, 0, 10]], [-1, -1], [-1, 0, -1, 2], radius=0.5
     )
-    assert rods.projected_area(resolution=1024) == pytest.approx(2 * (4 + math.pi / 4), rel=0.03)
+    assert area(rods, resolution=1024) == pytest.approx(2 * (4 + math.pi / 4), rel=0.03)
     # leaves only
     p = _fork()
-    assert p.projected_area(kinds=(LEAF,)) == 0.0
+    assert p.leaf_area() == 0.0
     with pytest.raises(UserInputError, match="direction"):
-        p.projected_area(direction=(0, 0, 0))
+        area(p, direction=(0, 0, 0))
 
 
 def test_concat_subset():

@@ -13,7 +13,8 @@ from scipy import stats
 
 from growsim.errors import UserInputError
 from growsim.experiment import load_config
-from growsim.report import compare, find_runs, group_runs
+from growsim.report import compare, group_runs
+from growsim.results import find_runs
 from growsim.results import RunDir
 
 BASE = {

@@ -75,10 +75,32 @@ def test_batch_none_for_other_models(table1_obj):
     class Other:
         NAME = "honda"
 
+    class NamedOnly:  # the name alone does not give the fast path: the capability does
+        NAME = "ifs3d"
+
     assert table1_obj.batch(Other, np.zeros((2, 3)), ["a", "b", "c"]) is None
+    assert table1_obj.batch(NamedOnly, np.zeros((2, 3)), ["a", "b", "c"]) is None
     wide = SilhouetteObjective(target_model="ifs3d", target_preset="table1", line_width="radius")
     assert wide.batch(ifs3d, np.array([_row(ifs3d.PRESETS["table1"])]), NAMES) is None
     assert wide(ifs3d.develop(ifs3d.PRESETS["table1"])) == 1.0
+
+
+def test_batch_uses_the_map_groups_capability(table1_obj):
+    class Renamed:  # any model object offering map_groups
+        NAME = "my_ifs"
+        map_groups = staticmethod(ifs3d.map_groups)
+
+    rows = np.array([_row(ifs3d.PRESETS[k]) for k in ifs3d.PRESETS])
+    got = table1_obj.batch(Renamed, rows, NAMES)
+    np.testing.assert_array_equal(got, table1_obj.batch(ifs3d, rows, NAMES))
+    assert got[0] == 1.0 and (got[1:] < 1.0).all()
+
+
+def test_ncc_helpers_are_the_view_kernels_functions():
+    from growsim.kernels import views
+    from growsim.objectives import silhouette
+
+    assert silhouette.ncc is views.ncc and silhouette.blurred_ncc is views.blurred_ncc
 
 
 def test_any_plant_scores():

@@ -31,9 +31,9 @@ def test_fit_config_is_valid(pictures):
     for model in ("ifs3d", "honda"):
         cfg = load_config(fit_config(*pictures, model=model, evaluations=3000))
         assert cfg.model.kind == model
-        assert cfg.objective[0].options()["front"] == pictures[0]
+        assert cfg.objective[0].front == pictures[0]
         expected = "radius" if model == "honda" else "thin"
-        assert cfg.objective[0].options().get("line_width", "thin") == expected
+        assert cfg.objective[0].line_width == expected
 
 
 @pytest.mark.slow

@@ -1,7 +1,7 @@
 """``growsim fit-image FRONT SIDE``: fit a tree to a front and a side picture.
 
 Builds the best-setup experiment config in memory (see :func:`fit_config`; the same setup
-as ``experiments/ifs_tree_best.toml``), runs it with :func:`growsim.experiment.run`, then
+as ``experiments/ifs_tree_best.toml``), compiles and runs it with :func:`growsim.experiment.run`, then
 writes into ``--out``: the run's results, ``tree.glb`` (the fitted tree's mesh) and
 ``silhouettes.png`` (target and fitted silhouettes, front and side, side by side).
 """
@@ -149,14 +149,15 @@ def register(subparsers) -> None:
 
 
 def _main(args) -> int:
-    from growsim.experiment import load_config, run
+    from growsim.experiment import load_plan, run
     from growsim.images import silhouette_image
     from growsim.mesh import export
-    from growsim.objectives.silhouette import SilhouetteObjective, plant_views
+    from growsim.objectives.silhouette import plant_views
 
     if args.evaluations is not None and args.evaluations < 100:
         raise UserInputError(f"--evaluations: at least 100, got {args.evaluations}")
-    cfg = load_config(
+    # compiling builds the objective once: bad pictures fail here, before any evolution
+    plan = load_plan(
         fit_config(
             args.front,
             args.side,
@@ -170,9 +171,8 @@ def _main(args) -> int:
             seed=args.seed,
         )
     )
-    # build the objective once before the run: bad pictures fail here, before any evolution
-    objective = SilhouetteObjective(**cfg.objective[0].options())
-    result = run(cfg, out=args.out, workers=args.workers, progress=not args.quiet)
+    objective = plan.objectives[0]
+    result = run(plan, out=args.out, workers=args.workers, progress=not args.quiet)
     out = Path(result.out)
     plant = result.best_plant
     export(plant, out / "tree.glb")

@@ -2,7 +2,7 @@
 it, print its counts and measures.
 
 Works for every plant model in :data:`growsim.models.MODELS` (``--set`` over the model's
-``PARAMS``, ``--preset`` over its ``PRESETS``).
+parameters, ``--preset`` over its presets).
 """
 
 from __future__ import annotations
@@ -38,30 +38,16 @@ def parse_sets(items: list[str] | None) -> dict[str, float]:
     return out
 
 
-def _spec(module, fixed):
-    if hasattr(module, "param_spec"):
-        return module.param_spec(fixed)
-    return module.PARAMS
-
-
 def run_grow(args: argparse.Namespace) -> int:
     """Body of ``growsim grow`` (see ``growsim grow --help``)."""
     from growsim.models import get_model
-    from growsim.models.base import resolve_params
 
-    module = get_model(args.model)
-    presets = getattr(module, "PRESETS", {}) or {}
+    model = get_model(args.model)
     params: dict[str, float] = {}
     if args.preset is not None:
-        if args.preset not in presets:
-            avail = ", ".join(sorted(presets)) or "none"
-            raise UserInputError(
-                f"unknown preset {args.preset!r} for model {args.model}; available: {avail}"
-            )
-        params.update(presets[args.preset])
+        params.update(model.preset(args.preset))
     params.update(parse_sets(args.set))
-    spec = _spec(module, params)
-    params = resolve_params(spec, params, where=f"{args.model}.")
+    params = model.resolve(params, where=f"{args.model}.")
     # check every output path before the (possibly long) growth, so nothing is grown
     # for an output that cannot be written
     for opt, path in (("--export", args.export), ("--screenshot", args.screenshot)):
@@ -77,10 +63,7 @@ def run_grow(args: argparse.Namespace) -> int:
     ):
         raise UserInputError(f"--export {args.export}: use .vtp, .ply, .obj or .glb")
     # models default their own seed (honda: its ``seed`` parameter); pass one only if given
-    if args.seed is None:
-        plant = module.develop(params)
-    else:
-        plant = module.develop(params, seed=args.seed)
+    plant = model.develop(params, seed=args.seed)
 
     from growsim.mesh import mesh_arrays
 

@@ -1,4 +1,5 @@
-"""``growsim show DIR``: open the best plant of a run in pyvista (or save a screenshot)."""
+"""``growsim show DIR``: open the best phenotype of a run (a plant in pyvista), or save a
+screenshot."""
 
 from __future__ import annotations
 
@@ -18,9 +19,9 @@ def register(subparsers) -> None:
     """
     p = subparsers.add_parser(
         "show",
-        help="show the best plant of a results directory",
-        description="Open the best plant of a run in an interactive pyvista window, or "
-        "render it to a PNG with --screenshot (works without a display).",
+        help="show the best plant (phenotype) of a results directory",
+        description="Open the best phenotype of a run (a plant: in an interactive pyvista "
+        "window), or render it to a PNG with --screenshot (works without a display).",
     )
     p.add_argument("dir", metavar="DIR", help="results directory of a run")
     p.add_argument("--screenshot", metavar="PNG", help="write a PNG instead of opening a window")
@@ -42,14 +43,13 @@ def register(subparsers) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    """Show or screenshot the best plant."""
+    """Show or screenshot the best phenotype."""
     from pathlib import Path
 
-    from growsim import viz
     from growsim.errors import UserInputError
-    from growsim.experiment import best_plant
+    from growsim.results import read_run
 
-    plant = best_plant(args.dir)
+    phenotype = read_run(args.dir, finished=False, history=False).phenotype()
     if args.screenshot:
         w, h = args.size
         if not (16 <= w <= 8192 and 16 <= h <= 8192):
@@ -57,8 +57,8 @@ def main(args: argparse.Namespace) -> int:
         out = Path(args.screenshot)
         if out.suffix.lower() != ".png":
             raise UserInputError(f"--screenshot {out}: expected a .png file name")
-        viz.screenshot(plant, out, view=args.view, size=(w, h))
+        phenotype.screenshot(out, view=args.view, size=(w, h))
         print(f"wrote {out}")
     else:
-        viz.show(plant)
+        phenotype.show(view=args.view)
     return 0

@@ -1,0 +1,31 @@
+"""The environment: light, gravity, water and a tank, built from ``[environment]``.
+
+- :mod:`growsim.env.environment`: :class:`Environment`, the whole table;
+- :mod:`growsim.env.light`: :class:`Light`, orthographic projection and projected area
+  of segment arrays (the shadow-map light grows here);
+- :mod:`growsim.env.gravity`: :class:`Gravity`; :mod:`growsim.env.water`: :class:`Water`;
+- :mod:`growsim.env.tank`: :class:`Tank` and :class:`Obstacle`.
+
+Examples
+--------
+>>> from growsim.env import Environment
+>>> Environment().light.intensity
+1.0
+"""
+
+from growsim.env.environment import Environment
+from growsim.env.gravity import Gravity
+from growsim.env.light import Light, projected_area, view_basis
+from growsim.env.tank import Obstacle, Tank
+from growsim.env.water import Water
+
+__all__ = [
+    "Environment",
+    "Gravity",
+    "Light",
+    "Obstacle",
+    "Tank",
+    "Water",
+    "projected_area",
+    "view_basis",
+]

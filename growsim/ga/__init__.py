@@ -6,8 +6,14 @@
 - :mod:`growsim.ga.selection`, :mod:`growsim.ga.crossover`, :mod:`growsim.ga.mutation`:
   operators, registered by name in :data:`SELECTION`, :data:`CROSSOVER`, :data:`MUTATION`;
 - :mod:`growsim.ga.evaluate`: serial / process-pool / ``Executor`` (Dask) evaluation;
-- :mod:`growsim.ga.engine`: :class:`GA` (ask/tell, generation models, islands,
-  termination, checkpoints) and :class:`Result`;
+- :mod:`growsim.ga.options`: :class:`GAOptions`, every option of the GA, declared once;
+- :mod:`growsim.ga.engine`: :class:`GA` (ask/tell, islands, termination, the ``run()``
+  loop) and :class:`Result`;
+- :mod:`growsim.ga.generation`: the generation models (:data:`GENERATION_MODELS`) and
+  the ring migration;
+- :mod:`growsim.ga.state`: :class:`GAState`, everything a run changes, which is also the
+  checkpoint;
+- :mod:`growsim.ga.history`: the history rows (:data:`HISTORY_COLUMNS`);
 - :mod:`growsim.ga.polish`: the local refinement ``GA.run(polish=...)`` uses.
 
 See ``docs/ga.md``.
@@ -23,8 +29,9 @@ Examples
 """
 
 from growsim.ga.crossover import CROSSOVER, Crossover
-from growsim.ga.engine import GA, HISTORY_COLUMNS, Individual, Result
+from growsim.ga.engine import GA
 from growsim.ga.evaluate import Evaluator, evaluation_seeds
+from growsim.ga.generation import GENERATION_MODELS, GenerationModel
 from growsim.ga.genome import (
     OKUSA_WEIGHTS,
     Bits,
@@ -34,13 +41,18 @@ from growsim.ga.genome import (
     Real,
     genome_from_params,
 )
+from growsim.ga.history import HISTORY_COLUMNS, Individual, Result
 from growsim.ga.mutation import MUTATION, Mutation
+from growsim.ga.operator import Operator
+from growsim.ga.options import GAOptions
 from growsim.ga.polish import PolishOptions
 from growsim.ga.selection import SELECTION, Selection
+from growsim.ga.state import GAState
 
 __all__ = [
     "CROSSOVER",
     "GA",
+    "GENERATION_MODELS",
     "HISTORY_COLUMNS",
     "MUTATION",
     "OKUSA_WEIGHTS",
@@ -49,10 +61,14 @@ __all__ = [
     "Categorical",
     "Crossover",
     "Evaluator",
+    "GAOptions",
+    "GAState",
+    "GenerationModel",
     "Genome",
     "Individual",
     "Integer",
     "Mutation",
+    "Operator",
     "PolishOptions",
     "Real",
     "Result",

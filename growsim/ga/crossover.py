@@ -16,6 +16,7 @@ import numpy as np
 from growsim.errors import UserInputError
 from growsim.ga import _kernels as K
 from growsim.ga.operator import Operator
+from growsim.registry import Registry
 
 __all__ = [
     "CROSSOVER",
@@ -342,6 +343,7 @@ class SBX(Crossover):
 
 
 #: name -> crossover class (construct with the options, e.g. ``CROSSOVER["sbx"](eta=10)``)
-CROSSOVER: dict[str, type[Crossover]] = {
-    c.name: c for c in (OnePoint, TwoPoint, NPoint, Uniform, Switch, Mean, Blend, SBX)
-}
+CROSSOVER: Registry[type[Crossover]] = Registry(
+    "crossover operator",
+    {c.name: c for c in (OnePoint, TwoPoint, NPoint, Uniform, Switch, Mean, Blend, SBX)},
+)

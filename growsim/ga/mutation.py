@@ -13,6 +13,7 @@ import numpy as np
 
 from growsim.errors import UserInputError
 from growsim.ga.operator import Operator
+from growsim.registry import Registry
 
 __all__ = [
     "MUTATION",
@@ -233,6 +234,6 @@ class Reset(Mutation):
 
 
 #: name -> mutation class (construct with the options, e.g. ``MUTATION["bitflip"](rate=0.06)``)
-MUTATION: dict[str, type[Mutation]] = {
-    c.name: c for c in (BitFlip, MetaRate, Gaussian, Polynomial, Reset)
-}
+MUTATION: Registry[type[Mutation]] = Registry(
+    "mutation operator", {c.name: c for c in (BitFlip, MetaRate, Gaussian, Polynomial, Reset)}
+)

@@ -25,19 +25,29 @@ come from the polish's own ``numpy.random.Generator``, so it is reproducible.
 
 from __future__ import annotations
 
+import time
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
+from pydantic import ConfigDict, Field, ValidationError, model_validator
+from pydantic import dataclasses as pydantic_dataclasses
 
 from growsim.errors import UserInputError
+from growsim.ga.history import history_row
+from growsim.ga.options import validation_message
+from growsim.ga.state import GAState
 
-__all__ = ["METHODS", "PolishOptions", "PolishStep", "polish_steps"]
+__all__ = ["METHODS", "PolishOptions", "PolishStep", "polish_best", "polish_steps"]
 
 #: polish methods: ``"es"`` (elitist (1+lambda)-ES), ``"cmaes"`` (CMA-ES with restarts)
 METHODS = ("es", "cmaes")
 
 
-@dataclass(frozen=True)
+@pydantic_dataclasses.dataclass(
+    frozen=True, config=ConfigDict(extra="forbid", strict=True, validate_default=True)
+)
 class PolishOptions:
     """Options of :func:`polish_steps` (the ``polish=`` dict of :meth:`GA.run`).
 
@@ -45,41 +55,50 @@ class PolishOptions:
     --------
     >>> PolishOptions.from_dict({"evaluations": 500}).sigma
     0.05
+    >>> PolishOptions.from_dict({"method": "newton"})
+    Traceback (most recent call last):
+    ...
+    growsim.errors.UserInputError: polish.method: Input should be 'es' or 'cmaes' (got 'newton')
     """
 
-    evaluations: int = 1000
-    sigma: float = 0.05
-    batch: int | None = None
-    min_sigma: float = 1e-7
-    method: str = "es"
+    evaluations: int = Field(
+        1000, ge=1, description="fitness evaluations of the polish (out of the run's budget)"
+    )
+    sigma: float = Field(0.05, gt=0.0, le=1.0, description="first step size, in the unit box")
+    batch: int | None = Field(
+        None, ge=1, description="candidates per iteration (default max(8, 4 + 3 ln p))"
+    )
+    min_sigma: float = Field(
+        1e-7, gt=0.0, description="the es restarts at sigma when its step falls below this"
+    )
+    method: Literal["es", "cmaes"] = Field(
+        "es", description='"es" ((1+lambda)-ES) or "cmaes" (CMA-ES with restarts)'
+    )
+
+    @model_validator(mode="after")
+    def _check(self):
+        if not self.min_sigma < self.sigma:
+            raise ValueError(f"min_sigma must be in (0, sigma), got {self.min_sigma}")
+        return self
 
     @classmethod
     def from_dict(cls, d) -> PolishOptions:
-        """Validate a ``polish=`` dict; :class:`UserInputError` names a bad key."""
+        """Validate a ``polish=`` dict (``True`` = the defaults); :class:`UserInputError`
+        names a bad key (``polish.<key>``)."""
         if d is True:
             d = {}
         if not isinstance(d, dict):
             raise UserInputError(f"polish must be a dict of options, got {d!r}")
-        allowed = {"evaluations", "sigma", "batch", "min_sigma", "method"}
-        bad = sorted(set(d) - allowed)
+        allowed = list(cls.__dataclass_fields__)
+        bad = sorted(set(d) - set(allowed))
         if bad:
             raise UserInputError(
                 f"polish: unknown option(s) {', '.join(bad)}; allowed: {', '.join(sorted(allowed))}"
             )
-        o = cls(**d)
-        if int(o.evaluations) != o.evaluations or o.evaluations < 1:
-            raise UserInputError(f"polish.evaluations must be an integer >= 1, got {o.evaluations}")
-        if not 0 < float(o.sigma) <= 1:
-            raise UserInputError(f"polish.sigma must be in (0, 1], got {o.sigma}")
-        if o.batch is not None and (int(o.batch) != o.batch or o.batch < 1):
-            raise UserInputError(f"polish.batch must be an integer >= 1, got {o.batch}")
-        if o.method not in METHODS:
-            raise UserInputError(
-                f"polish.method must be one of {', '.join(METHODS)}, got {o.method!r}"
-            )
-        if not 0 < float(o.min_sigma) < float(o.sigma):
-            raise UserInputError(f"polish.min_sigma must be in (0, sigma), got {o.min_sigma}")
-        return o
+        try:
+            return cls(**d)
+        except ValidationError as e:
+            raise UserInputError(validation_message(e, "polish.")) from None
 
 
 @dataclass
@@ -203,3 +222,84 @@ def _cmaes_steps(x0, score0, low, high, discrete, rng, options: PolishOptions):
             worst = ok[np.isfinite(ok)].min() if np.isfinite(ok).any() else 0.0
             es.tell(list(cand_u), (-np.where(np.isfinite(ok), ok, worst - 1.0)).tolist())
     return low + best_u * span, best_s
+
+
+def polish_best(
+    state: GAState,
+    genome,
+    options: PolishOptions,
+    rng: np.random.Generator,
+    evaluate: Callable[[np.ndarray], np.ndarray],
+    *,
+    maximize: bool,
+    target: float | None = None,
+    on_row: Callable[[dict], object] | None = None,
+) -> None:
+    """Refine the best-so-far of ``state`` in place with :func:`polish_steps`.
+
+    ``evaluate(x)`` takes ``(k, p)`` decoded candidates and returns their ``(k,)`` fitness
+    values (in the fitness's own orientation, NaN/inf failed) for the evaluations
+    ``state.evaluations ..``; the polish counts them in ``state.evaluations``, moves the
+    best-so-far (the genome's nearest raw point in ``best_raw``), adds ``"polish"``
+    history rows (numbered on from ``state.generation``; ``diversity`` is the step size)
+    and hands each to ``on_row``. It stops when the budget is spent or the best-so-far
+    reaches ``target``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from growsim.ga import GAState, Genome, Real
+    >>> g = Genome([Real("x", -1, 1, size=2)])
+    >>> s = GAState.new(islands=1, rng=np.random.default_rng(0))
+    >>> s.set_best(-0.5, np.array([0.5, 0.5]), np.array([0.5, 0.5]), 0)
+    >>> polish_best(s, g, PolishOptions(evaluations=200), np.random.default_rng(1),
+    ...        lambda x: (x**2).sum(axis=1), maximize=False)
+    >>> s.evaluations, len(s.rows), bool(-s.best_score < 1e-3)
+    (200, 25, True)
+    """
+    sign = 1.0 if maximize else -1.0
+    steps = polish_steps(
+        state.best_params,
+        state.best_score,
+        genome.param_low,
+        genome.param_high,
+        genome.discrete,
+        rng,
+        options,
+    )
+    gen = state.generation
+    try:
+        step = next(steps)
+        while True:
+            t = time.perf_counter()
+            x = step.candidates
+            values = evaluate(x)
+            ok = np.isfinite(values)
+            score = np.where(ok, values * sign, -np.inf)
+            state.evaluations += len(x)
+            j = int(np.argmax(score))
+            if score[j] > state.best_score:
+                state.set_best(score[j], genome.encode(x[j][None, :])[0], x[j].copy(), gen)
+            seconds = time.perf_counter() - t
+            state.elapsed += seconds
+            row = history_row(
+                gen,
+                0,
+                state.evaluations,
+                score * sign,
+                maximize=maximize,
+                best_so_far=float(state.best_score * sign),
+                diversity=step.sigma,
+                seconds=seconds,
+                failures=int((~ok).sum()),
+                phase="polish",
+            )
+            state.rows.append(row)
+            if on_row is not None:
+                on_row(dict(row))
+            gen += 1
+            if state.reached(target, sign):
+                break
+            step = steps.send(score)
+    except StopIteration:
+        pass

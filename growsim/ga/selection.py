@@ -13,6 +13,7 @@ import numpy as np
 
 from growsim.errors import UserInputError
 from growsim.ga.operator import Operator
+from growsim.registry import Registry
 
 __all__ = [
     "SELECTION",
@@ -201,7 +202,17 @@ class RandomSelection(Selection):
 
 
 #: name -> selection class (construct with the options, e.g. ``SELECTION["tournament"](size=3)``)
-SELECTION: dict[str, type[Selection]] = {
-    c.name: c
-    for c in (LinearRank, Roulette, StochasticUniversal, Tournament, Truncation, RandomSelection)
-}
+SELECTION: Registry[type[Selection]] = Registry(
+    "selection operator",
+    {
+        c.name: c
+        for c in (
+            LinearRank,
+            Roulette,
+            StochasticUniversal,
+            Tournament,
+            Truncation,
+            RandomSelection,
+        )
+    },
+)

@@ -1,44 +1,34 @@
-"""Plant (and agent) models.
+"""Models: what turns evolved parameters into a phenotype (a plant, a point cloud, a
+trajectory).
 
-Every model is a module that publishes:
-
-- ``NAME``: its registry name (``"honda"``, ``"ifs3d"``, ...);
-- ``PARAMS``: a tuple of :class:`growsim.models.base.Param` (name, range, real/int,
-  default), so the GA can evolve any of them;
-- ``PRESETS``: a dict of named parameter sets (may be empty);
-- ``develop(params, *, seed=0, env=None) -> Plant``: grow one phenotype.
-
-:func:`get_model` finds a model module by name.
+Every model is a :class:`growsim.models.base.Model` (name, phenotype kind, parameter
+spec, presets, ``develop``, optional ``grow``), registered below by name.
+:func:`get_model` finds one. To add a model, see ``docs/extending.md``.
 """
 
 from __future__ import annotations
 
-import importlib
-from types import ModuleType
+from growsim.models.base import Model
+from growsim.registry import Registry
 
-from growsim.errors import UserInputError
-
-#: registry name -> module path. One line per model.
-MODELS: dict[str, str] = {
-    "honda": "growsim.models.honda",
-    "ifs3d": "growsim.models.ifs3d",
-}
+#: registry name -> the model (``"module:MODEL"``, imported on first use). One line per model.
+MODELS: Registry[Model] = Registry(
+    "model",
+    {
+        "honda": "growsim.models.honda:MODEL",
+        "ifs3d": "growsim.models.ifs3d:MODEL",
+    },
+)
 
 __all__ = ["MODELS", "get_model"]
 
 
-def get_model(name: str) -> ModuleType:
-    """Return the model module registered as ``name``.
+def get_model(name: str) -> Model:
+    """Return the model registered as ``name`` (:class:`UserInputError` if there is none).
 
     Examples
     --------
-    >>> get_model("honda").NAME
+    >>> get_model("honda").name
     'honda'
     """
-    try:
-        path = MODELS[name]
-    except KeyError:
-        raise UserInputError(
-            f"unknown model {name!r}; available: {', '.join(sorted(MODELS))}"
-        ) from None
-    return importlib.import_module(path)
+    return MODELS.get(name)

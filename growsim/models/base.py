@@ -1,10 +1,25 @@
-"""What every model publishes: its parameter spec, so the GA can evolve any parameter."""
+"""The model contract: what every model publishes so the GA can evolve it and every later
+step can use what it grows.
+
+A model is a :class:`Model` (one instance per model, registered by name in
+:data:`growsim.models.MODELS`) with
+
+- :attr:`Model.name` and :attr:`Model.phenotype` (the kind of phenotype it returns, see
+  :mod:`growsim.phenotype`);
+- its parameters, a tuple of :class:`Param` (:meth:`Model.param_spec`, which may depend
+  on fixed parameters: the IFS tree's parameters depend on its number of maps);
+- named parameter sets (:attr:`Model.presets`, :meth:`Model.preset`);
+- :meth:`Model.develop` ``(params, *, seed, env) -> phenotype``;
+- for step-wise models, :meth:`Model.grow`, yielding the phenotype after each step
+  (growth animations use it; a one-shot model yields once).
+"""
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+import abc
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 
@@ -72,3 +87,72 @@ def resolve_params(
             f"{where}unknown parameter(s) {', '.join(unknown)}; allowed: {', '.join(by_name)}"
         )
     return {p.name: p.check(values.get(p.name, p.default), where) for p in spec}
+
+
+class Model(abc.ABC):
+    """Base of every model (see the module docstring for the contract).
+
+    Subclasses set :attr:`name`, :attr:`phenotype`, :attr:`params` (the spec for the
+    default fixed values) and :attr:`presets`, and implement :meth:`develop`; a model
+    whose spec depends on fixed parameters overrides :meth:`param_spec`; a step-wise
+    model overrides :meth:`grow` and sets :attr:`stepwise`. Instances hold no state, so
+    they pickle to process pools and Dask workers.
+
+    Examples
+    --------
+    >>> from growsim.models import get_model
+    >>> m = get_model("honda")
+    >>> m.name, m.phenotype, m.preset("zelkova")["f"]
+    ('honda', 'plant', 0.95)
+    >>> [type(p).__name__ for p in m.grow(m.preset("zelkova"))]
+    ['Plant']
+    """
+
+    #: registry name
+    name: ClassVar[str] = ""
+    #: kind of phenotype :meth:`develop` returns (a name in :data:`growsim.phenotype.PHENOTYPES`)
+    phenotype: ClassVar[str] = "plant"
+    #: the parameter spec for default fixed values
+    params: ClassVar[tuple[Param, ...]] = ()
+    #: named parameter sets
+    presets: ClassVar[Mapping[str, Mapping[str, float]]] = {}
+    #: True when :meth:`grow` yields one phenotype per growth step
+    stepwise: ClassVar[bool] = False
+
+    def param_spec(self, fixed: Mapping[str, float] | None = None) -> tuple[Param, ...]:
+        """The parameters of the model given the ``fixed`` values (default: :attr:`params`)."""
+        return tuple(self.params)
+
+    def preset(self, name: str) -> dict[str, float]:
+        """The parameter values of preset ``name``; :class:`UserInputError` naming the
+        model and the presets available if there is no such preset."""
+        if not isinstance(name, str) or name not in self.presets:
+            raise UserInputError(
+                f"unknown preset {name!r} of model {self.name!r}; "
+                f"available: {', '.join(sorted(self.presets)) or '(none)'}"
+            )
+        return dict(self.presets[name])
+
+    def resolve(self, values: Mapping[str, float] | None = None, where: str = "") -> dict[str, float]:
+        """Every parameter's value: ``values`` over the defaults, checked against
+        :meth:`param_spec` of ``values`` (see :func:`resolve_params`)."""
+        values = dict(values or {})
+        return resolve_params(self.param_spec(values), values, where=where)
+
+    @abc.abstractmethod
+    def develop(self, params: Mapping[str, float], *, seed: int | None = None, env=None) -> Any:
+        """Grow one phenotype from ``params`` (any subset of the spec; the rest default).
+
+        ``seed``: the randomness of this growth (a model whose randomness is itself a
+        parameter uses that when ``seed`` is None; deterministic models ignore it).
+        ``env``: the :class:`growsim.env.Environment` (None: the default environment).
+        """
+
+    def grow(
+        self, params: Mapping[str, float], *, seed: int | None = None, env=None
+    ) -> Iterator[Any]:
+        """Yield the phenotype after each growth step (a one-shot model: once, grown)."""
+        yield self.develop(params, seed=seed, env=env)
+
+    def __repr__(self) -> str:
+        return f"<growsim model {self.name!r} ({self.phenotype})>"

@@ -28,11 +28,12 @@ from growsim.kernels.honda import (
     sag_kernel,
     subtree_tips_kernel,
 )
-from growsim.models.base import Param, resolve_params
+from growsim.models.base import Model, Param, resolve_params
 from growsim.plant import LEAF, Plant
 
 __all__ = [
     "MAX_SEGMENTS",
+    "MODEL",
     "NAME",
     "PARAMS",
     "PRESETS",
@@ -264,3 +265,27 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None) -
         data,
         {"model": NAME, "params": p, "seed": int(p["seed"])},
     )
+
+
+class Honda(Model):
+    """Honda's tree under the model contract (:class:`growsim.models.base.Model`):
+    :data:`PARAMS`, :data:`PRESETS` and :func:`develop` of this module.
+
+    Examples
+    --------
+    >>> MODEL.develop(MODEL.preset("zelkova")).n_stems
+    125
+    """
+
+    name = NAME
+    phenotype = "plant"
+    params = PARAMS
+    presets = PRESETS
+
+    def develop(self, params=None, *, seed=None, env=None) -> Plant:
+        """See :func:`develop`."""
+        return develop(params, seed=seed, env=env)
+
+
+#: The registered model (``growsim.models.MODELS["honda"]``).
+MODEL = Honda()

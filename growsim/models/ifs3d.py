@@ -22,19 +22,20 @@ segments). Fix them in a config; the GA evolves the map parameters.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 
 import numpy as np
 
 from growsim.errors import ResourceError, UserInputError
 from growsim.kernels.ifs3d import compose_tree, n_segments
-from growsim.models.base import Param, resolve_params
+from growsim.models.base import Model, Param, resolve_params
 from growsim.plant import STEM, Plant
 
 __all__ = [
     "DEFAULT_DEPTH",
     "DEFAULT_N_MAPS",
     "MAX_SEGMENTS",
+    "MODEL",
     "NAME",
     "PARAMS",
     "PRESETS",
@@ -42,6 +43,7 @@ __all__ = [
     "check_size",
     "compare_maps",
     "develop",
+    "map_groups",
     "maps_from_params",
     "param_spec",
 ]
@@ -180,6 +182,49 @@ def check_size(n_maps: int, depth: int) -> int:
     return m
 
 
+def map_groups(params, names) -> Iterator[tuple[np.ndarray, np.ndarray, int]]:
+    """The rows of a parameter matrix as map tables, grouped by tree size.
+
+    ``params`` ``(n, p)``: one parameter set per row, the columns labelled by ``names``:
+    ``s_k, y_k, theta_z_k, theta_y_k`` for every map ``k``, and ``n_maps``, ``depth``
+    (rounded; :data:`DEFAULT_N_MAPS`, :data:`DEFAULT_DEPTH` when absent). Yields, for each
+    ``(n_maps, depth)`` in increasing order, ``(rows, maps, depth)``: the row indices
+    ``(k,)``, their map tables ``(k, N, 4)`` (fields ordered as :func:`maps_from_params`)
+    and the depth, ready for :func:`growsim.kernels.ifs3d.score_population`. Raises
+    :class:`ResourceError` for a tree above :data:`MAX_SEGMENTS` (:func:`check_size`) and
+    :class:`UserInputError` for a missing map column.
+
+    Examples
+    --------
+    >>> names = ["n_maps", "depth", "s_1", "y_1", "theta_z_1", "theta_y_1"]
+    >>> params = [[1, 2, 0.5, 0.4, 0, 0], [1, 3, 0.6, 0.3, 10, 20], [1, 2, 0.7, 0.5, 0, 0]]
+    >>> [(rows.tolist(), maps.shape, d) for rows, maps, d in map_groups(params, names)]
+    [([0, 2], (2, 1, 4), 2), ([1], (1, 1, 4), 3)]
+    """
+    params = np.atleast_2d(np.asarray(params, dtype=np.float64))
+    col = {name: i for i, name in enumerate(names)}
+    n = params.shape[0]
+    if "n_maps" in col:
+        n_maps = np.round(params[:, col["n_maps"]]).astype(np.int64)
+    else:
+        n_maps = np.full(n, DEFAULT_N_MAPS)
+    if "depth" in col:
+        depth = np.round(params[:, col["depth"]]).astype(np.int64)
+    else:
+        depth = np.full(n, DEFAULT_DEPTH)
+    for N, d in sorted(set(zip(n_maps.tolist(), depth.tolist()))):
+        rows = np.flatnonzero((n_maps == N) & (depth == d))
+        check_size(N, d)
+        maps = np.empty((rows.size, N, 4))
+        for k in range(1, N + 1):
+            for f, field in enumerate(_FIELDS):
+                name = f"{field}_{k}"
+                if name not in col:
+                    raise UserInputError(f"ifs3d: missing parameter {name}")
+                maps[:, k - 1, f] = params[rows, col[name]]
+        yield rows, maps, d
+
+
 def develop(params: Mapping[str, float] | None = None, *, seed: int = 0, env=None):
     """Build the IFS tree as a :class:`growsim.plant.Plant`.
 
@@ -278,3 +323,37 @@ def compare_maps(fitted, reference, *, azimuth_period: float = 360.0) -> dict:
         "max_error": errors.max(axis=0),
         "within": bool((errors <= tol).all()),
     }
+
+
+class IFS3D(Model):
+    """The IFS tree under the model contract (:class:`growsim.models.base.Model`):
+    :func:`param_spec`, :data:`PRESETS` and :func:`develop` of this module, and the
+    capability :meth:`map_groups` that the silhouette objective's population fast path
+    uses.
+
+    Examples
+    --------
+    >>> len(MODEL.param_spec({"n_maps": 3}))
+    14
+    """
+
+    name = NAME
+    phenotype = "plant"
+    params = PARAMS
+    presets = PRESETS
+
+    def param_spec(self, fixed=None) -> tuple[Param, ...]:
+        """See :func:`param_spec`."""
+        return param_spec(fixed)
+
+    def develop(self, params=None, *, seed=None, env=None) -> Plant:
+        """See :func:`develop`."""
+        return develop(params, seed=0 if seed is None else seed, env=env)
+
+    def map_groups(self, params, names):
+        """See :func:`map_groups`."""
+        return map_groups(params, names)
+
+
+#: The registered model (``growsim.models.MODELS["ifs3d"]``).
+MODEL = IFS3D()

@@ -31,24 +31,25 @@ credit. :meth:`SilhouetteObjective.exact` always gives the binary NCC, the figur
 
 from __future__ import annotations
 
-import math
-import os
-from collections.abc import Mapping
 from pathlib import Path
+from typing import Literal
 
 import numpy as np
+from pydantic import Field, field_validator, model_validator
 
 from growsim.errors import ConfigError, GrowsimError, UserInputError
-from growsim.kernels.ifs3d import (
-    _render,
-    _render_aa,
-    blur_views,
-    frame_points,
-    score_population,
-)
+from growsim.kernels.ifs3d import score_population
 from growsim.kernels.raster import draw_segments
+from growsim.kernels.views import (  # ncc, blurred_ncc: re-exported (their home is views)
+    blurred_ncc,
+    frame_points,
+    ncc,
+    render_antialiased,
+    render_thin,
+)
+from growsim.objectives.base import Objective, ObjectiveOptions
 
-__all__ = ["SilhouetteObjective", "blurred_ncc", "ncc", "plant_views"]
+__all__ = ["SilhouetteObjective", "SilhouetteOptions", "blurred_ncc", "ncc", "plant_views"]
 
 
 def plant_views(
@@ -70,95 +71,96 @@ def plant_views(
     """
     size = int(size)
     aa = antialias and line_width == "thin"
-    img = np.zeros((2, size, size), dtype=np.float64 if aa else np.uint8)
     if plant.n_segments == 0:
-        return img
+        return np.zeros((2, size, size), dtype=np.float64 if aa else np.uint8)
     roots = np.flatnonzero(plant.parent < 0)
     base = plant.start[roots[0] if roots.size else 0]
     coords, k = frame_points(plant.start, plant.end, base, size)
     if aa:
-        _render_aa(coords, img)
-    elif line_width == "thin":
-        _render(coords, img)
-    else:
-        width = 2.0 * k * plant.radius
-        for v in range(2):
-            draw_segments(coords[v, 0], coords[v, 1], width, img[v])
+        return render_antialiased(coords, size)
+    if line_width == "thin":
+        return render_thin(coords, size)
+    img = np.zeros((2, size, size), dtype=np.uint8)
+    width = 2.0 * k * plant.radius
+    for v in range(2):
+        draw_segments(coords[v, 0], coords[v, 1], width, img[v])
     return img
 
 
-def blurred_ncc(views, target, sigma: float, area_rejection: bool = False) -> float:
-    """Mean over views of ``<Fb, Gb> / (|Fb| |Gb|)``, ``Fb``, ``Gb`` blurred by ``sigma`` px.
+class SilhouetteOptions(ObjectiveOptions):
+    """Options of the ``silhouette`` objective: a target (two pictures, or rendered from
+    a model) and how silhouettes are drawn and compared."""
 
-    ``views`` ``(V, S, S)``: grey levels in [0, 1] (e.g. anti-aliased); ``target``
-    ``(V, S, S)`` binary. The area rule (``area_rejection``) compares the sums of the
-    unblurred images, as :func:`ncc`.
+    kind: Literal["silhouette"] = Field("silhouette", description="the objective: silhouette")
+    front: str | None = Field(None, description="front picture (path; with side)")
+    side: str | None = Field(None, description="side picture (path; with front)")
+    mask_front: str | None = Field(None, description="mask picture of the front view")
+    mask_side: str | None = Field(None, description="mask picture of the side view")
+    threshold: Literal["otsu"] | float = Field(
+        "otsu", description="'otsu' or a grey level in (0, 1) that splits tree from background"
+    )
+    polarity: Literal["auto", "dark", "light"] = Field(
+        "auto", description="'dark' tree on light, 'light' on dark, or 'auto'"
+    )
+    target_model: str | None = Field(None, description="render the target from this model")
+    target_preset: str | None = Field(None, description="preset of target_model")
+    target_params: dict[str, float] | None = Field(
+        None, description="parameters of target_model (over the preset)"
+    )
+    target_seed: int = Field(0, description="seed the target is grown with")
+    size: int = Field(64, ge=8, le=1024, description="raster size in pixels (the seed's 64)")
+    area_rejection: bool = Field(False, description="the seed's 0.5x-2x area rule")
+    line_width: Literal["thin", "radius"] = Field(
+        "thin", description="'thin' 1-pixel lines, or 'radius': as wide as the tubes"
+    )
+    blur: float = Field(
+        0.0, ge=0.0, le=16.0, description="search on views blurred by this sigma (pixels)"
+    )
 
-    Examples
-    --------
-    >>> import numpy as np
-    >>> a = np.zeros((2, 16, 16)); a[:, 8, 4:12] = 1
-    >>> b = np.roll(a, 1, axis=1)  # one pixel lower: binary NCC 0
-    >>> # a blurred line's profile is a Gaussian: overlap at 1 px is exp(-1 / (4 sigma^2))
-    >>> ncc(a, b), round(blurred_ncc(a, b, 1.5), 3)
-    (0.0, 0.895)
-    """
-    F = np.asarray(views, dtype=np.float64)
-    G = (np.asarray(target) > 0).astype(np.uint8)
-    Fb = blur_views(F, sigma)
-    Gb = blur_views(G, sigma)
-    scores = []
-    for f, g in zip(Fb, Gb):
-        nf, ng = float(np.sqrt((f * f).sum())), float(np.sqrt((g * g).sum()))
-        scores.append(0.0 if nf == 0 or ng == 0 else float((f * g).sum()) / (nf * ng))
-    if area_rejection:
-        ratio = F.sum() / max(1, G.sum())
-        if ratio < 0.5 or ratio > 2.0:
-            return 0.0
-    return float(np.mean(scores))
+    @field_validator("threshold")
+    @classmethod
+    def _check_threshold(cls, v):
+        if v != "otsu" and not 0.0 < float(v) < 1.0:
+            raise ValueError(f"expected 'otsu' or a number in (0, 1), got {v!r}")
+        return v
+
+    @model_validator(mode="after")
+    def _one_target(self):
+        pictures = self.front is not None or self.side is not None
+        rendered = self.target_model is not None
+        if pictures and rendered:
+            raise ValueError(
+                "give either pictures (front, side) or a rendered target (target_model), not both"
+            )
+        if not pictures and not rendered:
+            raise ValueError(
+                "no target: give front and side pictures, or target_model "
+                "(with target_preset / target_params)"
+            )
+        if rendered and (self.mask_front is not None or self.mask_side is not None):
+            raise ValueError("mask_front/mask_side: masks apply to pictures only")
+        if not rendered and (
+            self.target_preset is not None or self.target_params is not None or self.target_seed
+        ):
+            raise ValueError("target_preset/target_params/target_seed need target_model")
+        if pictures:
+            for label in ("front", "side"):
+                if getattr(self, label) is None:
+                    raise ValueError(
+                        f"{label}: the {label} view is missing (both front and side pictures "
+                        "are needed)"
+                    )
+        return self
 
 
-def ncc(views: np.ndarray, target: np.ndarray, area_rejection: bool = False) -> float:
-    """Mean over views of binary NCC ``|F and G| / sqrt(|F| |G|)``, in ``[0, 1]``.
-
-    ``views``, ``target``: ``(V, S, S)`` arrays (non-zero = foreground). A view with an
-    empty projection scores 0. With ``area_rejection``, 0 unless the total area of
-    ``views`` is within 0.5x-2x of the target's.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> a = np.zeros((2, 4, 4), np.uint8); a[:, 1, :] = 1
-    >>> b = a.copy(); b[:, 2, :] = 1
-    >>> round(ncc(a, b), 4)  # |F and G| = 4, |F| = 4, |G| = 8
-    0.7071
-    """
-    F = np.asarray(views) > 0
-    G = np.asarray(target) > 0
-    scores = []
-    for f, g in zip(F, G):
-        nf, ng = int(f.sum()), int(g.sum())
-        scores.append(0.0 if nf == 0 or ng == 0 else int((f & g).sum()) / math.sqrt(nf * ng))
-    if area_rejection:
-        ratio = F.sum() / max(1, G.sum())
-        if ratio < 0.5 or ratio > 2.0:
-            return 0.0
-    return float(np.mean(scores))
-
-
-def _opt_str(name, value, allowed):
-    if not isinstance(value, str) or value not in allowed:
-        raise ConfigError(f"silhouette.{name}: expected one of {', '.join(allowed)}, got {value!r}")
-    return value
-
-
-class SilhouetteObjective:
+class SilhouetteObjective(Objective):
     """Match a plant's front and side silhouettes to target images (maximised, in [0, 1]).
 
     The target is either two pictures (``front`` and ``side`` paths, optional masks) or
     rendered from a model (``target_model`` with ``target_preset`` and/or
     ``target_params``; the seed's test case is ``target_model = "ifs3d"``,
-    ``target_preset = "table1"``). Options (all keyword, as in a config table):
+    ``target_preset = "table1"``). Options (:class:`SilhouetteOptions`, all keyword, as in
+    a config table):
 
     ``front``, ``side`` : paths of the two pictures (both, or neither);
     ``mask_front``, ``mask_side`` : optional mask pictures (white = look here);
@@ -186,93 +188,32 @@ class SilhouetteObjective:
 
     name = "silhouette"
     maximize = True
+    accepts = ("plant",)
+    Options = SilhouetteOptions
+    example = {"target_model": "ifs3d", "target_preset": "table1", "size": 32}
 
-    def __init__(
-        self,
-        front: str | os.PathLike | None = None,
-        side: str | os.PathLike | None = None,
-        *,
-        mask_front: str | os.PathLike | None = None,
-        mask_side: str | os.PathLike | None = None,
-        threshold: str | float = "otsu",
-        polarity: str = "auto",
-        target_model: str | None = None,
-        target_preset: str | None = None,
-        target_params: Mapping[str, float] | None = None,
-        target_seed: int = 0,
-        size: int = 64,
-        area_rejection: bool = False,
-        line_width: str = "thin",
-        blur: float = 0.0,
-    ):
-        if isinstance(size, bool) or not isinstance(size, (int, np.integer)):
-            raise ConfigError(f"silhouette.size: expected an integer, got {size!r}")
-        if not 8 <= size <= 1024:
-            raise ConfigError(f"silhouette.size: {size} is out of range [8, 1024]")
-        if not isinstance(area_rejection, (bool, np.bool_)):
-            raise ConfigError(
-                f"silhouette.area_rejection: expected true/false, got {area_rejection!r}"
-            )
-        self.size = int(size)
-        self.area_rejection = bool(area_rejection)
-        self.line_width = _opt_str("line_width", line_width, ("thin", "radius"))
-        if isinstance(blur, bool) or not isinstance(blur, (int, float, np.number)):
-            raise ConfigError(f"silhouette.blur: expected a number of pixels, got {blur!r}")
-        if not 0.0 <= float(blur) <= 16.0:
-            raise ConfigError(f"silhouette.blur: {blur} is out of range [0, 16] pixels")
-        self.blur = float(blur)
-        polarity = _opt_str("polarity", polarity, ("auto", "dark", "light"))
-        if isinstance(threshold, bool) or not (
-            threshold == "otsu"
-            or (isinstance(threshold, (int, float)) and 0.0 < float(threshold) < 1.0)
-        ):
-            raise ConfigError(
-                f"silhouette.threshold: expected 'otsu' or a number in (0, 1), got {threshold!r}"
-            )
-        pictures = front is not None or side is not None
-        rendered = target_model is not None
-        if pictures and rendered:
-            raise ConfigError(
-                "silhouette: give either pictures (front, side) or a rendered target "
-                "(target_model), not both"
-            )
-        if not pictures and not rendered:
-            raise ConfigError(
-                "silhouette: no target: give front and side pictures, or target_model "
-                "(with target_preset / target_params)"
-            )
-        if rendered and (mask_front is not None or mask_side is not None):
-            raise ConfigError("silhouette.mask_front/mask_side: masks apply to pictures only")
-        if not rendered and (
-            target_preset is not None or target_params is not None or target_seed != 0
-        ):
-            raise ConfigError("silhouette.target_preset/target_params need target_model")
-        if pictures:
-            for label, p in (("front", front), ("side", side)):
-                if p is None:
-                    raise ConfigError(
-                        f"silhouette.{label}: the {label} view is missing "
-                        "(both front and side pictures are needed)"
-                    )
-                if not isinstance(p, (str, os.PathLike)):
-                    raise ConfigError(f"silhouette.{label}: expected a file path, got {p!r}")
-            self.source = {"front": str(Path(front)), "side": str(Path(side))}
+    def setup(self) -> None:
+        o = self.options
+        self.size = o.size
+        self.area_rejection = o.area_rejection
+        self.line_width = o.line_width
+        self.blur = o.blur
+        if o.target_model is None:
+            self.source = {"front": str(Path(o.front)), "side": str(Path(o.side))}
             from growsim.images import read_silhouettes
 
             self.target = read_silhouettes(
-                front,
-                side,
+                o.front,
+                o.side,
                 size=self.size,
-                threshold=threshold,
-                polarity=polarity,
-                mask_front=mask_front,
-                mask_side=mask_side,
+                threshold=o.threshold,
+                polarity=o.polarity,
+                mask_front=o.mask_front,
+                mask_side=o.mask_side,
             )
         else:
-            self.source = {"target_model": target_model, "target_preset": target_preset}
-            self.target = self._render_target(
-                target_model, target_preset, target_params, target_seed
-            )
+            self.source = {"target_model": o.target_model, "target_preset": o.target_preset}
+            self.target = self._render_target()
         areas = self.target.reshape(2, -1).sum(axis=1)
         for label, a in zip(("front", "side"), areas):
             if a == 0:
@@ -280,32 +221,23 @@ class SilhouetteObjective:
             if a == self.size * self.size:
                 raise UserInputError(f"silhouette: the {label} target silhouette is all foreground")
 
-    def _render_target(self, model_name, preset, params, seed) -> np.ndarray:
+    def _render_target(self) -> np.ndarray:
         from growsim.models import get_model
 
-        if not isinstance(model_name, str):
-            raise ConfigError(f"silhouette.target_model: expected a model name, got {model_name!r}")
+        o = self.options
         try:
-            model = get_model(model_name)
+            model = get_model(o.target_model)
         except UserInputError as exc:
             raise ConfigError(f"silhouette.target_model: {exc}") from None
         values: dict[str, float] = {}
-        if preset is not None:
-            presets = getattr(model, "PRESETS", {}) or {}
-            if preset not in presets:
-                raise ConfigError(
-                    f"silhouette.target_preset: unknown preset {preset!r} of {model_name!r}; "
-                    f"available: {', '.join(sorted(presets)) or '(none)'}"
-                )
-            values.update(presets[preset])
-        if params is not None:
-            if not isinstance(params, Mapping):
-                raise ConfigError(f"silhouette.target_params: expected a table, got {params!r}")
-            values.update(params)
-        if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-            raise ConfigError(f"silhouette.target_seed: expected an integer, got {seed!r}")
+        if o.target_preset is not None:
+            try:
+                values.update(model.preset(o.target_preset))
+            except UserInputError as exc:
+                raise ConfigError(f"silhouette.target_preset: {exc}") from None
+        values.update(o.target_params or {})
         try:
-            plant = model.develop(values, seed=int(seed))
+            plant = model.develop(values, seed=o.target_seed, env=self.env)
         except GrowsimError as exc:
             raise ConfigError(f"silhouette.target_params: {exc}") from None
         return plant_views(plant, self.size, self.line_width)
@@ -327,31 +259,19 @@ class SilhouetteObjective:
         return ncc(self.views(plant), self.target, self.area_rejection)
 
     def batch(self, model, params, names, seeds=None) -> np.ndarray | None:
-        """Fast path for ``ifs3d``: score a whole ``(n, p)`` parameter matrix in one kernel.
+        """Fast path: score a whole ``(n, p)`` parameter matrix of an IFS model in one kernel.
 
-        ``names`` label the columns of ``params`` (every model parameter). Returns ``(n,)``
-        float64, or ``None`` for other models (or ``line_width = "radius"``), which are
-        then developed and scored one by one.
+        ``names`` label the columns of ``params`` (every model parameter). Applies to a
+        model with the capability ``map_groups(params, names)`` (yielding ``(rows, maps
+        (k, N, 4), depth)`` groups, see :func:`growsim.models.ifs3d.map_groups`), drawn
+        thin. Returns ``(n,)`` float64, or ``None`` otherwise (other models, or
+        ``line_width = "radius"``): those are then developed and scored one by one.
         """
-        if getattr(model, "NAME", None) != "ifs3d" or self.line_width != "thin":
+        map_groups = getattr(model, "map_groups", None)
+        if map_groups is None or self.line_width != "thin":
             return None
         params = np.atleast_2d(np.asarray(params, dtype=np.float64))
-        names = list(names)
-        col = {n: i for i, n in enumerate(names)}
-        n = params.shape[0]
-        n_maps = np.round(params[:, col["n_maps"]]).astype(np.int64) if "n_maps" in col else None
-        depth = np.round(params[:, col["depth"]]).astype(np.int64) if "depth" in col else None
-        if n_maps is None:
-            n_maps = np.full(n, model.DEFAULT_N_MAPS)
-        if depth is None:
-            depth = np.full(n, model.DEFAULT_DEPTH)
-        out = np.zeros(n)
-        for N, d in sorted(set(zip(n_maps.tolist(), depth.tolist()))):
-            rows = np.flatnonzero((n_maps == N) & (depth == d))
-            model.check_size(N, d)
-            maps = np.empty((rows.size, N, 4))
-            for k in range(1, N + 1):
-                for f, field in enumerate(("s", "y", "theta_z", "theta_y")):
-                    maps[:, k - 1, f] = params[rows, col[f"{field}_{k}"]]
-            out[rows] = score_population(maps, d, self.target, self.area_rejection, self.blur)
+        out = np.zeros(params.shape[0])
+        for rows, maps, depth in map_groups(params, names):
+            out[rows] = score_population(maps, depth, self.target, self.area_rejection, self.blur)
         return out

@@ -1,4 +1,8 @@
-"""Slow, obviously correct NumPy/Python versions of the GA's numba kernels (test oracles)."""
+"""Oracles of the GA's numba kernels (:mod:`growsim.ga._kernels`): slow NumPy / Python.
+
+Each function is named after the kernel it mirrors; it returns new arrays where the kernel
+writes into output arguments.
+"""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Slow, obviously correct oracles for the Honda and mesh kernels (plain Python loops).
+"""Oracles of the Honda tree's kernels (:mod:`growsim.kernels.honda`): plain Python loops.
 
 The growth oracle follows the seed's first program literally: every step scans all vertex
 numbers 1..l, feeds the non-main tips, and branches those whose total reached 1.
@@ -11,7 +11,8 @@ import math
 import numpy as np
 
 
-def grow_oracle(f, generations, geo, U):
+def grow_kernel(f, generations, geo, U):
+    """Vertex positions, vertex parents, orders and generations of the grown tree."""
     th0, th_max, ph0, ph_max, thq, thr, bd, b0, b_max, avoid = (float(x) for x in geo)
     pts = {0: np.zeros(3), 1: np.array([0.0, bd, 0.0])}
     par = {1: 0}
@@ -109,42 +110,8 @@ def grow_oracle(f, generations, geo, U):
     )
 
 
-def tube_oracle(a, b, r0, r1, sides, segments):
-    """Vertices of one tube, ring by ring, with the kernel's frame rule."""
-    d = b - a
-    L = np.linalg.norm(d)
-    ax = d / L if L > 0 else np.array([0.0, 1.0, 0.0])
-    helper = np.eye(3)[int(np.argmin(np.abs(ax)))]  # first of equal minima, as the kernel
-    u = np.cross(ax, helper)
-    u /= np.linalg.norm(u)
-    w = np.cross(ax, u)
-    out = []
-    for j in range(segments + 1):
-        fr = j / segments
-        c = a + fr * d
-        r = r0 + fr * (r1 - r0)
-        for k in range(sides):
-            ang = 2 * math.pi * k / sides
-            out.append(c + r * (math.cos(ang) * u + math.sin(ang) * w))
-    return np.array(out)
-
-
-def leaf_oracle(a, b, w):
-    """Centre and six corners of one hexagon leaf along a->b, half-width ``w``."""
-    d = b - a
-    L = np.linalg.norm(d)
-    ax = d / L
-    s = np.array([-ax[2], 0.0, ax[0]])
-    s /= np.linalg.norm(s)
-    c = a + d / 2
-    pts = [c]
-    for k in range(6):
-        ang = k * math.pi / 3
-        pts.append(c + math.cos(ang) * L / 2 * ax + math.sin(ang) / math.sin(math.pi / 3) * w * s)
-    return np.array(pts)
-
-
-def sag_oracle(start, end, radius, parent, sag, max_bend):
+def sag_kernel(start, end, radius, parent, sag, max_bend):
+    """New segment end points after bending each branch by its sub-tree's load."""
     n = len(start)
     L = np.linalg.norm(end - start, axis=1)
     m = L * radius**2
@@ -190,7 +157,7 @@ def sag_oracle(start, end, radius, parent, sag, max_bend):
     return ns, ne
 
 
-def leaves_oracle(start, end, seg_ids, per_branch, e, cut_deg):
+def leaves_kernel(start, end, seg_ids, per_branch, e, cut_deg):
     """Leaf segments along the stem segments ``seg_ids``: ``per_branch`` leaves at the
     branch's division points, turned 50 degrees off the branch, round the branch by the
     golden angle (deterministic: the leaves do not consume random draws)."""

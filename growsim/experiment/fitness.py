@@ -1,0 +1,171 @@
+"""The fitness of an experiment: the unit shipped to evaluation workers.
+
+:class:`Fitness` develops each individual with the model, scores it with every
+objective (or an objective's population fast path), weights and sums.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+__all__ = ["Fitness", "build_fitness"]
+
+
+class Fitness:
+    """The fitness of an experiment: develop each individual, score it, weight and sum.
+
+    A module-level class holding only picklable pieces (the model, fixed values,
+    objective instances, environment), so process pools and Dask workers can run it.
+    ``__call__`` takes the GA's ``(n, k)`` matrix of evolved parameters (columns in
+    ``evolved`` order) and returns ``(n,)`` float64 fitness values to maximise:
+    ``sum_i weight_i * sign_i * score_i`` with ``sign_i = -1`` for objectives that
+    minimise. An objective with ``batch(model, params, names, seeds)`` scores the whole
+    ``(n, p)`` matrix of every model parameter at once when it returns an array.
+
+    Examples
+    --------
+    >>> from growsim.experiment import load_plan
+    >>> f = load_plan("experiments/quickstart.toml").fitness()
+    >>> f.evolved
+    ('f', 'theta0', 'theta_max', 'thq', 'b0', 'b_max')
+    >>> f(np.array([[0.8, 80.0, 5.0, 0.2, 8.0, 4.0]])).shape
+    (1,)
+    """
+
+    def __init__(
+        self,
+        model,
+        names: Sequence[str],
+        fixed: Mapping[str, float],
+        evolved: Sequence[str],
+        objectives: Sequence[Any],
+        weights: Sequence[float],
+        env: Any = None,
+        noise: str = "fixed",
+        seed: int = 0,
+        int_names: Sequence[str] = (),
+    ):
+        from growsim.models import get_model
+
+        self.model = get_model(model) if isinstance(model, str) else model
+        self.names = tuple(names)
+        self.fixed = dict(fixed)
+        self.evolved = tuple(evolved)
+        self.objectives = list(objectives)
+        self.weights = np.asarray(weights, dtype=np.float64)
+        self.signs = np.array([1.0 if getattr(o, "maximize", True) else -1.0 for o in objectives])
+        self.env = env
+        self.noise = noise
+        self.seed = int(seed)
+        self.int_names = frozenset(int_names)
+        col = {n: i for i, n in enumerate(self.names)}
+        self._evolved_cols = np.array([col[n] for n in self.evolved], dtype=np.int64)
+        self._base = np.array([self.fixed.get(n, np.nan) for n in self.names], dtype=np.float64)
+
+    def full_params(self, x: np.ndarray) -> np.ndarray:
+        """``(n, k)`` evolved values -> ``(n, p)`` values of every model parameter."""
+        x = np.atleast_2d(np.asarray(x, dtype=np.float64))
+        full = np.repeat(self._base[None, :], len(x), axis=0)
+        full[:, self._evolved_cols] = x
+        if self.int_names:
+            for j, n in enumerate(self.names):
+                if n in self.int_names:
+                    full[:, j] = np.round(full[:, j])
+        return full
+
+    def param_dict(self, row: np.ndarray) -> dict[str, float]:
+        """One row of :meth:`full_params` as the ``{name: value}`` dict a model develops."""
+        return {n: float(v) for n, v in zip(self.names, row)}
+
+    def model_seeds(self, full: np.ndarray, seeds: np.ndarray | None) -> np.ndarray:
+        """``(n,)`` uint64 seeds the model develops each individual with."""
+        n = len(full)
+        if self.noise == "per-evaluation" and seeds is not None:
+            # the GA's seeds use all 64 bits; models take seeds as int parameters, often
+            # up to 2**31 - 1 (Honda's ``seed``): keep the top 31 bits
+            return np.asarray(seeds, dtype=np.uint64) >> np.uint64(33)
+        if "seed" in self.names:
+            return full[:, self.names.index("seed")].astype(np.uint64)
+        return np.full(n, self.seed, dtype=np.uint64)
+
+    @classmethod
+    def from_plan(cls, plan) -> Fitness:
+        """The fitness of an :class:`~growsim.experiment.plan.ExperimentPlan`."""
+        return cls(
+            model=plan.model,
+            names=plan.names,
+            fixed=plan.fixed,
+            evolved=[p.name for p in plan.evolved],
+            objectives=plan.objectives,
+            weights=plan.weights,
+            env=plan.environment,
+            noise=plan.noise,
+            seed=plan.seed,
+            int_names=plan.int_names,
+        )
+
+    def develop(self, row: np.ndarray, seed: int):
+        """Grow the phenotype of one full parameter row."""
+        return self.model.develop(self.param_dict(row), seed=int(seed), env=self.env)
+
+    def terms(self, phenotype) -> dict[str, dict[str, float]]:
+        """Each objective's score and named terms for one phenotype:
+        ``{"<kind>": {"score": s, **terms}}`` (``"<kind>#2"``... for repeated kinds)."""
+        out: dict[str, dict[str, float]] = {}
+        for obj in self.objectives:
+            key, k = obj.name, 2
+            while key in out:
+                key, k = f"{obj.name}#{k}", k + 1
+            terms = getattr(obj, "terms", None)
+            out[key] = {"score": float(obj(phenotype))}
+            if terms is not None:
+                out[key].update({n: float(v) for n, v in terms(phenotype).items()})
+        return out
+
+    def __call__(self, x: np.ndarray, seeds: np.ndarray | None = None) -> np.ndarray:
+        full = self.full_params(x)
+        n = len(full)
+        mseeds = self.model_seeds(full, seeds)
+        total = np.zeros(n, dtype=np.float64)
+        pending = []
+        for obj, w, s in zip(self.objectives, self.weights, self.signs):
+            batch = getattr(obj, "batch", None)
+            vals = None
+            if batch is not None:
+                vals = batch(self.model, full, self.names, mseeds)
+            if vals is None:
+                pending.append((obj, w * s))
+            else:
+                total += w * s * np.asarray(vals, dtype=np.float64).reshape(n)
+        if pending:
+            for i in range(n):
+                phenotype = self.develop(full[i], mseeds[i])
+                for obj, ws in pending:
+                    total[i] += ws * float(obj(phenotype))
+        return total
+
+
+def build_fitness(config) -> Fitness:
+    """The picklable :class:`Fitness` of a config (a :class:`Config` or anything
+    :func:`~growsim.experiment.load.load_plan` takes), or of an ``ExperimentPlan``.
+
+    Examples
+    --------
+    >>> f = build_fitness("experiments/quickstart.toml")
+    >>> f.model.name
+    'honda'
+    """
+    from growsim.experiment.load import load_plan
+    from growsim.experiment.plan import ExperimentPlan, compile_plan
+    from growsim.experiment.schema import Config
+
+    if isinstance(config, ExperimentPlan):
+        plan = config
+    elif isinstance(config, Config):
+        plan = compile_plan(config)
+    else:
+        plan = load_plan(config)
+    return Fitness.from_plan(plan)

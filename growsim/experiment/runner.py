@@ -1,0 +1,418 @@
+"""Running one experiment into a results directory.
+
+:func:`run` takes a config (path, dict, :class:`Config`) or a compiled
+:class:`~growsim.experiment.plan.ExperimentPlan`, evolves it with the GA, and writes
+history, best, the best phenotype and its artefacts, and the summary (last) through
+:class:`growsim.results.RunDir`. :func:`load_run` and :func:`best_phenotype` read a
+results directory back (through :func:`growsim.results.read_run`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import math
+import sys
+import time
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from growsim.errors import ConfigError, UserInputError
+from growsim.experiment.executors import check_executor_args, executor_workers, make_executor
+from growsim.experiment.plan import ExperimentPlan
+from growsim.experiment.schema import Config
+from growsim.files import jsonable
+
+__all__ = ["Progress", "RunResult", "best_phenotype", "best_plant", "default_out", "load_run", "run"]
+
+log = logging.getLogger("growsim.experiment")
+
+
+@dataclasses.dataclass
+class RunResult:
+    """What :func:`run` returns.
+
+    ``history``: DataFrame, one row per generation (and island): generation, evaluations,
+    best, mean, std, worst, best_so_far, diversity, seconds; ``best_params``: every model
+    parameter of the best individual; ``best_fitness``; ``best_phenotype``: what it grows
+    (a :class:`growsim.plant.Plant` for plant models; also ``best_plant``); ``out``: the
+    results directory; ``summary``: the dict of summary.json.
+
+    Examples
+    --------
+    >>> r = run("experiments/quickstart.toml", out="runs/doc")  # doctest: +SKIP
+    >>> r.best_fitness > 0  # doctest: +SKIP
+    True
+    """
+
+    history: Any
+    best_params: dict[str, float]
+    best_fitness: float
+    best_phenotype: Any
+    out: Path
+    summary: dict[str, Any]
+    stop_reason: str = ""
+
+    @property
+    def best_plant(self):
+        """The best phenotype (named for plant models)."""
+        return self.best_phenotype
+
+
+def default_out(cfg: Config, root: str | Path = "runs", kind: str = "") -> Path:
+    """``runs/<name>[-<kind>]-<YYYYmmdd-HHMMSS>`` (with ``-2``, ``-3``... if it exists).
+
+    Examples
+    --------
+    >>> from growsim.experiment import load_config
+    >>> cfg = load_config({"model": {"kind": "honda", "evolve": {"f": True}},
+    ...                    "objective": [{"kind": "light"}]})
+    >>> default_out(cfg).name.startswith("experiment-")
+    True
+    """
+    stamp = time.strftime("%Y%m%d-%H%M%S")
+    base = Path(root) / "-".join(x for x in (cfg.experiment.name, kind, stamp) if x)
+    out, k = base, 2
+    while out.exists():
+        out = base.with_name(f"{base.name}-{k}")
+        k += 1
+    return out
+
+
+class Progress:
+    """Per-generation callback: tqdm bar on stderr, a live history.parquet (at most every
+    ``every`` seconds, so a long run can be watched; the checkpoint is what resumes), and
+    the user's callback."""
+
+    def __init__(
+        self, total: int | None, enabled: bool, user_callback=None, rd=None, every: float = 5.0
+    ):
+        self.user_callback = user_callback
+        self.rd = rd
+        self.every = every
+        self.last_write = time.perf_counter()
+        self.bar = None
+        self.t0 = time.perf_counter()
+        self.evals0: int | None = None
+        if enabled:
+            from tqdm.auto import tqdm
+
+            self.bar = tqdm(total=total, unit="gen", file=sys.stderr, dynamic_ncols=True)
+
+    def __call__(self, ga, row: Mapping[str, Any]):
+        if self.bar is not None:
+            evals = int(row.get("evaluations", 0))
+            if self.evals0 is None:
+                self.evals0 = evals
+                self.t0 = time.perf_counter()
+            dt = max(time.perf_counter() - self.t0, 1e-9)
+            rate = (evals - self.evals0) / dt
+            gen = int(row.get("generation", self.bar.n))
+            self.bar.update(max(gen + 1 - self.bar.n, 0))
+            self.bar.set_postfix(
+                best=f"{row.get('best_so_far', row.get('best', float('nan'))):.4g}",
+                mean=f"{row.get('mean', float('nan')):.4g}",
+                evals_s=f"{rate:.0f}",
+                refresh=False,
+            )
+        if self.rd is not None and time.perf_counter() - self.last_write > self.every:
+            try:
+                self.rd.write_parquet("history.parquet", ga.history)
+            except Exception as exc:  # only a live view: never stop a run for it
+                log.warning("live history.parquet not written: %s", exc)
+            self.last_write = time.perf_counter()
+        if self.user_callback is not None:
+            return self.user_callback(ga, row)
+        return None
+
+    def close(self):
+        if self.bar is not None:
+            self.bar.close()
+
+
+def as_plan(config, overrides: Sequence[str] = ()) -> ExperimentPlan:
+    """An :class:`ExperimentPlan` from a plan (as is), a :class:`Config` or anything
+    :func:`~growsim.experiment.load.load_plan` reads, with ``overrides`` applied."""
+    from growsim.experiment.load import load_plan
+    from growsim.experiment.plan import compile_plan
+
+    if isinstance(config, ExperimentPlan) and not overrides:
+        return config
+    if isinstance(config, ExperimentPlan):
+        config = config.config
+    if isinstance(config, Config) and not overrides:
+        return compile_plan(config)
+    return load_plan(config, overrides)
+
+
+def run(
+    config: str | Path | Mapping[str, Any] | Config | ExperimentPlan | None = None,
+    out: str | Path | None = None,
+    *,
+    seed: int | None = None,
+    overrides: Sequence[str] = (),
+    workers: int | None = None,
+    scheduler: str | None = None,
+    resume: bool = False,
+    progress: bool = True,
+    callback=None,
+    executor=None,
+) -> RunResult:
+    """Run one experiment into a results directory; return its :class:`RunResult`.
+
+    ``config``: a TOML path, dict, :class:`Config` or compiled ``ExperimentPlan``
+    (``None`` with ``resume=True``: the ``config.toml`` saved in ``out``). ``out``: the
+    results directory (default ``runs/<name>-<timestamp>``); a fresh run refuses a
+    directory that already holds a run, and a second run on a directory in use refuses
+    at once. ``seed`` overrides ``experiment.seed``. ``workers``: local process pool size;
+    ``scheduler``: ``"local"`` (a Dask LocalCluster of ``workers`` processes) or a Dask
+    scheduler address. ``resume=True`` continues from ``out/checkpoint.npz`` to the same
+    history and best as an uninterrupted run. ``progress``: a tqdm bar on stderr (only
+    when stderr is a TTY). ``callback(ga, row)`` is called after every generation (return
+    True to stop). ``executor``: any ``concurrent.futures.Executor`` to evaluate on
+    (instead of ``workers``/``scheduler``; not shut down here), e.g.
+    ``Client.get_executor(pure=False)``.
+
+    Examples
+    --------
+    >>> r = run("experiments/quickstart.toml", out="runs/doc", progress=False)  # doctest: +SKIP
+    >>> sorted(p.name for p in r.out.iterdir())[:3]  # doctest: +SKIP
+    ['best.json', 'best.vtp', 'best_front.png']
+    """
+    from growsim.results import RunDir
+
+    check_executor_args(workers, scheduler)
+    if resume:
+        if out is None:
+            raise UserInputError("resume: give the results directory to resume (--resume DIR)")
+        rd = RunDir(out)
+        if not rd.config_path.is_file():
+            raise UserInputError(f"{rd.path}: no config.toml here; nothing to resume")
+        plan = as_plan(rd.config_path)
+        if config is not None:
+            given = as_plan(config, overrides)
+            if seed is not None:
+                given = given.with_seed(seed)
+            if given.config.to_dict() != plan.config.to_dict():
+                raise ConfigError(
+                    f"{rd.path}: the config given differs from the run's config.toml; "
+                    "resume with the directory alone (growsim run --resume DIR)"
+                )
+        elif seed is not None and seed != plan.seed:
+            raise ConfigError(f"--seed {seed}: the run in {rd.path} has seed {plan.seed}")
+    else:
+        if config is None:
+            raise UserInputError("no config given")
+        plan = as_plan(config, overrides)
+        if seed is not None:
+            plan = plan.with_seed(seed)
+        rd = RunDir(out if out is not None else default_out(plan.config))
+
+    # connect to the evaluators first: an unreachable scheduler writes nothing
+    ext, close = (executor, lambda: None) if executor is not None else make_executor(workers, scheduler)
+    try:
+        with rd.lock():
+            if not resume:
+                rd.create_fresh()
+                rd.write_text("config.toml", plan.config.to_toml())
+            try:
+                return _run_locked(plan, rd, workers, scheduler, resume, progress, callback, ext)
+            except KeyboardInterrupt:
+                print(f"growsim: to continue: growsim run --resume {rd.path}", file=sys.stderr)
+                raise
+    finally:
+        close()
+
+
+def _run_locked(plan, rd, workers, scheduler, resume, progress, callback, executor) -> RunResult:
+    from growsim import __version__
+
+    cfg = plan.config
+    fitness = plan.fitness()
+    g = cfg.ga
+    # Tasks per generation: the GA splits a population into 4 tasks per worker, counting
+    # local CPUs when it cannot see the executor's size; give it the Dask cluster's size.
+    # (Batching never changes results: seeds follow the evaluation index.)
+    batch = None
+    n_exec = executor_workers(executor) if executor is not None else None
+    if g.batch_size is None and n_exec is not None:
+        batch = max(1, math.ceil(g.population / (4 * n_exec)))
+    ga = plan.build_ga(fitness, batch_size=batch)
+    show_bar = bool(progress) and sys.stderr.isatty()
+    bar = Progress(g.generations, show_bar, callback, rd=rd)
+    t0 = time.perf_counter()
+    started = time.strftime("%Y-%m-%dT%H:%M:%S%z")
+    try:
+        result = ga.run(
+            **g.stop_options(),
+            executor=executor,
+            callback=bar,
+            checkpoint=rd.checkpoint_path,
+            resume=resume,
+        )
+    finally:
+        bar.close()
+    t_ga = time.perf_counter()
+    # the GA's own clock covers every session of a resumed run
+    ga_seconds = float(getattr(result, "seconds", t_ga - t0))
+
+    best_row = fitness.full_params(np.asarray(result.best.params, dtype=np.float64)[None, :])[0]
+    best_params = fitness.param_dict(best_row)
+    for n in plan.int_names:
+        best_params[n] = round(best_params[n])
+    plant_seed = int(fitness.model_seeds(best_row[None, :], None)[0])
+    history = result.history
+    rd.write_parquet("history.parquet", history)
+
+    warnings: list[str] = []
+    phenotype, terms = None, {}
+    try:
+        phenotype = fitness.develop(best_row, plant_seed)
+        terms = fitness.terms(phenotype)
+    except Exception as exc:  # the best genome scored, so this is a model bug: report it
+        warnings.append(f"developing the best phenotype failed: {exc}")
+        log.warning("developing the best phenotype failed: %s", exc)
+    best = {
+        "fitness": float(result.best.fitness),
+        "generation": int(result.best.generation),
+        "evolved": {n: best_params[n] for n in fitness.evolved},
+        "params": best_params,
+        "model": cfg.model.kind,
+        "phenotype": plan.model.phenotype,
+        "plant_seed": plant_seed,
+        "terms": terms,
+    }
+    raw = getattr(result.best, "raw", None)
+    if raw is not None:
+        best["genome"] = np.asarray(raw).tolist()
+    rd.write_json("best.json", jsonable(best))
+    warnings += _artefacts(cfg, rd, phenotype, history)
+
+    summary = {
+        "experiment": cfg.experiment.name,
+        "description": cfg.experiment.description,
+        "model": cfg.model.kind,
+        "phenotype": plan.model.phenotype,
+        "objectives": [o.kind for o in cfg.objective],
+        "seed": cfg.experiment.seed,
+        "best_fitness": float(result.best.fitness),
+        "best_generation": int(result.best.generation),
+        "generations": int(history["generation"].max()) + 1 if len(history) else 0,
+        "evaluations": int(result.evaluations),
+        "wall_seconds": round(ga_seconds + time.perf_counter() - t_ga, 3),
+        "ga_seconds": round(ga_seconds, 3),
+        "history_seconds": float(history["seconds"].max()) if "seconds" in history else None,
+        "stop_reason": str(result.stop_reason),
+        "resumed": bool(resume),
+        "started": started,
+        "finished": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+        "growsim_version": __version__,
+        "workers": workers,
+        "scheduler": scheduler,
+        "measures": _measures(phenotype, plan) if phenotype is not None else {},
+        "terms": terms,
+        "warnings": warnings,
+    }
+    summary = jsonable(summary)
+    rd.write_json("summary.json", summary)  # last: its presence marks a complete run
+    return RunResult(
+        history=history,
+        best_params=best_params,
+        best_fitness=float(result.best.fitness),
+        best_phenotype=phenotype,
+        out=rd.path,
+        summary=summary,
+        stop_reason=str(result.stop_reason),
+    )
+
+
+def _measures(phenotype, plan) -> dict[str, float]:
+    """The best phenotype's named measures (in its environment), for summaries."""
+    try:
+        return {
+            k: float(v)
+            for k, v in phenotype.measures(plan.environment).items()
+            if np.isscalar(v)
+        }
+    except Exception as exc:  # measures are informative; never lose a run for them
+        log.warning("measures of the best phenotype failed: %s", exc)
+        return {}
+
+
+def _artefacts(cfg: Config, rd, phenotype, history) -> list[str]:
+    """The best phenotype's file and artefacts, the fitness plot. Returns warnings."""
+    warnings = []
+    o = cfg.output
+
+    def attempt(what, fn):
+        try:
+            fn()
+        except Exception as exc:  # an artefact must not lose the run's results
+            warnings.append(f"{what}: {exc}")
+            log.warning("writing %s failed: %s", what, exc)
+
+    if phenotype is not None:
+        if o.phenotype:
+            path = rd.phenotype_path(phenotype.phenotype)
+            attempt(path.name, lambda: phenotype.save(path))
+        try:
+            files = phenotype.artefacts(o)
+        except Exception as exc:
+            files = {}
+            warnings.append(f"artefacts: {exc}")
+        for name, writer in files.items():
+            attempt(name, lambda name=name, writer=writer: writer(rd.path / name))
+    if o.plot and len(history):
+        from growsim import viz
+
+        attempt("fitness.png", lambda: viz.plot_fitness(history, rd.path / "fitness.png"))
+    return warnings
+
+
+def load_run(path: str | Path) -> RunResult:
+    """Read a finished results directory back into a :class:`RunResult`.
+
+    Examples
+    --------
+    >>> r = load_run("runs/quickstart-20261122-101500")  # doctest: +SKIP
+    >>> r.best_plant.height()  # doctest: +SKIP
+    41.2
+    """
+    from growsim.results import read_run
+
+    rec = read_run(path)
+    phenotype = None
+    try:
+        phenotype = rec.phenotype()
+    except Exception as exc:  # the table and history stay readable without it
+        log.warning("%s: the best phenotype could not be read: %s", rec.path, exc)
+    return RunResult(
+        history=rec.history,
+        best_params=rec.best["params"],
+        best_fitness=rec.best_fitness,
+        best_phenotype=phenotype,
+        out=rec.path,
+        summary=rec.summary,
+        stop_reason=rec.summary.get("stop_reason", ""),
+    )
+
+
+def best_phenotype(path: str | Path):
+    """The best phenotype of a results directory: its saved ``best_<kind>.npz``, or grown
+    again from ``best.json`` and the model of ``config.toml`` (no objective is built).
+
+    Examples
+    --------
+    >>> best_phenotype("runs/quickstart-20261122-101500").n_segments  # doctest: +SKIP
+    1023
+    """
+    from growsim.results import read_run
+
+    return read_run(path, finished=False, history=False).phenotype()
+
+
+#: the name used before phenotypes other than plants existed
+best_plant = best_phenotype

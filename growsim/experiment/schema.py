@@ -1,0 +1,289 @@
+"""The experiment config schema: one class per TOML section, the whole :class:`Config`.
+
+Sections: ``[experiment]``, ``[model]`` (+ ``[model.evolve]``), ``[environment]``
+(:class:`growsim.env.Environment`), ``[[objective]]`` (each objective's own options
+class, chosen by ``kind``), ``[ga]`` and ``[output]``. Every field carries its
+description and limits: ``docs/configs.md`` is generated from them
+(:mod:`growsim.experiment.docs`).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated, Any, Literal, Union
+
+from pydantic import Field, field_validator, model_validator
+
+from growsim.env import Environment
+from growsim.objectives import OBJECTIVES
+from growsim.options import Options
+
+__all__ = [
+    "SECTIONS",
+    "Config",
+    "ExperimentConfig",
+    "GAConfig",
+    "ModelConfig",
+    "ObjectiveConfig",
+    "OutputConfig",
+]
+
+VIEWS = ("front", "side", "top", "iso")
+MESH_FORMATS = ("vtp", "ply", "obj", "glb")
+
+
+class ExperimentConfig(Options):
+    """``[experiment]``: what this experiment is called and how it is seeded."""
+
+    name: str = Field(
+        "experiment",
+        pattern=r"^[A-Za-z0-9][A-Za-z0-9_.-]{0,63}$",
+        description="name of the experiment; used in the default results directory "
+        "runs/<name>-<timestamp> (letters, digits, _ . -; at most 64)",
+    )
+    description: str = Field("", description="free text, copied to summary.json")
+    seed: int = Field(0, ge=0, le=2**63 - 1, description="seed of the run (--seed overrides)")
+    repeats: int = Field(
+        1, ge=1, le=1000, description="default number of seeds per variant in growsim sweep"
+    )
+
+
+class ModelConfig(Options):
+    """``[model]``: which model, its fixed parameters and the parameters the GA evolves."""
+
+    kind: str = Field(description="registered model name (growsim.models.MODELS)")
+    preset: str | None = Field(None, description="named parameter set of the model to start from")
+    params: dict[str, int | float] = Field(
+        default_factory=dict,
+        description="fixed parameter values (over the preset, over the model's defaults)",
+    )
+    evolve: dict[str, Any] = Field(
+        default_factory=dict,
+        description="parameters the GA evolves: name = true (the model's range) or "
+        "[low, high] (a range inside the model's range); at least one",
+    )
+    noise: Literal["fixed", "per-evaluation"] = Field(
+        "fixed",
+        description="'fixed': a genome always grows the same phenotype (the model's seed "
+        "parameter, else the run seed); 'per-evaluation': every evaluation grows with its "
+        "own seed (noisy fitness, selects robust shapes)",
+    )
+
+    @field_validator("evolve")
+    @classmethod
+    def _check_evolve(cls, v):
+        for name, spec in v.items():
+            if spec is False:
+                raise ValueError(f"{name} = false: leave it out instead (or set true)")
+            if spec is True:
+                continue
+            ok = (
+                isinstance(spec, list)
+                and len(spec) == 2
+                and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in spec)
+            )
+            if not ok:
+                raise ValueError(f"{name}: expected true or [low, high], got {spec!r}")
+            if not all(math.isfinite(x) for x in spec) or not spec[0] < spec[1]:
+                raise ValueError(f"{name}: expected finite low < high, got {spec!r}")
+        return {k: (True if x is True else [float(x[0]), float(x[1])]) for k, x in v.items()}
+
+    @field_validator("params")
+    @classmethod
+    def _check_params(cls, v):
+        for name, x in v.items():
+            if not math.isfinite(x):
+                raise ValueError(f"{name}: {x!r} is not a finite number")
+        return v
+
+
+def _objective_union():
+    """Every registered objective's options class, told apart by ``kind``."""
+    classes = tuple(OBJECTIVES.get(name).Options for name in OBJECTIVES)
+    if len(classes) == 1:
+        return classes[0]
+    return Annotated[Union[classes], Field(discriminator="kind")]  # noqa: UP007
+
+
+#: one ``[[objective]]`` table: the options class of its ``kind``
+ObjectiveConfig = _objective_union()
+
+
+class GAConfig(Options):
+    """``[ga]``: the genetic algorithm (see docs/ga.md for the operators)."""
+
+    population: int = Field(50, ge=2, le=10_000_000, description="individuals per generation")
+    generations: int | None = Field(20, ge=0, le=10_000_000, description="stop after this many")
+    evaluations: int | None = Field(None, ge=1, description="stop after this many evaluations")
+    target: float | None = Field(None, description="stop when the best fitness reaches it")
+    stagnation: int | None = Field(
+        None, ge=1, description="stop after this many generations without improvement"
+    )
+    wall_time: float | None = Field(None, gt=0.0, description="stop after this many seconds")
+    coding: Literal["real", "bits"] = Field("real", description="genome coding")
+    bits: int = Field(8, ge=1, le=32, description="bits per parameter when coding = 'bits'")
+    bit_coding: Literal["binary", "gray", "weighted", "fraction"] = Field(
+        "binary", description="how bits map to a value when coding = 'bits'"
+    )
+    selection: str | None = Field(None, description="selection operator (default per coding)")
+    crossover: str | None = Field(None, description="crossover operator (default per coding)")
+    mutation: str | None = Field(None, description="mutation operator (default per coding)")
+    selection_options: dict[str, Any] = Field(default_factory=dict, description="its options")
+    crossover_options: dict[str, Any] = Field(default_factory=dict, description="its options")
+    mutation_options: dict[str, Any] = Field(default_factory=dict, description="its options")
+    model: Literal["generational", "steady", "mu+lambda"] = Field(
+        "generational", description="generation model"
+    )
+    elite: int = Field(1, ge=0, description="best individuals copied unchanged")
+    elite_rate: float | None = Field(
+        None, ge=0.0, le=1.0, description="elite as a share of the population (over elite)"
+    )
+    islands: int = Field(1, ge=1, le=10_000, description="sub-populations")
+    migration_rate: float = Field(0.1, ge=0.0, le=1.0, description="share migrating")
+    migration_interval: int = Field(5, ge=1, description="generations between migrations")
+    extinction: bool = Field(True, description="re-create a population that stops reproducing")
+    batch_size: int | None = Field(None, ge=1, description="individuals per evaluation task")
+    polish: dict[str, Any] | None = Field(
+        None,
+        description="local refinement of the best: evaluations, sigma, batch, min_sigma, "
+        'method ("es" or "cmaes"), e.g. {evaluations = 500, sigma = 0.02}',
+    )
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.generations is None and self.evaluations is None and self.wall_time is None:
+            raise ValueError("no budget: set at least one of generations, evaluations or wall_time")
+        if self.elite >= self.population:
+            raise ValueError(f"elite ({self.elite}) must be below population ({self.population})")
+        return self
+
+    def ga_options(self) -> dict[str, Any]:
+        """The keyword options of :class:`growsim.ga.GA` (operators, generation model...)."""
+        return {
+            "population": self.population,
+            "selection": self.selection,
+            "crossover": self.crossover,
+            "mutation": self.mutation,
+            "selection_options": dict(self.selection_options) or None,
+            "crossover_options": dict(self.crossover_options) or None,
+            "mutation_options": dict(self.mutation_options) or None,
+            "model": self.model,
+            "elite": self.elite,
+            "elite_rate": self.elite_rate,
+            "islands": self.islands,
+            "migration_rate": self.migration_rate,
+            "migration_interval": self.migration_interval,
+            "extinction": self.extinction,
+            "batch_size": self.batch_size,
+        }
+
+    def stop_options(self) -> dict[str, Any]:
+        """The keyword options of :meth:`growsim.ga.GA.run` (budget, stops, polish)."""
+        return {
+            "generations": self.generations,
+            "evaluations": self.evaluations,
+            "target": self.target,
+            "stagnation": self.stagnation,
+            "wall_time": self.wall_time,
+            "polish": dict(self.polish) if self.polish else None,
+        }
+
+
+class OutputConfig(Options):
+    """``[output]``: which artefacts a run writes besides history, best and summary."""
+
+    mesh: list[Literal["vtp", "ply", "obj", "glb"]] = Field(
+        default_factory=lambda: ["vtp", "glb"],
+        description="mesh formats of the best phenotype (plants)",
+    )
+    screenshots: list[Literal["front", "side", "top", "iso"]] = Field(
+        default_factory=lambda: ["front", "iso"], description="views rendered to best_<view>.png"
+    )
+    size: list[int] = Field(
+        default_factory=lambda: [800, 800],
+        min_length=2,
+        max_length=2,
+        description="screenshot size [width, height] in pixels (16..4096)",
+    )
+    plot: bool = Field(True, description="write fitness.png")
+    phenotype: bool = Field(
+        True, description="write best_<kind>.npz, the best phenotype (best_plant.npz for plants)"
+    )
+
+    @model_validator(mode="before")
+    @classmethod
+    def _legacy_plant(cls, data: Any) -> Any:
+        # ``plant`` was the name of ``phenotype`` before models could grow other things
+        if isinstance(data, dict) and "plant" in data:
+            data = dict(data)
+            if "phenotype" in data:
+                raise ValueError("plant: the old name of phenotype; give only phenotype")
+            data["phenotype"] = data.pop("plant")
+        return data
+
+    @field_validator("size")
+    @classmethod
+    def _check_size(cls, v):
+        if not all(16 <= s <= 4096 for s in v):
+            raise ValueError(f"each of width, height must be in [16, 4096], got {v!r}")
+        return v
+
+
+class Config(Options):
+    """A whole, validated experiment config (the TOML file as objects).
+
+    Examples
+    --------
+    >>> cfg = Config.model_validate({"model": {"kind": "honda", "evolve": {"f": True}},
+    ...                              "objective": [{"kind": "light"}]})
+    >>> cfg.ga.population, cfg.objective[0].wood_cost
+    (50, 0.02)
+    """
+
+    experiment: ExperimentConfig = Field(default_factory=ExperimentConfig)
+    model: ModelConfig
+    environment: Environment = Field(default_factory=Environment)
+    objective: list[ObjectiveConfig] = Field(min_length=1, max_length=64)
+    ga: GAConfig = Field(default_factory=GAConfig)
+    output: OutputConfig = Field(default_factory=OutputConfig)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The config as plain TOML-able data (``None`` values left out: TOML has no null).
+
+        Examples
+        --------
+        >>> from growsim.experiment import load_config
+        >>> load_config("experiments/quickstart.toml").to_dict()["model"]["kind"]
+        'honda'
+        """
+        return self.model_dump(mode="json", exclude_none=True)
+
+    def to_toml(self) -> str:
+        """The config as TOML text (what ``config.toml`` of a run holds)."""
+        import tomli_w
+
+        return tomli_w.dumps(self.to_dict())
+
+    def with_seed(self, seed: int) -> Config:
+        """A copy with ``experiment.seed = seed`` (no re-validation of the rest).
+
+        Examples
+        --------
+        >>> cfg = Config.model_validate({"model": {"kind": "honda", "evolve": {"f": True}},
+        ...                              "objective": [{"kind": "light"}]})
+        >>> cfg.with_seed(7).experiment.seed, cfg.experiment.seed
+        (7, 0)
+        """
+        exp = ExperimentConfig.model_validate({**self.experiment.model_dump(), "seed": seed})
+        return self.model_copy(update={"experiment": exp})
+
+
+#: section name -> its class (docs and 'unknown key' messages walk these)
+SECTIONS: dict[str, Any] = {
+    "experiment": ExperimentConfig,
+    "model": ModelConfig,
+    "environment": Environment,
+    "objective": ObjectiveConfig,
+    "ga": GAConfig,
+    "output": OutputConfig,
+}
