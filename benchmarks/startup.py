@@ -54,7 +54,10 @@ def once(config: Path) -> dict:
             check=True,
         )
     rec = json.loads(out.stdout.strip().splitlines()[-1])
-    return {"startup_ms": (rec["first"] - t0) * 1e3, "in_run_ms": (rec["first"] - rec["call"]) * 1e3}
+    return {
+        "startup_ms": (rec["first"] - t0) * 1e3,
+        "in_run_ms": (rec["first"] - rec["call"]) * 1e3,
+    }
 
 
 def main() -> None:

@@ -19,7 +19,7 @@ from pydantic import BaseModel, ConfigDict, ValidationError
 
 from growsim.errors import ConfigError
 
-__all__ = ["Options", "key_path", "validation_message"]
+__all__ = ["Options", "fields_of", "key_path", "validation_message"]
 
 
 class Options(BaseModel):
@@ -82,12 +82,23 @@ def key_path(loc: Sequence[Any]) -> str:
     return out or "(top level)"
 
 
-def _classes_in(annotation) -> list[type[BaseModel]]:
+def fields_of(cls) -> dict[str, Any]:
+    """The fields of a pydantic model or pydantic dataclass (empty for anything else).
+
+    Examples
+    --------
+    >>> list(fields_of(Options))
+    []
+    """
+    return getattr(cls, "__pydantic_fields__", None) or {}
+
+
+def _classes_in(annotation) -> list[type]:
     """The options classes an annotation holds (``X``, ``X | None``, ``list[A | B]``...)."""
     out, stack = [], [annotation]
     while stack:
         cand = stack.pop()
-        if isinstance(cand, type) and issubclass(cand, BaseModel):
+        if isinstance(cand, type) and fields_of(cand):
             out.append(cand)
         else:
             stack.extend(get_args(cand))
@@ -95,7 +106,7 @@ def _classes_in(annotation) -> list[type[BaseModel]]:
 
 
 def _kind_tags(cls: type[BaseModel]) -> tuple:
-    kind = cls.model_fields.get("kind")
+    kind = fields_of(cls).get("kind")
     return get_args(kind.annotation) if kind is not None else ()
 
 
@@ -112,13 +123,13 @@ def _candidates(root: type[BaseModel], loc: Sequence[Any]) -> list[type[BaseMode
         if isinstance(part, int):
             continue
         tagged = [c for c in cands if part in _kind_tags(c)]
-        if tagged and not any(part in c.model_fields for c in cands):
+        if tagged and not any(part in fields_of(c) for c in cands):
             cands = tagged
             continue
-        holder = next((c for c in cands if part in c.model_fields), None)
+        holder = next((c for c in cands if part in fields_of(c)), None)
         if holder is None:
             return []
-        cands = _classes_in(holder.model_fields[part].annotation)
+        cands = _classes_in(fields_of(holder)[part].annotation)
     return cands
 
 
@@ -166,13 +177,18 @@ def validation_message(exc: ValidationError, where: str = "", root=None) -> str:
     """
     root = root or BaseModel
     errors = exc.errors(include_url=False)
+    if not errors:  # pragma: no cover - pydantic always lists one
+        return where.rstrip(".") or "invalid"
     first = errors[0]
     loc = _clean_loc(first["loc"], root)
     kind = first["type"]
-    path = where + key_path(loc) if loc else (where.rstrip(".") or "(top level)")
-    if kind == "extra_forbidden":
+    path = where + key_path(loc) if loc else where.rstrip(".")
+    if not loc and kind == "value_error":  # a rule between keys: its message names them
+        text = first["msg"].removeprefix("Value error, ")
+        msg = f"{path}: {text}" if path else text
+    elif kind in ("extra_forbidden", "unexpected_keyword_argument"):
         holder = _model_at(root, first["loc"][:-1]) if root is not BaseModel else None
-        allowed = list(holder.model_fields) if holder is not None else None
+        allowed = list(fields_of(holder)) if holder is not None else None
         msg = f"{path}: unknown key" + (f"; allowed: {', '.join(allowed)}" if allowed else "")
     elif kind in ("missing", "union_tag_not_found"):
         if kind == "union_tag_not_found":
@@ -196,7 +212,7 @@ def validation_message(exc: ValidationError, where: str = "", root=None) -> str:
         got_s = repr(got)
         if len(got_s) > 60:
             got_s = got_s[:57] + "..."
-        shown = isinstance(got, dict) or "got " in text
+        shown = isinstance(got, dict) or "got " in text or type(got).__name__ == "ArgsKwargs"
         msg = f"{path}: {text}" + ("" if shown else f" (got {got_s})")
     n_more = len({tuple(_clean_loc(e["loc"], root)) for e in errors} - {tuple(loc)})
     if n_more:

@@ -32,7 +32,7 @@ import numpy as np
 from growsim.errors import UserInputError
 from growsim.registry import Registry
 
-__all__ = ["PHENOTYPES", "Phenotype", "load_phenotype", "phenotype_class", "saved_kind"]
+__all__ = ["PHENOTYPES", "Phenotype", "load_phenotype", "saved_kind"]
 
 #: phenotype kind -> class. One line per kind.
 PHENOTYPES: Registry[type[Phenotype]] = Registry("phenotype", {"plant": "growsim.plant:Plant"})
@@ -79,7 +79,9 @@ class Phenotype(abc.ABC):
         view in ``output.screenshots`` (``best_<view>.png``)."""
         size = tuple(output.size)
         return {
-            f"best_{view}.png": (lambda path, view=view: self.screenshot(path, view=view, size=size))
+            f"best_{view}.png": (
+                lambda path, view=view: self.screenshot(path, view=view, size=size)
+            )
             for view in output.screenshots
         }
 
@@ -103,17 +105,6 @@ class Phenotype(abc.ABC):
         plt.imshow(self.render_image(view=view))
         plt.axis("off")
         plt.show()
-
-
-def phenotype_class(kind: str) -> type[Phenotype]:
-    """The class registered for a phenotype ``kind``.
-
-    Examples
-    --------
-    >>> phenotype_class("plant").__name__
-    'Plant'
-    """
-    return PHENOTYPES.get(kind)
 
 
 def saved_kind(path: str | os.PathLike) -> str:
@@ -141,5 +132,4 @@ def load_phenotype(path: str | os.PathLike) -> Phenotype:
     >>> load_phenotype(f)
     Plant(model='?', segments=1, leaves=0)
     """
-    return phenotype_class(saved_kind(path)).load(path)
-
+    return PHENOTYPES.get(saved_kind(path)).load(path)

@@ -416,7 +416,9 @@ class Plant(Phenotype):
         from growsim.env.light import projected_area
 
         sel = self.kind == LEAF
-        return projected_area(self.start[sel], self.end[sel], self.radius[sel], direction, resolution)
+        return projected_area(
+            self.start[sel], self.end[sel], self.radius[sel], direction, resolution
+        )
 
     def measures(self, env=None, resolution: int = 256) -> dict[str, float]:
         """All measures as a JSON-able dict: counts, extents, lengths, volume, and the
@@ -559,4 +561,3 @@ class Plant(Phenotype):
     def __repr__(self) -> str:
         model = self.meta.get("model", "?")
         return f"Plant(model={model!r}, segments={self.n_segments}, leaves={self.n_leaves})"
-

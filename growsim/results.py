@@ -81,6 +81,7 @@ class RunDir:
     def phenotype_path(self, kind: str = "plant") -> Path:
         """``best_<kind>.npz``: where the best phenotype of that kind is saved."""
         return self.path / f"best_{kind}.npz"
+
     lock_path = property(lambda self: self.path / ".lock")
 
     def is_complete(self) -> bool:

@@ -16,7 +16,7 @@ from growsim.models import MODELS, get_model
 from growsim.models.base import Model
 from growsim.objectives import OBJECTIVES, get_objective
 from growsim.objectives.base import Objective
-from growsim.phenotype import PHENOTYPES, Phenotype, load_phenotype, phenotype_class
+from growsim.phenotype import PHENOTYPES, Phenotype, load_phenotype
 
 MODEL_NAMES = sorted(MODELS)
 OBJECTIVE_NAMES = sorted(OBJECTIVES)
@@ -63,7 +63,7 @@ def test_every_preset_resolves(name):
 @pytest.mark.parametrize("name", MODEL_NAMES)
 def test_develop_gives_a_valid_phenotype_the_same_for_the_same_seed(name, tmp_path):
     model = get_model(name)
-    cls = phenotype_class(model.phenotype)
+    cls = PHENOTYPES.get(model.phenotype)
     env = Environment()
     for label, params in _cases(name):
         a = model.develop(params, seed=5, env=env)

@@ -335,8 +335,9 @@ def test_one_objective_construction_per_run(tmp_path, monkeypatch):
     assert len(made) == 1
     made.clear()
     # a sweep builds each variant's objectives once, whatever the repeats
-    sweep(QUICK, ["env.light=1.0,0.5"], repeats=2, out=tmp_path / "sw", overrides=TINY,
-          progress=False)
+    sweep(
+        QUICK, ["env.light=1.0,0.5"], repeats=2, out=tmp_path / "sw", overrides=TINY, progress=False
+    )
     assert len(made) == 2
     made.clear()
     # reading a results directory back grows the best plant with the model alone
@@ -352,5 +353,5 @@ def test_objective_must_accept_the_phenotype(monkeypatch):
     from growsim.models.honda import MODEL
 
     monkeypatch.setattr(type(MODEL), "phenotype", "trajectory")
-    with pytest.raises(ConfigError, match="objective\\[0\\].*'light'.*plant.*'trajectory'"):
+    with pytest.raises(ConfigError, match=r"objective\[0\].*'light'.*plant.*'trajectory'"):
         load_config(QUICK)

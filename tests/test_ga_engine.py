@@ -331,7 +331,7 @@ def test_bad_run_arguments():
     [
         ({"evaluations": 0}, r"polish\.evaluations"),
         ({"sigma": 2.0}, r"polish\.sigma"),
-        ({"sigma": 0.1, "min_sigma": 0.2}, r"polish\.min_sigma"),
+        ({"sigma": 0.1, "min_sigma": 0.2}, r"polish: min_sigma"),
         ({"batch": 2.5}, r"polish\.batch"),
         ("fast", "polish must be a dict"),
     ],

@@ -14,8 +14,7 @@ from scipy import stats
 from growsim.errors import UserInputError
 from growsim.experiment import load_config
 from growsim.report import compare, group_runs
-from growsim.results import find_runs
-from growsim.results import RunDir
+from growsim.results import RunDir, find_runs
 
 BASE = {
     "model": {"kind": "honda", "evolve": {"f": True}},

@@ -12,9 +12,9 @@ def register(subparsers) -> None:
 
     Examples
     --------
-    >>> import argparse
-    >>> sub = argparse.ArgumentParser().add_subparsers()
-    >>> register(sub)
+    >>> from growsim.cli import build_parser
+    >>> build_parser().parse_args(["compare", "runs/a", "runs/b", "--no-renders"]).dirs
+    ['runs/a', 'runs/b']
     """
     p = subparsers.add_parser(
         "compare",

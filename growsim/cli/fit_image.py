@@ -1,7 +1,7 @@
 """``growsim fit-image FRONT SIDE``: fit a tree to a front and a side picture.
 
 Builds the best-setup experiment config in memory (see :func:`fit_config`; the same setup
-as ``experiments/ifs_tree_best.toml``), compiles and runs it with :func:`growsim.experiment.run`, then
+as ``experiments/ifs_tree_best.toml``), compiles and runs it (:func:`growsim.experiment.run`), then
 writes into ``--out``: the run's results, ``tree.glb`` (the fitted tree's mesh) and
 ``silhouettes.png`` (target and fitted silhouettes, front and side, side by side).
 """

@@ -15,9 +15,10 @@ def register(subparsers) -> None:
 
     Examples
     --------
-    >>> import argparse
-    >>> sub = argparse.ArgumentParser().add_subparsers()
-    >>> register(sub)
+    >>> from growsim.cli import build_parser
+    >>> args = build_parser().parse_args(["run", "exp.toml", "--seed", "3", "--set", "ga.elite=2"])
+    >>> args.seed, args.overrides
+    (3, ['ga.elite=2'])
     """
     p = subparsers.add_parser(
         "run",
@@ -59,27 +60,18 @@ def main(args: argparse.Namespace) -> int:
             raise UserInputError("--out: not used with --resume (results stay in the DIR resumed)")
         if args.overrides:
             raise UserInputError("--set: a resumed run keeps its config; start a new run instead")
-        result = run(
-            args.config,
-            args.resume,
-            seed=args.seed,
-            workers=args.workers,
-            scheduler=args.scheduler,
-            resume=True,
-            progress=not args.quiet,
-        )
-    else:
-        if args.config is None:
-            raise UserInputError("give a CONFIG to run, or --resume DIR")
-        result = run(
-            args.config,
-            args.out,
-            seed=args.seed,
-            overrides=args.overrides,
-            workers=args.workers,
-            scheduler=args.scheduler,
-            progress=not args.quiet,
-        )
+    elif args.config is None:
+        raise UserInputError("give a CONFIG to run, or --resume DIR")
+    result = run(
+        args.config,
+        args.resume if args.resume is not None else args.out,
+        seed=args.seed,
+        overrides=args.overrides,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        resume=args.resume is not None,
+        progress=not args.quiet,
+    )
     if not args.quiet:
         s = result.summary
         out = result.out

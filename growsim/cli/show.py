@@ -13,9 +13,9 @@ def register(subparsers) -> None:
 
     Examples
     --------
-    >>> import argparse
-    >>> sub = argparse.ArgumentParser().add_subparsers()
-    >>> register(sub)
+    >>> from growsim.cli import build_parser
+    >>> build_parser().parse_args(["show", "runs/a", "--view", "top"]).view
+    'top'
     """
     p = subparsers.add_parser(
         "show",

@@ -12,9 +12,9 @@ def register(subparsers) -> None:
 
     Examples
     --------
-    >>> import argparse
-    >>> sub = argparse.ArgumentParser().add_subparsers()
-    >>> register(sub)
+    >>> from growsim.cli import build_parser
+    >>> build_parser().parse_args(["sweep", "exp.toml", "--vary", "env.light=1,0.5"]).vary
+    ['env.light=1,0.5']
     """
     p = subparsers.add_parser(
         "sweep",

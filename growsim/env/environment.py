@@ -22,7 +22,7 @@ from growsim.env.tank import Tank
 from growsim.env.water import Water
 from growsim.options import Options
 
-__all__ = ["Environment"]
+__all__ = ["SHORTHANDS", "Environment", "expand_shorthands"]
 
 #: shorthand key -> (table, key in the table)
 SHORTHANDS = {
@@ -53,17 +53,28 @@ class Environment(Options):
     @model_validator(mode="before")
     @classmethod
     def _shorthands(cls, data: Any) -> Any:
-        if not isinstance(data, dict) or not any(k in data for k in SHORTHANDS):
-            return data
-        data = dict(data)
-        for short, (table, key) in SHORTHANDS.items():
-            if short not in data or (short == table and isinstance(data[short], dict)):
-                continue
-            value = data.pop(short)
-            sub = data.get(table, {})
-            if not isinstance(sub, dict):
-                raise ValueError(f"{short}: shorthand for {table}.{key}, but {table} is set too")
-            if key in sub:
-                raise ValueError(f"{short}: given twice (also as {table}.{key})")
-            data[table] = {**sub, key: value}
+        return expand_shorthands(data)
+
+
+def expand_shorthands(data: Any) -> Any:
+    """``[environment]`` data with its shorthands written as tables (a new dict).
+
+    Examples
+    --------
+    >>> expand_shorthands({"light": 0.5, "light_direction": [1, -1, 0], "water": 2})
+    {'light': {'intensity': 0.5, 'direction': [1, -1, 0]}, 'water': {'supply': 2}}
+    """
+    if not isinstance(data, dict) or not any(k in data for k in SHORTHANDS):
         return data
+    data = dict(data)
+    for short, (table, key) in SHORTHANDS.items():
+        if short not in data or (short == table and isinstance(data[short], dict)):
+            continue
+        value = data.pop(short)
+        sub = data.get(table, {})
+        if not isinstance(sub, dict):
+            raise ValueError(f"{short}: shorthand for {table}.{key}, but {table} is set too")
+        if key in sub:
+            raise ValueError(f"{short}: given twice (also as {table}.{key})")
+        data[table] = {**sub, key: value}
+    return data

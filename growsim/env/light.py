@@ -24,7 +24,7 @@ from pydantic import Field, field_validator
 from growsim.errors import UserInputError
 from growsim.options import Options
 
-__all__ = ["Light", "projected_area", "view_basis"]
+__all__ = ["Light", "check_direction", "projected_area", "view_basis"]
 
 
 class Light(Options):
@@ -50,9 +50,7 @@ class Light(Options):
     @field_validator("direction")
     @classmethod
     def _check_direction(cls, v):
-        if not all(math.isfinite(x) for x in v) or math.hypot(*v) == 0.0:
-            raise ValueError(f"expected a finite non-zero 3-vector, got {v!r}")
-        return v
+        return check_direction(v)
 
     def captured(self, start, end, radius, resolution: int = 256) -> float:
         """Light intercepted by the segments: ``intensity * projected_area`` along
@@ -67,6 +65,19 @@ class Light(Options):
         """
         area = projected_area(start, end, radius, self.direction, resolution)
         return float(self.intensity * area)
+
+
+def check_direction(v: list[float]) -> list[float]:
+    """``v`` if it is a finite non-zero 3-vector, else ``ValueError`` (for validators).
+
+    Examples
+    --------
+    >>> check_direction([0.0, -1.0, 0.0])
+    [0.0, -1.0, 0.0]
+    """
+    if len(v) != 3 or not all(math.isfinite(x) for x in v) or math.hypot(*v) == 0.0:
+        raise ValueError(f"expected a finite non-zero 3-vector, got {v!r}")
+    return v
 
 
 def view_basis(direction) -> tuple[np.ndarray, np.ndarray]:

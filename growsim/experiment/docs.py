@@ -1,6 +1,6 @@
 """``docs/configs.md``: every config key, generated from the schema.
 
-    python -m growsim.experiment --docs > docs/configs.md
+python -m growsim.experiment --docs > docs/configs.md
 """
 
 from __future__ import annotations
@@ -8,17 +8,36 @@ from __future__ import annotations
 import re
 import sys
 from collections.abc import Sequence
-from typing import Any, get_args
+import types
+from typing import Annotated, Any, Literal, Union, get_args, get_origin
 
 from growsim.experiment.schema import SECTIONS
+from growsim.options import fields_of
 
 __all__ = ["config_docs", "main"]
 
 
 def _type_name(ann: Any) -> str:
-    text = repr(ann) if not isinstance(ann, type) else ann.__name__
-    text = text.replace("typing.", "").replace("NoneType", "None")
-    return text.replace("Literal", "one of ")
+    """A type as a TOML user reads it: ``int or None``, ``one of 'a', 'b'``, ``table``."""
+    origin, args = get_origin(ann), get_args(ann)
+    if origin is Annotated:
+        return _type_name(args[0])
+    if origin in (Union, types.UnionType):
+        names = [_type_name(a) for a in args]
+        return " or ".join(dict.fromkeys(n for n in names if n))  # operator classes: ""
+    if origin is Literal:
+        return "one of " + ", ".join(repr(a) for a in args)
+    if origin is list:
+        return f"list of {_type_name(args[0])}"
+    if origin is dict:
+        return "table"
+    if ann is type(None):
+        return "None"
+    if isinstance(ann, type) and fields_of(ann):
+        return f"{ann.__name__} table"
+    if ann in (int, float, str, bool):
+        return ann.__name__
+    return "" if isinstance(ann, type) else repr(ann)
 
 
 def _range_text(field) -> str:
@@ -125,7 +144,7 @@ def _sub_tables(field) -> list[Any]:
     out, stack = [], [field.annotation]
     while stack:
         cand = stack.pop()
-        if isinstance(cand, type) and hasattr(cand, "model_fields"):
+        if isinstance(cand, type) and fields_of(cand):
             out.append(cand)
         else:
             stack.extend(get_args(cand))
@@ -137,16 +156,17 @@ def _table(header: str, path: str, cls) -> list[str]:
     lines = [f"## `{header}`", "", _doc_line(cls), ""]
     lines += ["| key | type | default | range | meaning |", "|---|---|---|---|---|"]
     subs = []
-    for name, field in cls.model_fields.items():
-        typ = _type_name(field.annotation).replace("|", "or")
-        typ = re.sub(r"growsim(\.\w+)+\.(\w+)", r"\2 table", typ)
+    for name, field in fields_of(cls).items():
+        typ = _type_name(field.annotation)
         lines.append(
             f"| `{path}.{name}` | {typ} | {_default_text(field)} | "
             f"{_range_text(field) or '-'} | {(field.description or '').replace('|', '/')} |"
         )
         for sub in _sub_tables(field):
             many = "list" in repr(field.annotation)
-            subs.append((f"[[{path}.{name}]]" if many else f"[{path}.{name}]", f"{path}.{name}", sub))
+            subs.append(
+                (f"[[{path}.{name}]]" if many else f"[{path}.{name}]", f"{path}.{name}", sub)
+            )
     lines.append("")
     for sub_header, sub_path, sub in subs:
         lines += _table(sub_header, sub_path, sub)
@@ -166,7 +186,7 @@ def _objective_tables() -> list[str]:
     for name in OBJECTIVES:
         cls = OBJECTIVES.get(name)
         doc = _doc_line(cls).rstrip(".")
-        lines += [f"### `kind = \"{name}\"`: {doc}", ""]
+        lines += [f'### `kind = "{name}"`: {doc}', ""]
         lines += _table("", "objective", cls.Options)[4:]
     return lines
 

@@ -20,6 +20,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
+from growsim.env.environment import SHORTHANDS, expand_shorthands
 from growsim.errors import ConfigError, UserInputError
 from growsim.experiment.schema import Config
 from growsim.options import key_path, validation_message
@@ -100,7 +101,15 @@ def set_path(data: dict, parts: list[str | int], value: Any, label: str) -> None
     >>> set_path(d, ["ga", "population"], 8, "--set")
     >>> d
     {'ga': {'population': 8}}
+    >>> d = {"environment": {"light": {"direction": [1, -1, 0], "intensity": 1.0}}}
+    >>> set_path(d, ["environment", "light"], 0.5, "--set")  # a shorthand keeps the table
+    >>> d["environment"]["light"]
+    {'direction': [1, -1, 0], 'intensity': 0.5}
     """
+    if len(parts) == 2 and parts[0] == "environment" and parts[1] in SHORTHANDS:
+        table, key = SHORTHANDS[parts[1]]
+        if not isinstance(value, dict):
+            parts = ["environment", table, key]
     node: Any = data
     for i, part in enumerate(parts):
         last = i == len(parts) - 1
@@ -182,9 +191,10 @@ def validate(data: Mapping[str, Any], label: str = "config") -> Config:
     Examples
     --------
     >>> validate({"model": {"kind": "honda"}, "objective": [{"kind": "light", "x": 1}]})
+    ... # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    growsim.errors.ConfigError: objective[0].x: unknown key; allowed: kind, weight, direction, intensity, wood_cost, resolution
+    growsim.errors.ConfigError: objective[0].x: unknown key; allowed: kind, weight, ...
     """
     try:
         return Config.model_validate(data)
@@ -217,6 +227,12 @@ def _config_data(source, overrides: Sequence[str]) -> tuple[dict, list[Path]]:
         data = copy.deepcopy(dict(source))
     else:
         data = read_toml(Path(source))
+    env = data.get("environment") if isinstance(data, dict) else None
+    if isinstance(env, dict):  # shorthands as tables, so overrides of their keys apply
+        try:
+            data["environment"] = expand_shorthands(env)
+        except ValueError as exc:
+            raise ConfigError(f"environment.{exc}") from None
     for parts, value in parse_overrides(overrides):
         set_path(data, parts, value, "--set " + key_path(parts))
     bases = [Path.cwd()]

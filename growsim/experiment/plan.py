@@ -111,10 +111,8 @@ class ExperimentPlan(ModelPlan):
         """The :class:`growsim.ga.GA` of the plan evolving ``fitness``."""
         from growsim.ga import GA
 
-        options = self.config.ga.ga_options()
-        if batch_size is not None:
-            options["batch_size"] = batch_size
-        return GA(self.genome, fitness, maximize=True, seed=self.seed, **options)
+        overrides = {} if batch_size is None else {"batch_size": batch_size}
+        return GA(self.genome, fitness, self.config.ga, maximize=True, seed=self.seed, **overrides)
 
 
 def _user_params(cfg: Config, model: Model) -> dict[str, float]:
@@ -231,10 +229,6 @@ def _build_objective(cfg: Config, i: int, mp: ModelPlan):
         raise ConfigError(f"{where}: {exc}") from None
 
 
-def _no_fitness(x):  # pragma: no cover - never called: only lets the GA be checked
-    raise AssertionError("not a real fitness")
-
-
 def compile_plan(cfg: Config) -> ExperimentPlan:
     """Compile a schema-valid config: resolve the model, build each objective once,
     check the GA. Raises :class:`~growsim.errors.ConfigError` naming the key path.
@@ -254,14 +248,12 @@ def compile_plan(cfg: Config) -> ExperimentPlan:
         config=_resolved(cfg, mp),
         objectives=objectives,
     )
-    # The GA checks operator names, their options against the genome and the generation
-    # model itself: build it once here, so a typo fails before anything is written.
-    from growsim.ga import PolishOptions
-
+    # The schema checked the GA's options (operator names among them); the operators
+    # check their own options and that they can handle the genome's coding: build them
+    # once here, so a typo fails before anything is written.
     try:
-        plan.build_ga(_no_fitness)
-        if cfg.ga.polish is not None:
-            PolishOptions.from_dict(dict(cfg.ga.polish))
+        genome = plan.genome
+        plan.config.ga.operators(genome.kind).check(genome)
     except GrowsimError as exc:
         raise ConfigError(f"ga.{exc}") from None
     except (TypeError, ValueError) as exc:

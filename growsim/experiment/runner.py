@@ -26,7 +26,15 @@ from growsim.experiment.plan import ExperimentPlan
 from growsim.experiment.schema import Config
 from growsim.files import jsonable
 
-__all__ = ["Progress", "RunResult", "best_phenotype", "best_plant", "default_out", "load_run", "run"]
+__all__ = [
+    "Progress",
+    "RunResult",
+    "best_phenotype",
+    "best_plant",
+    "default_out",
+    "load_run",
+    "run",
+]
 
 log = logging.getLogger("growsim.experiment")
 
@@ -212,7 +220,9 @@ def run(
         rd = RunDir(out if out is not None else default_out(plan.config))
 
     # connect to the evaluators first: an unreachable scheduler writes nothing
-    ext, close = (executor, lambda: None) if executor is not None else make_executor(workers, scheduler)
+    ext, close = (
+        (executor, lambda: None) if executor is not None else make_executor(workers, scheduler)
+    )
     try:
         with rd.lock():
             if not resume:
@@ -333,9 +343,7 @@ def _measures(phenotype, plan) -> dict[str, float]:
     """The best phenotype's named measures (in its environment), for summaries."""
     try:
         return {
-            k: float(v)
-            for k, v in phenotype.measures(plan.environment).items()
-            if np.isscalar(v)
+            k: float(v) for k, v in phenotype.measures(plan.environment).items() if np.isscalar(v)
         }
     except Exception as exc:  # measures are informative; never lose a run for them
         log.warning("measures of the best phenotype failed: %s", exc)

@@ -9,12 +9,16 @@ description and limits: ``docs/configs.md`` is generated from them
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import Field, field_validator, model_validator
+from pydantic import Field, StrictFloat, StrictInt, field_validator, model_validator
+from pydantic.dataclasses import dataclass as pydantic_dataclass
 
 from growsim.env import Environment
+from growsim.ga import GAOptions, PolishOptions
+from growsim.ga.options import GA_OPTIONS_CONFIG
 from growsim.objectives import OBJECTIVES
 from growsim.options import Options
 
@@ -109,73 +113,41 @@ def _objective_union():
 ObjectiveConfig = _objective_union()
 
 
-class GAConfig(Options):
-    """``[ga]``: the genetic algorithm (see docs/ga.md for the operators)."""
+@pydantic_dataclass(frozen=True, config=GA_OPTIONS_CONFIG)
+class GAConfig(GAOptions):
+    """``[ga]``: the genetic algorithm (see docs/ga.md for the operators): every option of
+    :class:`growsim.ga.GAOptions` (population, operators, generation model, elite,
+    islands...), plus the genome's coding and the run's budget."""
 
-    population: int = Field(50, ge=2, le=10_000_000, description="individuals per generation")
-    generations: int | None = Field(20, ge=0, le=10_000_000, description="stop after this many")
-    evaluations: int | None = Field(None, ge=1, description="stop after this many evaluations")
-    target: float | None = Field(None, description="stop when the best fitness reaches it")
-    stagnation: int | None = Field(
+    generations: StrictInt | None = Field(
+        20, ge=0, le=10_000_000, description="stop after this many generations"
+    )
+    evaluations: StrictInt | None = Field(
+        None, ge=1, description="stop after this many evaluations"
+    )
+    target: StrictFloat | None = Field(None, description="stop when the best fitness reaches it")
+    stagnation: StrictInt | None = Field(
         None, ge=1, description="stop after this many generations without improvement"
     )
-    wall_time: float | None = Field(None, gt=0.0, description="stop after this many seconds")
+    wall_time: StrictFloat | None = Field(
+        None, gt=0.0, description="stop after this many seconds"
+    )
     coding: Literal["real", "bits"] = Field("real", description="genome coding")
-    bits: int = Field(8, ge=1, le=32, description="bits per parameter when coding = 'bits'")
+    bits: StrictInt = Field(8, ge=1, le=32, description="bits per parameter when coding = 'bits'")
     bit_coding: Literal["binary", "gray", "weighted", "fraction"] = Field(
         "binary", description="how bits map to a value when coding = 'bits'"
     )
-    selection: str | None = Field(None, description="selection operator (default per coding)")
-    crossover: str | None = Field(None, description="crossover operator (default per coding)")
-    mutation: str | None = Field(None, description="mutation operator (default per coding)")
-    selection_options: dict[str, Any] = Field(default_factory=dict, description="its options")
-    crossover_options: dict[str, Any] = Field(default_factory=dict, description="its options")
-    mutation_options: dict[str, Any] = Field(default_factory=dict, description="its options")
-    model: Literal["generational", "steady", "mu+lambda"] = Field(
-        "generational", description="generation model"
-    )
-    elite: int = Field(1, ge=0, description="best individuals copied unchanged")
-    elite_rate: float | None = Field(
-        None, ge=0.0, le=1.0, description="elite as a share of the population (over elite)"
-    )
-    islands: int = Field(1, ge=1, le=10_000, description="sub-populations")
-    migration_rate: float = Field(0.1, ge=0.0, le=1.0, description="share migrating")
-    migration_interval: int = Field(5, ge=1, description="generations between migrations")
-    extinction: bool = Field(True, description="re-create a population that stops reproducing")
-    batch_size: int | None = Field(None, ge=1, description="individuals per evaluation task")
-    polish: dict[str, Any] | None = Field(
+    polish: PolishOptions | None = Field(
         None,
-        description="local refinement of the best: evaluations, sigma, batch, min_sigma, "
-        'method ("es" or "cmaes"), e.g. {evaluations = 500, sigma = 0.02}',
+        description="local refinement of the best at the end (a table: evaluations, sigma, "
+        'batch, min_sigma, method "es" or "cmaes"), e.g. {evaluations = 500, sigma = 0.02}',
     )
 
     @model_validator(mode="after")
-    def _check(self):
+    def _budget(self):
         if self.generations is None and self.evaluations is None and self.wall_time is None:
             raise ValueError("no budget: set at least one of generations, evaluations or wall_time")
-        if self.elite >= self.population:
-            raise ValueError(f"elite ({self.elite}) must be below population ({self.population})")
         return self
-
-    def ga_options(self) -> dict[str, Any]:
-        """The keyword options of :class:`growsim.ga.GA` (operators, generation model...)."""
-        return {
-            "population": self.population,
-            "selection": self.selection,
-            "crossover": self.crossover,
-            "mutation": self.mutation,
-            "selection_options": dict(self.selection_options) or None,
-            "crossover_options": dict(self.crossover_options) or None,
-            "mutation_options": dict(self.mutation_options) or None,
-            "model": self.model,
-            "elite": self.elite,
-            "elite_rate": self.elite_rate,
-            "islands": self.islands,
-            "migration_rate": self.migration_rate,
-            "migration_interval": self.migration_interval,
-            "extinction": self.extinction,
-            "batch_size": self.batch_size,
-        }
 
     def stop_options(self) -> dict[str, Any]:
         """The keyword options of :meth:`growsim.ga.GA.run` (budget, stops, polish)."""
@@ -185,7 +157,7 @@ class GAConfig(Options):
             "target": self.target,
             "stagnation": self.stagnation,
             "wall_time": self.wall_time,
-            "polish": dict(self.polish) if self.polish else None,
+            "polish": None if self.polish is None else dataclasses.asdict(self.polish),
         }
 
 

@@ -17,6 +17,7 @@ from growsim.experiment.executors import check_executor_args, make_executor
 from growsim.experiment.load import load_plan, parse_path, parse_value, read_config, set_path
 from growsim.experiment.plan import ExperimentPlan
 from growsim.experiment.runner import default_out, run
+from growsim.experiment.schema import Config
 from growsim.options import key_path
 
 __all__ = ["parse_vary", "sweep"]
@@ -77,7 +78,7 @@ def _label(assign: Mapping[str, Any]) -> str:
 
 
 def sweep(
-    config: str | Path | Mapping[str, Any] | Config,
+    config: str | Path | Mapping[str, Any] | Config | ExperimentPlan,
     vary: Sequence[str] | Mapping[str, Sequence[Any]] = (),
     *,
     repeats: int | None = None,

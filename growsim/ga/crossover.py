@@ -41,7 +41,19 @@ def _check_prob(op: str, name: str, v: float, low_open=False) -> float:
 
 class Crossover(Operator):
     """Base class. Subclasses implement ``_cross(a, b, rng, genome) -> (c1, c2)`` for the
-    pairs that cross; the base applies ``rate`` and checks the coding."""
+    pairs that cross; the base applies ``rate`` and checks the coding.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> class Swap(Crossover):
+    ...     name = "swap"
+    ...     def _cross(self, a, b, rng, genome):
+    ...         return b.copy(), a.copy()
+    >>> c1, c2 = Swap(rate=1.0)(np.zeros((2, 3)), np.ones((2, 3)), np.random.default_rng(0), None)
+    >>> c1.tolist()
+    [[1.0, 1.0, 1.0], [1.0, 1.0, 1.0]]
+    """
 
     role = name = "crossover"
 

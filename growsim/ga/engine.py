@@ -1,10 +1,13 @@
 """The GA engine: :class:`GA`, ask/tell over one or more islands and a ``run()`` loop on
 top.
 
-The parts live beside it: the options in :mod:`growsim.ga.options`, the mutable state
-(which is the checkpoint) in :mod:`growsim.ga.state`, the generation models and the
-migration in :mod:`growsim.ga.generation`, the history rows in :mod:`growsim.ga.history`
-and the final local refinement in :mod:`growsim.ga.polish`.
+Ask/tell is a template (as evosax's): the public :meth:`GA.ask` and :meth:`GA.tell` do
+the bookkeeping (the pending generation, counters, best-so-far, stagnation, history rows)
+and ``_ask`` / ``_tell`` the algorithm (each island's new genomes; merge, migration,
+extinction). The parts live beside it: the options in :mod:`growsim.ga.options`, the
+mutable state (which is the checkpoint) in :mod:`growsim.ga.state`, the generation models
+and the migration in :mod:`growsim.ga.generation`, the history rows and results in
+:mod:`growsim.ga.history` and the final local refinement in :mod:`growsim.ga.polish`.
 
 Islands evolve side by side (one evaluation batch for all of them); every
 ``migration_interval`` generations each island sends copies of its best
@@ -301,7 +304,19 @@ class GA:
     def migrate(self) -> None:
         """Send copies of each island's best ``migration_rate * population`` (at least
         one, at most ``population - 1``) to replace the worst of the next island on the
-        ring; :meth:`tell` does it every ``migration_interval`` generations."""
+        ring; :meth:`tell` does it every ``migration_interval`` generations.
+
+        Examples
+        --------
+        >>> from growsim.ga import GA, Genome, Real
+        >>> ga = GA(Genome([Real("x", 0, 1)]), lambda x: x[:, 0], population=4, islands=2,
+        ...         migration_rate=0.25)
+        >>> ga.tell(ga.genome.decode(ga.ask())[:, 0])
+        >>> best0 = ga.state.pops[0][ga.state.scores[0].argmax()]
+        >>> ga.migrate()
+        >>> bool((ga.state.pops[1] == best0).all(axis=1).any())
+        True
+        """
         o, st = self.options, self.state
         k = max(1, round(o.migration_rate * o.population)) if o.migration_rate > 0 else 0
         migrate(st.pops, st.scores, st.strategies, min(k, o.population - 1))

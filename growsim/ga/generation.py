@@ -39,6 +39,19 @@ class GenerationModel:
     A model raises :class:`ValueError` for an ``offspring`` it cannot use. Subclasses set
     ``name``, :meth:`default_offspring` and :meth:`merge`; :meth:`parents` pairs
     selected individuals.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from growsim.ga import Genome, Real, GAOptions
+    >>> g = Genome([Real("x", 0, 1, size=2)])
+    >>> model = GENERATION_MODELS.get("mu+lambda")(population=6, offspring=3)
+    >>> rng = np.random.default_rng(0)
+    >>> pop = g.random(6, rng)
+    >>> kids, _ = model.breed(pop, pop.sum(1), None, GAOptions().operators("real"), g, rng)
+    >>> new_pop, new_score, _ = model.merge(pop, pop.sum(1), None, kids, kids.sum(1), None)
+    >>> kids.shape, new_pop.shape, bool(new_score.min() >= pop.sum(1).min())
+    ((3, 2), (6, 2), True)
     """
 
     name = "model"

@@ -37,7 +37,19 @@ def _flip_positions(size: int, rate: float, rng) -> np.ndarray:
 
 
 class Mutation(Operator):
-    """Base class: ``__call__(x (m, L), rng, genome) -> x``."""
+    """Base class: ``__call__(x (m, L), rng, genome) -> x``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> class Negate(Mutation):
+    ...     name = "negate"
+    ...     kinds = ("real",)
+    ...     def __call__(self, x, rng, genome):
+    ...         return -x
+    >>> Negate()(np.ones((1, 2)), np.random.default_rng(0), None).tolist()
+    [[-1.0, -1.0]]
+    """
 
     role = name = "mutation"
     self_adaptive = False

@@ -11,20 +11,32 @@ operator names registered) raise from a validator, so pydantic names the key.
 from __future__ import annotations
 
 import dataclasses
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import (
+    ConfigDict,
+    Field,
+    Strict,
+    StrictBool,
+    StrictFloat,
+    StrictInt,
+    StrictStr,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 from pydantic.dataclasses import dataclass
 
 from growsim.errors import UserInputError
+from growsim.options import validation_message
 from growsim.ga.crossover import CROSSOVER, Crossover
 from growsim.ga.generation import GENERATION_MODELS, GenerationModel
 from growsim.ga.mutation import MUTATION, Mutation
 from growsim.ga.operator import Operators, make_operator
 from growsim.ga.selection import SELECTION, Selection
 
-__all__ = ["DEFAULT_OPERATORS", "GAOptions", "validation_message"]
+__all__ = ["DEFAULT_OPERATORS", "GA_OPTIONS_CONFIG", "GAOptions"]
 
 #: default operators per genome kind: the ones ``benchmarks/ga_vs_peers.py`` measures
 DEFAULT_OPERATORS = {
@@ -42,12 +54,16 @@ DEFAULT_OPERATORS = {
 
 _REGISTRIES = {"selection": SELECTION, "crossover": CROSSOVER, "mutation": MUTATION}
 
-_CONFIG = ConfigDict(
-    extra="forbid", strict=True, validate_default=True, arbitrary_types_allowed=True
+# Strict per field (Strict* types), not per class: a class-level ``strict=True`` would make
+# pydantic accept only GAOptions instances, not dicts, where a GAOptions is itself a field
+# (the config's ``[ga]`` section): error ``dataclass_exact_type``.
+GA_OPTIONS_CONFIG = ConfigDict(
+    extra="forbid", validate_default=True, arbitrary_types_allowed=True
 )
+StrictDict = Annotated[dict[str, Any], Strict()]
 
 
-@dataclass(frozen=True, config=_CONFIG)
+@dataclass(frozen=True, config=GA_OPTIONS_CONFIG)
 class GAOptions:
     """The options of :class:`growsim.ga.GA` (``GA(genome, fitness, GAOptions(...))``, or
     the same names as keywords: ``GA(genome, fitness, population=20)``).
@@ -58,6 +74,10 @@ class GAOptions:
     (:data:`DEFAULT_OPERATORS`: bits: tournament of 4, uniform crossover, bit-flip 1/L;
     reals: tournament of 4, SBX eta 15, polynomial mutation 1/p), and options given with
     None override the defaults' options.
+
+    Every field is strict (a string ``"50"`` is not a population; ints are accepted for
+    floats); a subclass (the config's ``[ga]`` section) declares its fields the same way,
+    with pydantic's ``Strict*`` types.
 
     Examples
     --------
@@ -71,37 +91,39 @@ class GAOptions:
       Value error, elite (4) must be smaller than population (4) ...
     """
 
-    population: int = Field(50, ge=2, le=10_000_000, description="individuals per generation")
-    selection: str | Selection | None = Field(
+    population: StrictInt = Field(50, ge=2, le=10_000_000, description="individuals per generation")
+    selection: StrictStr | Selection | None = Field(
         None, description="selection operator (default per coding)"
     )
-    crossover: str | Crossover | None = Field(
+    crossover: StrictStr | Crossover | None = Field(
         None, description="crossover operator (default per coding)"
     )
-    mutation: str | Mutation | None = Field(
+    mutation: StrictStr | Mutation | None = Field(
         None, description="mutation operator (default per coding)"
     )
-    selection_options: dict[str, Any] = Field(default_factory=dict, description="its options")
-    crossover_options: dict[str, Any] = Field(default_factory=dict, description="its options")
-    mutation_options: dict[str, Any] = Field(default_factory=dict, description="its options")
+    selection_options: StrictDict = Field(default_factory=dict, description="its options")
+    crossover_options: StrictDict = Field(default_factory=dict, description="its options")
+    mutation_options: StrictDict = Field(default_factory=dict, description="its options")
     model: Literal["generational", "steady", "mu+lambda"] = Field(
         "generational", description="generation model"
     )
-    elite: int = Field(1, ge=0, description="best individuals copied unchanged")
-    elite_rate: float | None = Field(
+    elite: StrictInt = Field(1, ge=0, description="best individuals copied unchanged")
+    elite_rate: StrictFloat | None = Field(
         None, ge=0.0, le=1.0, description="elite as a share of the population (over elite)"
     )
-    offspring: int | None = Field(
+    offspring: StrictInt | None = Field(
         None,
         ge=1,
         description="children per generation of the steady (default 2) and mu+lambda "
         "(default population) models",
     )
-    islands: int = Field(1, ge=1, le=10_000, description="sub-populations")
-    migration_rate: float = Field(0.1, ge=0.0, le=1.0, description="share migrating")
-    migration_interval: int = Field(5, ge=1, description="generations between migrations")
-    extinction: bool = Field(True, description="re-create a population that stops reproducing")
-    batch_size: int | None = Field(None, ge=1, description="individuals per evaluation task")
+    islands: StrictInt = Field(1, ge=1, le=10_000, description="sub-populations")
+    migration_rate: StrictFloat = Field(0.1, ge=0.0, le=1.0, description="share migrating")
+    migration_interval: StrictInt = Field(5, ge=1, description="generations between migrations")
+    extinction: StrictBool = Field(
+        True, description="re-create a population that stops reproducing"
+    )
+    batch_size: StrictInt | None = Field(None, ge=1, description="individuals per evaluation task")
 
     @field_validator(
         "population",
@@ -219,23 +241,3 @@ class GAOptions:
         except ValidationError as e:
             raise UserInputError(validation_message(e)) from None
 
-
-def validation_message(exc: ValidationError, prefix: str = "") -> str:
-    """One line for the first problem of a pydantic error on an options dataclass:
-    ``"{prefix}{field}: {problem} (got {value!r})"``, or the message of a rule between
-    options (which names them itself).
-
-    Examples
-    --------
-    >>> try:
-    ...     GAOptions(islands=0)
-    ... except ValidationError as e:
-    ...     validation_message(e, "ga.")
-    'ga.islands: Input should be greater than or equal to 1 (got 0)'
-    """
-    first = exc.errors(include_url=False)[0]
-    msg = first["msg"].removeprefix("Value error, ")
-    if not first["loc"]:
-        return prefix + msg
-    got = "" if first["type"] == "value_error" else f" (got {first['input']!r})"
-    return f"{prefix}{first['loc'][0]}: {msg}{got}"

@@ -27,29 +27,38 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
-from typing import Literal
+from dataclasses import dataclass, fields
+from typing import Literal, get_args
 
 import numpy as np
-from pydantic import ConfigDict, Field, ValidationError, model_validator
+from pydantic import (
+    ConfigDict,
+    Field,
+    StrictFloat,
+    StrictInt,
+    ValidationError,
+    model_validator,
+)
 from pydantic import dataclasses as pydantic_dataclasses
 
 from growsim.errors import UserInputError
 from growsim.ga.history import history_row
-from growsim.ga.options import validation_message
+from growsim.options import validation_message
 from growsim.ga.state import GAState
 
 __all__ = ["METHODS", "PolishOptions", "PolishStep", "polish_best", "polish_steps"]
 
+Method = Literal["es", "cmaes"]
 #: polish methods: ``"es"`` (elitist (1+lambda)-ES), ``"cmaes"`` (CMA-ES with restarts)
-METHODS = ("es", "cmaes")
+METHODS = get_args(Method)
 
 
 @pydantic_dataclasses.dataclass(
-    frozen=True, config=ConfigDict(extra="forbid", strict=True, validate_default=True)
+    frozen=True, config=ConfigDict(extra="forbid", validate_default=True)
 )
 class PolishOptions:
-    """Options of :func:`polish_steps` (the ``polish=`` dict of :meth:`GA.run`).
+    """Options of :func:`polish_steps` (the ``polish=`` dict of :meth:`GA.run`); strict
+    per field, as :class:`~growsim.ga.GAOptions`.
 
     Examples
     --------
@@ -61,17 +70,21 @@ class PolishOptions:
     growsim.errors.UserInputError: polish.method: Input should be 'es' or 'cmaes' (got 'newton')
     """
 
-    evaluations: int = Field(
-        1000, ge=1, description="fitness evaluations of the polish (out of the run's budget)"
+    evaluations: StrictInt = Field(
+        1000,
+        ge=1,
+        description="fitness evaluations of the polish (out of the run's budget)",
     )
-    sigma: float = Field(0.05, gt=0.0, le=1.0, description="first step size, in the unit box")
-    batch: int | None = Field(
+    sigma: StrictFloat = Field(0.05, gt=0.0, le=1.0, description="first step size, in the unit box")
+    batch: StrictInt | None = Field(
         None, ge=1, description="candidates per iteration (default max(8, 4 + 3 ln p))"
     )
-    min_sigma: float = Field(
-        1e-7, gt=0.0, description="the es restarts at sigma when its step falls below this"
+    min_sigma: StrictFloat = Field(
+        1e-7,
+        gt=0.0,
+        description="the es restarts at sigma when its step falls below this",
     )
-    method: Literal["es", "cmaes"] = Field(
+    method: Method = Field(
         "es", description='"es" ((1+lambda)-ES) or "cmaes" (CMA-ES with restarts)'
     )
 
@@ -89,7 +102,7 @@ class PolishOptions:
             d = {}
         if not isinstance(d, dict):
             raise UserInputError(f"polish must be a dict of options, got {d!r}")
-        allowed = list(cls.__dataclass_fields__)
+        allowed = [f.name for f in fields(cls)]
         bad = sorted(set(d) - set(allowed))
         if bad:
             raise UserInputError(
@@ -103,7 +116,15 @@ class PolishOptions:
 
 @dataclass
 class PolishStep:
-    """One polish iteration: ``candidates`` ``(k, p)`` decoded parameters to evaluate."""
+    """One polish iteration: ``candidates`` ``(k, p)`` decoded parameters to evaluate,
+    ``sigma`` the step size they were drawn with.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> PolishStep(np.zeros((8, 2)), 0.05).candidates.shape
+    (8, 2)
+    """
 
     candidates: np.ndarray
     sigma: float

@@ -28,7 +28,18 @@ __all__ = [
 
 
 class Selection(Operator):
-    """Base class: ``__call__(score (n,), k, rng) -> (k,) int64`` indices."""
+    """Base class: ``__call__(score (n,), k, rng) -> (k,) int64`` indices.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> class Best(Selection):
+    ...     name = "best"
+    ...     def __call__(self, score, k, rng):
+    ...         return np.full(k, np.argmax(score), dtype=np.int64)
+    >>> Best()(np.array([1.0, 5.0, 2.0]), 2, np.random.default_rng(0)).tolist()
+    [1, 1]
+    """
 
     role = name = "selection"
 

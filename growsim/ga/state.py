@@ -114,7 +114,16 @@ class GAState:
 
     def reached(self, target: float | None, sign: float) -> bool:
         """Whether the best-so-far, in the fitness's own orientation (``best_score *
-        sign``), has reached ``target`` (``>=`` when ``sign`` is 1, ``<=`` when -1)."""
+        sign``), has reached ``target`` (``>=`` when ``sign`` is 1, ``<=`` when -1).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> s = GAState.new(1, np.random.default_rng(0))
+        >>> s.set_best(-0.01, np.zeros(1), np.zeros(1), generation=3)  # minimising: 0.01
+        >>> s.reached(0.1, sign=-1.0), s.reached(0.001, sign=-1.0), s.reached(None, -1.0)
+        (True, False, False)
+        """
         if target is None or self.best_raw is None:
             return False
         b = self.best_score * sign
@@ -158,24 +167,29 @@ class GAState:
         if meta.get("version") != CHECKPOINT_VERSION:
             raise UserInputError(f"checkpoint {path}: unknown version {meta.get('version')}")
         mine = json.loads(json.dumps(fingerprint, default=json_default))
-        if meta["fingerprint"] != mine:
-            diff = [k for k in mine if meta["fingerprint"].get(k) != mine[k]]
+        theirs = meta.get("fingerprint") or {}
+        if theirs != mine:
+            diff = [k for k in mine if theirs.get(k) != mine[k]]
             raise UserInputError(
                 f"checkpoint {path} was written by a different GA set-up "
                 f"(differs in: {', '.join(diff)})"
             )
         values = {}
-        for f in fields(cls):
-            kind = f.metadata.get("store", "json")
-            if kind == "json":
-                values[f.name] = meta[f.name]
-            elif kind == "rng":
-                st = meta[f.name]
-                rng = np.random.Generator(getattr(np.random, st["bit_generator"])())
-                rng.bit_generator.state = st
-                values[f.name] = rng
-            elif kind == "array":
-                values[f.name] = data.get(f.name)
-            elif kind == "arrays":
-                values[f.name] = [data.get(f"{f.name}.{i}") for i in range(meta[f.name])]
-        return cls(**values), meta["extra"]
+        try:
+            for f in fields(cls):
+                kind = f.metadata.get("store", "json")
+                if kind == "json":
+                    values[f.name] = meta[f.name]
+                elif kind == "rng":
+                    st = meta[f.name]
+                    rng = np.random.Generator(getattr(np.random, st["bit_generator"])())
+                    rng.bit_generator.state = st
+                    values[f.name] = rng
+                elif kind == "array":
+                    values[f.name] = data.get(f.name)
+                elif kind == "arrays":
+                    values[f.name] = [data.get(f"{f.name}.{i}") for i in range(meta[f.name])]
+            extra = meta["extra"]
+        except (KeyError, TypeError, ValueError, AttributeError) as e:
+            raise UserInputError(f"checkpoint {path}: unreadable ({e!r})") from None
+        return cls(**values), extra

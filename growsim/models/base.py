@@ -133,7 +133,9 @@ class Model(abc.ABC):
             )
         return dict(self.presets[name])
 
-    def resolve(self, values: Mapping[str, float] | None = None, where: str = "") -> dict[str, float]:
+    def resolve(
+        self, values: Mapping[str, float] | None = None, where: str = ""
+    ) -> dict[str, float]:
         """Every parameter's value: ``values`` over the defaults, checked against
         :meth:`param_spec` of ``values`` (see :func:`resolve_params`)."""
         values = dict(values or {})

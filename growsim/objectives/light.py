@@ -24,11 +24,11 @@ pay for itself.
 
 from __future__ import annotations
 
-import math
-from typing import Literal
+from typing import Any, ClassVar, Literal
 
 from pydantic import Field, field_validator
 
+from growsim.env.light import check_direction
 from growsim.objectives.base import Objective, ObjectiveOptions
 
 __all__ = ["LightObjective", "LightOptions"]
@@ -55,9 +55,7 @@ class LightOptions(ObjectiveOptions):
     @field_validator("direction")
     @classmethod
     def _check_direction(cls, v):
-        if v is not None and (not all(math.isfinite(x) for x in v) or not any(v)):
-            raise ValueError(f"expected a finite non-zero 3-vector, got {v!r}")
-        return v
+        return None if v is None else check_direction(v)
 
 
 class LightObjective(Objective):
@@ -83,7 +81,7 @@ class LightObjective(Objective):
     maximize = True
     accepts = ("plant",)
     Options = LightOptions
-    example = {"wood_cost": 0.5, "resolution": 64}
+    example: ClassVar[dict[str, Any]] = {"wood_cost": 0.5, "resolution": 64}
 
     def setup(self) -> None:
         o = self.options

@@ -12,7 +12,7 @@ projected area is not within 0.5x-2x of the target's scores 0) is the option
 ``area_rejection``.
 
 Framing: plant projections and target pictures are framed alike (see
-:mod:`growsim.kernels.ifs3d` and :mod:`growsim.images`): one scale for both views that fits
+:mod:`growsim.kernels.views` and :mod:`growsim.images`): one scale for both views that fits
 the height into the ``size x size`` raster (or the half-width about the trunk base, if
 tighter), the trunk base at the horizontal centre, the lowest point on the bottom row. So a
 photo of any size and margin can be a target, and the score ignores the plant's absolute
@@ -32,7 +32,7 @@ credit. :meth:`SilhouetteObjective.exact` always gives the binary NCC, the figur
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 from pydantic import Field, field_validator, model_validator
@@ -190,7 +190,11 @@ class SilhouetteObjective(Objective):
     maximize = True
     accepts = ("plant",)
     Options = SilhouetteOptions
-    example = {"target_model": "ifs3d", "target_preset": "table1", "size": 32}
+    example: ClassVar[dict[str, Any]] = {
+        "target_model": "ifs3d",
+        "target_preset": "table1",
+        "size": 32,
+    }
 
     def setup(self) -> None:
         o = self.options
