@@ -19,7 +19,7 @@ from pydantic import BaseModel, ConfigDict, ValidationError
 
 from growsim.errors import ConfigError
 
-__all__ = ["Options", "fields_of", "key_path", "validation_message"]
+__all__ = ["Options", "fields_of", "key_path", "option_classes", "validation_message"]
 
 
 class Options(BaseModel):
@@ -93,8 +93,16 @@ def fields_of(cls) -> dict[str, Any]:
     return getattr(cls, "__pydantic_fields__", None) or {}
 
 
-def _classes_in(annotation) -> list[type]:
-    """The options classes an annotation holds (``X``, ``X | None``, ``list[A | B]``...)."""
+def option_classes(annotation) -> list[type]:
+    """The options classes an annotation holds (``X``, ``X | None``, ``list[A | B]``...).
+
+    Examples
+    --------
+    >>> class Pot(Options):
+    ...     size: float = 1.0
+    >>> option_classes(list[Pot] | None) == [Pot]
+    True
+    """
     out, stack = [], [annotation]
     while stack:
         cand = stack.pop()
@@ -129,7 +137,7 @@ def _candidates(root: type[BaseModel], loc: Sequence[Any]) -> list[type[BaseMode
         holder = next((c for c in cands if part in fields_of(c)), None)
         if holder is None:
             return []
-        cands = _classes_in(fields_of(holder)[part].annotation)
+        cands = option_classes(fields_of(holder)[part].annotation)
     return cands
 
 

@@ -204,20 +204,12 @@ class BatchF:
 
 
 def _fitness(objectives, weights, noise="fixed"):
-    cfg = load_config(QUICK)
-    f = build_fitness(cfg)
-    return Fitness(
-        f.model,
-        f.names,
-        f.fixed,
-        f.evolved,
-        objectives,
-        weights,
-        env=f.env,
-        noise=noise,
-        seed=3,
-        int_names=f.int_names,
-    )
+    import dataclasses
+
+    from growsim.experiment import load_plan
+
+    plan = dataclasses.replace(load_plan(QUICK), noise=noise, seed=3)
+    return Fitness(plan, objectives, weights)
 
 
 def test_fitness_weights_signs_and_batch_path():

@@ -20,7 +20,7 @@ from growsim.ga import (
     Real,
     genome_from_params,
 )
-from growsim.ga import _kernels as K
+from growsim.kernels import ga as K
 from growsim.models.base import Param
 
 

@@ -157,20 +157,9 @@ def _main(args) -> int:
     if args.evaluations is not None and args.evaluations < 100:
         raise UserInputError(f"--evaluations: at least 100, got {args.evaluations}")
     # compiling builds the objective once: bad pictures fail here, before any evolution
-    plan = load_plan(
-        fit_config(
-            args.front,
-            args.side,
-            model=args.model,
-            size=args.size,
-            threshold=args.threshold,
-            polarity=args.polarity,
-            mask_front=args.mask_front,
-            mask_side=args.mask_side,
-            evaluations=args.evaluations,
-            seed=args.seed,
-        )
-    )
+    options = ("model", "size", "threshold", "polarity", "mask_front", "mask_side")
+    options += ("evaluations", "seed")
+    plan = load_plan(fit_config(args.front, args.side, **{k: getattr(args, k) for k in options}))
     objective = plan.objectives[0]
     result = run(plan, out=args.out, workers=args.workers, progress=not args.quiet)
     out = Path(result.out)

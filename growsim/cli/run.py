@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from growsim.cli.arguments import add_evaluation_options, add_overrides
 from growsim.errors import UserInputError
 
 __all__ = ["register"]
@@ -32,20 +33,8 @@ def register(subparsers) -> None:
     p.add_argument(
         "--seed", type=int, metavar="N", help="seed of the run (overrides experiment.seed)"
     )
-    p.add_argument(
-        "--set",
-        dest="overrides",
-        action="append",
-        default=[],
-        metavar="KEY=VALUE",
-        help="override a config key, e.g. --set ga.population=50 (repeatable)",
-    )
-    p.add_argument("--workers", type=int, metavar="N", help="evaluate in N local processes")
-    p.add_argument(
-        "--scheduler",
-        metavar="ADDR",
-        help="evaluate on Dask: 'local' (a LocalCluster of --workers processes) or tcp://host:port",
-    )
+    add_overrides(p)
+    add_evaluation_options(p)
     p.add_argument("--resume", metavar="DIR", help="continue the interrupted run in DIR")
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bar, no summary")
     p.set_defaults(func=main)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 
+from growsim.cli.arguments import add_evaluation_options, add_overrides
+
 __all__ = ["register"]
 
 
@@ -37,16 +39,8 @@ def register(subparsers) -> None:
     p.add_argument(
         "--out", metavar="DIR", help="sweep directory (default runs/<name>-sweep-<time>)"
     )
-    p.add_argument(
-        "--set",
-        dest="overrides",
-        action="append",
-        default=[],
-        metavar="KEY=VALUE",
-        help="override a config key for every variant (repeatable)",
-    )
-    p.add_argument("--workers", type=int, metavar="N", help="evaluate in N local processes")
-    p.add_argument("--scheduler", metavar="ADDR", help="Dask: 'local' or tcp://host:port")
+    add_overrides(p, " for every variant")
+    add_evaluation_options(p)
     p.add_argument("--quiet", "-q", action="store_true", help="no progress bars, no table")
     p.set_defaults(func=main)
 

@@ -17,14 +17,36 @@ The shadow-map light (per-segment light with a z-buffer) grows from here.
 from __future__ import annotations
 
 import math
+from typing import Annotated
 
 import numpy as np
-from pydantic import Field, field_validator
+from pydantic import AfterValidator, Field
 
 from growsim.errors import UserInputError
 from growsim.options import Options
 
-__all__ = ["Light", "check_direction", "projected_area", "view_basis"]
+__all__ = ["Direction", "Intensity", "Light", "check_direction", "projected_area", "view_basis"]
+
+
+def check_direction(v: list[float]) -> list[float]:
+    """``v`` if it is a finite non-zero 3-vector, else ``ValueError`` (for validators).
+
+    Examples
+    --------
+    >>> check_direction([0.0, -1.0, 0.0])
+    [0.0, -1.0, 0.0]
+    """
+    if len(v) != 3 or not all(math.isfinite(x) for x in v) or math.hypot(*v) == 0.0:
+        raise ValueError(f"expected a finite non-zero 3-vector, got {v!r}")
+    return v
+
+
+#: a light direction: 3 finite numbers, not all zero (y up; ``[0, -1, 0]`` is from above)
+Direction = Annotated[
+    list[float], Field(min_length=3, max_length=3), AfterValidator(check_direction)
+]
+#: a light intensity (1 = full light)
+Intensity = Annotated[float, Field(ge=0.0, le=1e6)]
 
 
 class Light(Options):
@@ -36,21 +58,14 @@ class Light(Options):
     [0.0, -1.0, 0.0]
     """
 
-    direction: list[float] = Field(
+    direction: Direction = Field(
         default_factory=lambda: [0.0, -1.0, 0.0],
-        min_length=3,
-        max_length=3,
         description="direction the parallel light travels (y up: [0, -1, 0] is from above)",
     )
-    intensity: float = Field(1.0, ge=0.0, le=1e6, description="light intensity (1 = full light)")
+    intensity: Intensity = Field(1.0, description="light intensity (1 = full light)")
     diffuse: float = Field(
         0.0, ge=0.0, le=1.0, description="share of the light that comes from the whole sky"
     )
-
-    @field_validator("direction")
-    @classmethod
-    def _check_direction(cls, v):
-        return check_direction(v)
 
     def captured(self, start, end, radius, resolution: int = 256) -> float:
         """Light intercepted by the segments: ``intensity * projected_area`` along
@@ -65,19 +80,6 @@ class Light(Options):
         """
         area = projected_area(start, end, radius, self.direction, resolution)
         return float(self.intensity * area)
-
-
-def check_direction(v: list[float]) -> list[float]:
-    """``v`` if it is a finite non-zero 3-vector, else ``ValueError`` (for validators).
-
-    Examples
-    --------
-    >>> check_direction([0.0, -1.0, 0.0])
-    [0.0, -1.0, 0.0]
-    """
-    if len(v) != 3 or not all(math.isfinite(x) for x in v) or math.hypot(*v) == 0.0:
-        raise ValueError(f"expected a finite non-zero 3-vector, got {v!r}")
-    return v
 
 
 def view_basis(direction) -> tuple[np.ndarray, np.ndarray]:

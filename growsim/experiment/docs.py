@@ -7,12 +7,12 @@ from __future__ import annotations
 
 import re
 import sys
-from collections.abc import Sequence
 import types
+from collections.abc import Sequence
 from typing import Annotated, Any, Literal, Union, get_args, get_origin
 
 from growsim.experiment.schema import SECTIONS
-from growsim.options import fields_of
+from growsim.options import fields_of, option_classes
 
 __all__ = ["config_docs", "main"]
 
@@ -40,9 +40,23 @@ def _type_name(ann: Any) -> str:
     return "" if isinstance(ann, type) else repr(ann)
 
 
+def _metadata(field) -> list[Any]:
+    """The constraints of a field: its own and those of the annotated types it holds."""
+    out, stack = list(field.metadata), [field.annotation]
+    while stack:
+        ann = stack.pop()
+        if get_origin(ann) is Annotated:
+            for m in get_args(ann)[1:]:
+                out.extend(getattr(m, "metadata", None) or [m])
+            stack.append(get_args(ann)[0])
+        elif get_origin(ann) in (Union, types.UnionType):
+            stack.extend(get_args(ann))
+    return out
+
+
 def _range_text(field) -> str:
     parts = []
-    for m in field.metadata:
+    for m in _metadata(field):
         for attr, sym in (("ge", ">="), ("gt", ">"), ("le", "<="), ("lt", "<")):
             v = getattr(m, attr, None)
             if v is not None:
@@ -139,18 +153,6 @@ def _doc_line(cls) -> str:
     return first[:1].upper() + first[1:]
 
 
-def _sub_tables(field) -> list[Any]:
-    """Options classes a field holds (a sub-table, a list of tables, or an optional one)."""
-    out, stack = [], [field.annotation]
-    while stack:
-        cand = stack.pop()
-        if isinstance(cand, type) and fields_of(cand):
-            out.append(cand)
-        else:
-            stack.extend(get_args(cand))
-    return out
-
-
 def _table(header: str, path: str, cls) -> list[str]:
     """The Markdown table of one options class, then its sub-tables."""
     lines = [f"## `{header}`", "", _doc_line(cls), ""]
@@ -162,7 +164,7 @@ def _table(header: str, path: str, cls) -> list[str]:
             f"| `{path}.{name}` | {typ} | {_default_text(field)} | "
             f"{_range_text(field) or '-'} | {(field.description or '').replace('|', '/')} |"
         )
-        for sub in _sub_tables(field):
+        for sub in option_classes(field.annotation):
             many = "list" in repr(field.annotation)
             subs.append(
                 (f"[[{path}.{name}]]" if many else f"[{path}.{name}]", f"{path}.{name}", sub)

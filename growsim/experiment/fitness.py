@@ -6,7 +6,7 @@ objective (or an objective's population fast path), weights and sums.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -17,8 +17,10 @@ __all__ = ["Fitness", "build_fitness"]
 class Fitness:
     """The fitness of an experiment: develop each individual, score it, weight and sum.
 
-    A module-level class holding only picklable pieces (the model, fixed values,
-    objective instances, environment), so process pools and Dask workers can run it.
+    Built from a plan (:class:`~growsim.experiment.plan.ModelPlan`: the model, its
+    parameters, environment, noise and seed; the objectives and weights default to those
+    of an ``ExperimentPlan``). It holds only picklable pieces, so process pools and Dask
+    workers can run it.
     ``__call__`` takes the GA's ``(n, k)`` matrix of evolved parameters (columns in
     ``evolved`` order) and returns ``(n,)`` float64 fitness values to maximise:
     ``sum_i weight_i * sign_i * score_i`` with ``sign_i = -1`` for objectives that
@@ -37,30 +39,23 @@ class Fitness:
 
     def __init__(
         self,
-        model,
-        names: Sequence[str],
-        fixed: Mapping[str, float],
-        evolved: Sequence[str],
-        objectives: Sequence[Any],
-        weights: Sequence[float],
-        env: Any = None,
-        noise: str = "fixed",
-        seed: int = 0,
-        int_names: Sequence[str] = (),
+        plan,
+        objectives: Sequence[Any] | None = None,
+        weights: Sequence[float] | None = None,
     ):
-        from growsim.models import get_model
-
-        self.model = get_model(model) if isinstance(model, str) else model
-        self.names = tuple(names)
-        self.fixed = dict(fixed)
-        self.evolved = tuple(evolved)
+        objectives = plan.objectives if objectives is None else objectives
+        weights = plan.weights if weights is None else weights
+        self.model = plan.model
+        self.names = plan.names
+        self.fixed = dict(plan.fixed)
+        self.evolved = tuple(p.name for p in plan.evolved)
         self.objectives = list(objectives)
         self.weights = np.asarray(weights, dtype=np.float64)
         self.signs = np.array([1.0 if getattr(o, "maximize", True) else -1.0 for o in objectives])
-        self.env = env
-        self.noise = noise
-        self.seed = int(seed)
-        self.int_names = frozenset(int_names)
+        self.env = plan.environment
+        self.noise = plan.noise
+        self.seed = int(plan.seed)
+        self.int_names = plan.int_names
         col = {n: i for i, n in enumerate(self.names)}
         self._evolved_cols = np.array([col[n] for n in self.evolved], dtype=np.int64)
         self._base = np.array([self.fixed.get(n, np.nan) for n in self.names], dtype=np.float64)
@@ -90,22 +85,6 @@ class Fitness:
         if "seed" in self.names:
             return full[:, self.names.index("seed")].astype(np.uint64)
         return np.full(n, self.seed, dtype=np.uint64)
-
-    @classmethod
-    def from_plan(cls, plan) -> Fitness:
-        """The fitness of an :class:`~growsim.experiment.plan.ExperimentPlan`."""
-        return cls(
-            model=plan.model,
-            names=plan.names,
-            fixed=plan.fixed,
-            evolved=[p.name for p in plan.evolved],
-            objectives=plan.objectives,
-            weights=plan.weights,
-            env=plan.environment,
-            noise=plan.noise,
-            seed=plan.seed,
-            int_names=plan.int_names,
-        )
 
     def develop(self, row: np.ndarray, seed: int):
         """Grow the phenotype of one full parameter row."""
@@ -168,4 +147,4 @@ def build_fitness(config) -> Fitness:
         plan = compile_plan(config)
     else:
         plan = load_plan(config)
-    return Fitness.from_plan(plan)
+    return Fitness(plan)

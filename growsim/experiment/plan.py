@@ -105,7 +105,7 @@ class ExperimentPlan(ModelPlan):
         """The picklable :class:`~growsim.experiment.fitness.Fitness` of the plan."""
         from growsim.experiment.fitness import Fitness
 
-        return Fitness.from_plan(self)
+        return Fitness(self)
 
     def build_ga(self, fitness, batch_size: int | None = None):
         """The :class:`growsim.ga.GA` of the plan evolving ``fitness``."""

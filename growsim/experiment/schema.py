@@ -129,9 +129,7 @@ class GAConfig(GAOptions):
     stagnation: StrictInt | None = Field(
         None, ge=1, description="stop after this many generations without improvement"
     )
-    wall_time: StrictFloat | None = Field(
-        None, gt=0.0, description="stop after this many seconds"
-    )
+    wall_time: StrictFloat | None = Field(None, gt=0.0, description="stop after this many seconds")
     coding: Literal["real", "bits"] = Field("real", description="genome coding")
     bits: StrictInt = Field(8, ge=1, le=32, description="bits per parameter when coding = 'bits'")
     bit_coding: Literal["binary", "gray", "weighted", "fraction"] = Field(

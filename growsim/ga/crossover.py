@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from growsim.errors import UserInputError
-from growsim.ga import _kernels as K
+from growsim.kernels import ga as K
 from growsim.ga.operator import Operator
 from growsim.registry import Registry
 
@@ -329,7 +329,7 @@ class SBX(Crossover):
         self.gene_rate = _check_prob(self.name, "gene_rate", gene_rate)
 
     def _cross(self, a, b, rng, genome):
-        # three uniforms per gene, drawn in this order (the oracle in tests/naive_ga.py
+        # three uniforms per gene, drawn in this order (the oracle in tests/naive/ga.py
         # draws the same): gene crossed?, spread, swap children?
         r_act = rng.random(a.shape)
         r_u = rng.random(a.shape)

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from growsim.errors import UserInputError
-from growsim.ga import _kernels as K
+from growsim.kernels import ga as K
 
 __all__ = [
     "OKUSA_WEIGHTS",
@@ -74,6 +74,21 @@ def _check_range(name, low, high) -> tuple[float, float]:
     return lo, hi
 
 
+def _check_bounded(field, integer: bool) -> None:
+    """Check the ``name``, ``low``, ``high`` and ``size`` of a :class:`Real`, :class:`Bits`
+    or (``integer``) :class:`Integer` field and store them normalised: float bounds, or int
+    bounds (which must be whole numbers), and an int size."""
+    _check_name(field.name)
+    lo, hi = _check_range(field.name, field.low, field.high)
+    if integer:
+        if lo != round(lo) or hi != round(hi):
+            raise UserInputError(f"genome field {field.name!r}: integer bounds must be integers")
+        lo, hi = int(lo), int(hi)
+    object.__setattr__(field, "low", lo)
+    object.__setattr__(field, "high", hi)
+    object.__setattr__(field, "size", _check_size(field.name, field.size))
+
+
 @dataclass(frozen=True)
 class Real:
     """A real field: ``size`` values in ``[low, high]``.
@@ -90,11 +105,7 @@ class Real:
     size: int = 1
 
     def __post_init__(self):
-        _check_name(self.name)
-        lo, hi = _check_range(self.name, self.low, self.high)
-        object.__setattr__(self, "low", lo)
-        object.__setattr__(self, "high", hi)
-        object.__setattr__(self, "size", _check_size(self.name, self.size))
+        _check_bounded(self, integer=False)
 
 
 @dataclass(frozen=True)
@@ -113,13 +124,7 @@ class Integer:
     size: int = 1
 
     def __post_init__(self):
-        _check_name(self.name)
-        lo, hi = _check_range(self.name, self.low, self.high)
-        if lo != round(lo) or hi != round(hi):
-            raise UserInputError(f"genome field {self.name!r}: integer bounds must be integers")
-        object.__setattr__(self, "low", int(lo))
-        object.__setattr__(self, "high", int(hi))
-        object.__setattr__(self, "size", _check_size(self.name, self.size))
+        _check_bounded(self, integer=True)
 
 
 @dataclass(frozen=True)
@@ -183,11 +188,7 @@ class Bits:
     weights: tuple | None = None
 
     def __post_init__(self):
-        _check_name(self.name)
-        lo, hi = _check_range(self.name, self.low, self.high)
-        object.__setattr__(self, "low", lo)
-        object.__setattr__(self, "high", hi)
-        object.__setattr__(self, "size", _check_size(self.name, self.size))
+        _check_bounded(self, integer=False)
         if self.coding not in _CODINGS:
             raise UserInputError(
                 f"genome field {self.name!r}: unknown coding {self.coding!r}; "

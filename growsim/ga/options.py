@@ -29,12 +29,12 @@ from pydantic import (
 from pydantic.dataclasses import dataclass
 
 from growsim.errors import UserInputError
-from growsim.options import validation_message
 from growsim.ga.crossover import CROSSOVER, Crossover
 from growsim.ga.generation import GENERATION_MODELS, GenerationModel
 from growsim.ga.mutation import MUTATION, Mutation
 from growsim.ga.operator import Operators, make_operator
 from growsim.ga.selection import SELECTION, Selection
+from growsim.options import validation_message
 
 __all__ = ["DEFAULT_OPERATORS", "GA_OPTIONS_CONFIG", "GAOptions"]
 
@@ -57,9 +57,7 @@ _REGISTRIES = {"selection": SELECTION, "crossover": CROSSOVER, "mutation": MUTAT
 # Strict per field (Strict* types), not per class: a class-level ``strict=True`` would make
 # pydantic accept only GAOptions instances, not dicts, where a GAOptions is itself a field
 # (the config's ``[ga]`` section): error ``dataclass_exact_type``.
-GA_OPTIONS_CONFIG = ConfigDict(
-    extra="forbid", validate_default=True, arbitrary_types_allowed=True
-)
+GA_OPTIONS_CONFIG = ConfigDict(extra="forbid", validate_default=True, arbitrary_types_allowed=True)
 StrictDict = Annotated[dict[str, Any], Strict()]
 
 
@@ -240,4 +238,3 @@ class GAOptions:
             return dataclasses.replace(options, **overrides) if overrides else options
         except ValidationError as e:
             raise UserInputError(validation_message(e)) from None
-

@@ -43,8 +43,8 @@ from pydantic import dataclasses as pydantic_dataclasses
 
 from growsim.errors import UserInputError
 from growsim.ga.history import history_row
-from growsim.options import validation_message
 from growsim.ga.state import GAState
+from growsim.options import validation_message
 
 __all__ = ["METHODS", "PolishOptions", "PolishStep", "polish_best", "polish_steps"]
 

@@ -233,6 +233,16 @@ def grow_kernel(f, generations, geo, U, n_vertices):
 
 
 @njit
+def _child_counts(parent):
+    """``(n,)`` int64: how many segments have each segment as ``parent`` (``-1``: none)."""
+    nchild = np.zeros(parent.shape[0], np.int64)
+    for s in range(parent.shape[0]):
+        if parent[s] >= 0:
+            nchild[parent[s]] += 1
+    return nchild
+
+
+@njit
 def subtree_tips_kernel(parent):
     """Number of tips (segments without children) in each segment's sub-tree.
 
@@ -240,10 +250,7 @@ def subtree_tips_kernel(parent):
     ``(n,)`` int64.
     """
     n = parent.shape[0]
-    nchild = np.zeros(n, np.int64)
-    for s in range(n):
-        if parent[s] >= 0:
-            nchild[parent[s]] += 1
+    nchild = _child_counts(parent)
     tips = np.zeros(n, np.int64)
     for s in range(n - 1, -1, -1):
         if nchild[s] == 0:
@@ -346,10 +353,7 @@ def leaves_kernel(start, end, parent, per_branch, e, cut):
     ``(m,)`` int64 (the stem each leaf is on).
     """
     n = parent.shape[0]
-    nchild = np.zeros(n, np.int64)
-    for s in range(n):
-        if parent[s] >= 0:
-            nchild[parent[s]] += 1
+    nchild = _child_counts(parent)
     nontip = np.zeros(n, np.int64)
     for s in range(n):
         if parent[s] >= 0 and nchild[s] > 0:

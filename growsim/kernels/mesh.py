@@ -62,6 +62,16 @@ def perpendicular_frame(ax, ay, az):
 
 
 @njit
+def _axis(dx, dy, dz, fx, fy, fz):
+    """``(L, ax, ay, az)``: the length of ``(dx, dy, dz)`` and its unit direction, or the
+    fallback axis ``(fx, fy, fz)`` for a zero-length vector."""
+    L = math.sqrt(dx * dx + dy * dy + dz * dz)
+    if L > 0.0:
+        return L, dx / L, dy / L, dz / L
+    return L, fx, fy, fz
+
+
+@njit
 def weld_targets(parent, kind, radius):
     """For each stem, the parent stem whose end ring its tube may share (``-1``: none).
 
@@ -142,11 +152,7 @@ def mesh_kernel(start, end, r0, r1, kind, sides, segments, weld_to):
         dx = end[s, 0] - start[s, 0]
         dy = end[s, 1] - start[s, 1]
         dz = end[s, 2] - start[s, 2]
-        L = math.sqrt(dx * dx + dy * dy + dz * dz)
-        if L > 0.0:
-            ax, ay, az = dx / L, dy / L, dz / L
-        else:
-            ax, ay, az = 0.0, 1.0, 0.0
+        L, ax, ay, az = _axis(dx, dy, dz, 0.0, 1.0, 0.0)
         ux, uy, uz, wx, wy, wz = perpendicular_frame(ax, ay, az)
         w = weld_to[s]
         first = 1 if w >= 0 else 0
@@ -182,11 +188,7 @@ def mesh_kernel(start, end, r0, r1, kind, sides, segments, weld_to):
         dx = end[s, 0] - start[s, 0]
         dy = end[s, 1] - start[s, 1]
         dz = end[s, 2] - start[s, 2]
-        L = math.sqrt(dx * dx + dy * dy + dz * dz)
-        if L > 0.0:
-            ax, ay, az = dx / L, dy / L, dz / L
-        else:
-            ax, ay, az = 1.0, 0.0, 0.0
+        L, ax, ay, az = _axis(dx, dy, dz, 1.0, 0.0, 0.0)
         # across the blade: horizontal and perpendicular to the leaf axis, so the blade
         # faces up (a vertical leaf falls back to the frame's first axis)
         sx = -az

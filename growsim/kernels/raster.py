@@ -33,23 +33,28 @@ __all__ = ["draw_segments", "draw_segments_depth"]
 
 
 @njit
-def _ifloor(v, hi):
-    """``floor(v)`` clamped to ``[-1, hi + 1]`` (safe for huge coordinates)."""
+def _iclamp(v, hi, up):
+    """``ceil(v)`` if ``up`` else ``floor(v)``, clamped to ``[-1, hi + 1]`` (safe for huge
+    coordinates: the clamp comes before the conversion to an integer)."""
     if v < -1.0:
         return -1
     if v > hi + 1.0:
         return hi + 1
+    if up:
+        return math.ceil(v)
     return math.floor(v)
 
 
 @njit
+def _ifloor(v, hi):
+    """``floor(v)`` clamped to ``[-1, hi + 1]`` (see :func:`_iclamp`)."""
+    return _iclamp(v, hi, False)
+
+
+@njit
 def _iceil(v, hi):
-    """``ceil(v)`` clamped to ``[-1, hi + 1]``."""
-    if v < -1.0:
-        return -1
-    if v > hi + 1.0:
-        return hi + 1
-    return math.ceil(v)
+    """``ceil(v)`` clamped to ``[-1, hi + 1]`` (see :func:`_iclamp`)."""
+    return _iclamp(v, hi, True)
 
 
 @njit

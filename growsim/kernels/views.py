@@ -18,7 +18,8 @@ point on the bottom row (:func:`frame_view` places any points so).
 
 Layers: the public functions validate their inputs, allocate and call ``@njit`` kernels
 (``*_kernel``: public, because other kernel modules call them inside their own loops,
-on buffers they own); small ``@njit`` helpers (``_frame_*``) hold the shared formulas.
+on buffers they own); small ``@njit`` helpers (``_frame_*``, ``_zero``, ``_n_samples``)
+hold the shared formulas.
 """
 
 from __future__ import annotations
@@ -159,6 +160,23 @@ def _frame_view(u, y, u_base, y_min, k, size, col, row):
 
 
 @njit
+def _zero(a):
+    """Set every element of the C-contiguous array ``a`` to 0, in place."""
+    flat = a.reshape(-1)
+    for q in range(flat.size):
+        flat[q] = 0
+
+
+@njit
+def _n_samples(dx, dy):
+    """``max(1, ceil(max(|dx|, |dy|)))``: steps of at most one pixel along ``(dx, dy)``."""
+    n = math.ceil(max(abs(dx), abs(dy)))
+    if n < 1:
+        n = 1
+    return n
+
+
+@njit
 def render_thin_kernel(coords, img):
     """Thin-line views of segments ``coords`` ``(V, 2, M, 2)`` into ``img`` ``(V, S0, S1)``.
 
@@ -178,21 +196,15 @@ def render_thin_kernel(coords, img):
     >>> img[0].tolist()
     [[1, 1, 1], [0, 0, 0]]
     """
-    flat = img.reshape(-1)
-    for q in range(flat.size):
-        flat[q] = 0
-    M = coords.shape[2]
-    S0 = img.shape[1]
-    S1 = img.shape[2]
+    _zero(img)
+    _, S0, S1 = img.shape
     for v in range(coords.shape[0]):
-        for i in range(M):
+        for i in range(coords.shape[2]):
             ax = coords[v, 0, i, 0]
             ay = coords[v, 0, i, 1]
             dx = coords[v, 1, i, 0] - ax
             dy = coords[v, 1, i, 1] - ay
-            n = math.ceil(max(abs(dx), abs(dy)))
-            if n < 1:
-                n = 1
+            n = _n_samples(dx, dy)
             inv = 1.0 / n
             for t in range(n + 1):
                 f = t * inv
@@ -220,21 +232,15 @@ def render_antialiased_kernel(coords, acc):
     >>> acc.round(6).tolist()  # length 2 in three samples of 2/3, on pixel centres
     [[[0.666667, 0.666667, 0.666667]]]
     """
-    flat = acc.reshape(-1)
-    for q in range(flat.size):
-        flat[q] = 0.0
-    M = coords.shape[2]
-    S0 = acc.shape[1]
-    S1 = acc.shape[2]
+    _zero(acc)
+    _, S0, S1 = acc.shape
     for v in range(coords.shape[0]):
-        for i in range(M):
+        for i in range(coords.shape[2]):
             ax = coords[v, 0, i, 0] - 0.5
             ay = coords[v, 0, i, 1] - 0.5
             dx = coords[v, 1, i, 0] - coords[v, 0, i, 0]
             dy = coords[v, 1, i, 1] - coords[v, 0, i, 1]
-            n = math.ceil(max(abs(dx), abs(dy)))
-            if n < 1:
-                n = 1
+            n = _n_samples(dx, dy)
             inv = 1.0 / n
             w = math.sqrt(dx * dx + dy * dy) / (n + 1)
             for t in range(n + 1):
@@ -256,6 +262,7 @@ def render_antialiased_kernel(coords, acc):
                             continue
                         wx = fx if dj == 1 else 1.0 - fx
                         acc[v, ii, jj] += w * wx * wy
+    flat = acc.reshape(-1)
     for q in range(flat.size):
         if flat[q] > 1.0:
             flat[q] = 1.0
@@ -305,10 +312,14 @@ def blur_kernel(img, taps, tmp, out):
 
 
 @njit
-def _area_rejected(f_all, g_all):
-    """The seed's area rule: total area not within 0.5x-2x of the target's."""
-    ratio = f_all / max(1.0, g_all)
-    return ratio < 0.5 or ratio > 2.0
+def _view_mean(total, V, f_all, g_all, area_reject):
+    """``total / V``, or 0.0 if ``area_reject`` and the seed's area rule rejects the
+    views: their total area ``f_all`` not within 0.5x-2x of the target's ``g_all``."""
+    if area_reject:
+        ratio = f_all / max(1.0, g_all)
+        if ratio < 0.5 or ratio > 2.0:
+            return 0.0
+    return total / V
 
 
 @njit
@@ -326,12 +337,8 @@ def ncc_kernel(img, target, g_area, area_reject):
     >>> ncc_kernel(a, np.ones_like(a), np.array([4.0]), False)  # 2 / sqrt(2 * 4)
     0.7071067811865475
     """
-    V = img.shape[0]
-    S0 = img.shape[1]
-    S1 = img.shape[2]
-    total = 0.0
-    f_all = 0.0
-    g_all = 0.0
+    V, S0, S1 = img.shape
+    total = f_all = g_all = 0.0
     for v in range(V):
         c = 0
         f = 0
@@ -345,9 +352,7 @@ def ncc_kernel(img, target, g_area, area_reject):
             total += c / math.sqrt(f * g_area[v])
         f_all += f
         g_all += g_area[v]
-    if area_reject and _area_rejected(f_all, g_all):
-        return 0.0
-    return total / V
+    return _view_mean(total, V, f_all, g_all, area_reject)
 
 
 @njit
@@ -373,12 +378,8 @@ def blurred_ncc_kernel(img, taps, target_b, tb_norm, tmp, fb, g_area, area_rejec
     1.0
     """
     blur_kernel(img, taps, tmp, fb)
-    V = img.shape[0]
-    S0 = img.shape[1]
-    S1 = img.shape[2]
-    total = 0.0
-    f_all = 0.0
-    g_all = 0.0
+    V, S0, S1 = img.shape
+    total = f_all = g_all = 0.0
     for v in range(V):
         dot = 0.0
         ff = 0.0
@@ -393,9 +394,7 @@ def blurred_ncc_kernel(img, taps, target_b, tb_norm, tmp, fb, g_area, area_rejec
             total += dot / (math.sqrt(ff) * tb_norm[v])
         f_all += f
         g_all += g_area[v]
-    if area_reject and _area_rejected(f_all, g_all):
-        return 0.0
-    return total / V
+    return _view_mean(total, V, f_all, g_all, area_reject)
 
 
 # --------------------------------------------------------------------------- public

@@ -26,9 +26,9 @@ from __future__ import annotations
 
 from typing import Any, ClassVar, Literal
 
-from pydantic import Field, field_validator
+from pydantic import Field
 
-from growsim.env.light import check_direction
+from growsim.env.light import Direction, Intensity
 from growsim.objectives.base import Objective, ObjectiveOptions
 
 __all__ = ["LightObjective", "LightOptions"]
@@ -38,24 +38,16 @@ class LightOptions(ObjectiveOptions):
     """Options of the ``light`` objective."""
 
     kind: Literal["light"] = Field("light", description="the objective: light")
-    direction: list[float] | None = Field(
-        None,
-        min_length=3,
-        max_length=3,
-        description="direction the light travels (y up); default environment.light.direction",
+    direction: Direction | None = Field(
+        None, description="direction the light travels (y up); default environment.light.direction"
     )
-    intensity: float | None = Field(
-        None, ge=0.0, le=1e6, description="light intensity; default environment.light.intensity"
+    intensity: Intensity | None = Field(
+        None, description="light intensity; default environment.light.intensity"
     )
     wood_cost: float = Field(0.02, ge=0.0, le=1e9, description="cost per unit^3 of wood")
     resolution: int = Field(
         128, ge=16, le=4096, description="raster size (pixels across the plant) of the leaf area"
     )
-
-    @field_validator("direction")
-    @classmethod
-    def _check_direction(cls, v):
-        return None if v is None else check_direction(v)
 
 
 class LightObjective(Objective):

@@ -206,15 +206,8 @@ class SilhouetteObjective(Objective):
             self.source = {"front": str(Path(o.front)), "side": str(Path(o.side))}
             from growsim.images import read_silhouettes
 
-            self.target = read_silhouettes(
-                o.front,
-                o.side,
-                size=self.size,
-                threshold=o.threshold,
-                polarity=o.polarity,
-                mask_front=o.mask_front,
-                mask_side=o.mask_side,
-            )
+            pictures = ("front", "side", "threshold", "polarity", "mask_front", "mask_side")
+            self.target = read_silhouettes(size=self.size, **o.model_dump(include=set(pictures)))
         else:
             self.source = {"target_model": o.target_model, "target_preset": o.target_preset}
             self.target = self._render_target()

@@ -3,7 +3,7 @@
 One module per kernel family, each function named after the kernel it is the oracle of
 (``naive.views.render_thin`` mirrors :func:`growsim.kernels.views.render_thin`):
 
-- :mod:`naive.ga`: the GA's kernels (:mod:`growsim.ga._kernels`);
+- :mod:`naive.ga`: the GA's kernels (:mod:`growsim.kernels.ga`);
 - :mod:`naive.honda`: the Honda tree's growth, sag and leaves (:mod:`growsim.kernels.honda`);
 - :mod:`naive.mesh`: the mesh kernel's tubes and leaves (:mod:`growsim.kernels.mesh`);
 - :mod:`naive.ifs3d`: the IFS tree's maps, composition and population scores

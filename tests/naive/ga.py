@@ -1,4 +1,4 @@
-"""Oracles of the GA's numba kernels (:mod:`growsim.ga._kernels`): slow NumPy / Python.
+"""Oracles of the GA's numba kernels (:mod:`growsim.kernels.ga`): slow NumPy / Python.
 
 Each function is named after the kernel it mirrors; it returns new arrays where the kernel
 writes into output arguments.
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from growsim.ga import _kernels as K
+from growsim.kernels import ga as K
 
 
 def decode_bits(bits, offset, nbits, code, low, high, k, weights):

@@ -2,7 +2,7 @@
 
 Kernels take arrays and scalars only, and never draw random numbers themselves: the
 operators draw with the run's ``numpy.random.Generator`` and pass the draws in, so each
-kernel is a pure function that ``tests/naive_ga.py`` re-computes with plain NumPy.
+kernel is a pure function that ``tests/naive/ga.py`` re-computes with plain NumPy.
 """
 
 from __future__ import annotations
