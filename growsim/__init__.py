@@ -7,11 +7,11 @@ plant model returns a :class:`growsim.plant.Plant`; experiments are TOML configs
 
 __version__ = "0.1.0"
 
-__all__ = ["__version__", "load_config", "run", "sweep"]
+__all__ = ["__version__", "load_config", "load_plan", "run", "sweep"]
 
 # Lazy exports: ``import growsim`` stays fast (no pydantic, pandas or numba at import);
 # ``growsim.run`` imports the experiment layer on first use.
-_LAZY = {"run", "sweep", "load_config"}
+_LAZY = {"run", "sweep", "load_config", "load_plan"}
 
 
 def __getattr__(name: str):

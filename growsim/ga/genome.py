@@ -90,7 +90,23 @@ def _check_bounded(field, integer: bool) -> None:
 
 
 @dataclass(frozen=True)
-class Real:
+class _Bounded:
+    """The fields and checks :class:`Real` and :class:`Integer` share: ``size`` values in
+    ``[low, high]``; ``_integer`` (a class attribute) asks for whole-number bounds, stored
+    as ints."""
+
+    name: str
+    low: float
+    high: float
+    size: int = 1
+    _integer = False
+
+    def __post_init__(self):
+        _check_bounded(self, self._integer)
+
+
+@dataclass(frozen=True)
+class Real(_Bounded):
     """A real field: ``size`` values in ``[low, high]``.
 
     Examples
@@ -99,18 +115,11 @@ class Real:
     3
     """
 
-    name: str
-    low: float
-    high: float
-    size: int = 1
-
-    def __post_init__(self):
-        _check_bounded(self, integer=False)
-
 
 @dataclass(frozen=True)
-class Integer:
-    """An integer field: ``size`` values in ``low..high`` (both included).
+class Integer(_Bounded):
+    """An integer field: ``size`` values in ``low..high`` (both included; ``low``, ``high``
+    are stored as ints).
 
     Examples
     --------
@@ -118,13 +127,7 @@ class Integer:
     9
     """
 
-    name: str
-    low: int
-    high: int
-    size: int = 1
-
-    def __post_init__(self):
-        _check_bounded(self, integer=True)
+    _integer = True
 
 
 @dataclass(frozen=True)
