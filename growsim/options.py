@@ -42,7 +42,9 @@ class Options(BaseModel):
       Extra inputs are not permitted [type=extra_forbidden, input_value='red', input_type=str]...
     """
 
-    model_config = ConfigDict(extra="forbid", strict=True, validate_default=True, frozen=True)
+    model_config = ConfigDict(
+        extra="forbid", strict=True, validate_default=True, frozen=True, defer_build=True
+    )
 
     @classmethod
     def parse(cls, data: Mapping[str, Any], where: str = ""):

@@ -7,9 +7,10 @@ import pytest
 from PIL import Image
 
 from growsim.errors import ConfigError, UserInputError
+from growsim.kernels.views import ncc
 from growsim.models import ifs3d
 from growsim.objectives import get_objective
-from growsim.objectives.silhouette import SilhouetteObjective, ncc, plant_views
+from growsim.objectives.silhouette import SilhouetteObjective, plant_views
 from growsim.plant import Plant
 
 NAMES = [p.name for p in ifs3d.PARAMS]
@@ -94,13 +95,6 @@ def test_batch_uses_the_map_groups_capability(table1_obj):
     got = table1_obj.batch(Renamed, rows, NAMES)
     np.testing.assert_array_equal(got, table1_obj.batch(ifs3d, rows, NAMES))
     assert got[0] == 1.0 and (got[1:] < 1.0).all()
-
-
-def test_ncc_helpers_are_the_view_kernels_functions():
-    from growsim.kernels import views
-    from growsim.objectives import silhouette
-
-    assert silhouette.ncc is views.ncc and silhouette.blurred_ncc is views.blurred_ncc
 
 
 def test_any_plant_scores():

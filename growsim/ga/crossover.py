@@ -14,8 +14,8 @@ from __future__ import annotations
 import numpy as np
 
 from growsim.errors import UserInputError
-from growsim.kernels import ga as K
 from growsim.ga.operator import Operator
+from growsim.kernels import ga as K
 from growsim.registry import Registry
 
 __all__ = [

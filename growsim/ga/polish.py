@@ -54,7 +54,7 @@ METHODS = get_args(Method)
 
 
 @pydantic_dataclasses.dataclass(
-    frozen=True, config=ConfigDict(extra="forbid", validate_default=True)
+    frozen=True, config=ConfigDict(extra="forbid", validate_default=True, defer_build=True)
 )
 class PolishOptions:
     """Options of :func:`polish_steps` (the ``polish=`` dict of :meth:`GA.run`); strict

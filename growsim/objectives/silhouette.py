@@ -38,18 +38,13 @@ import numpy as np
 from pydantic import Field, field_validator, model_validator
 
 from growsim.errors import ConfigError, GrowsimError, UserInputError
-from growsim.kernels.ifs3d import score_population
-from growsim.kernels.raster import draw_segments
-from growsim.kernels.views import (  # ncc, blurred_ncc: re-exported (their home is views)
-    blurred_ncc,
-    frame_points,
-    ncc,
-    render_antialiased,
-    render_thin,
-)
 from growsim.objectives.base import Objective, ObjectiveOptions
 
-__all__ = ["SilhouetteObjective", "SilhouetteOptions", "blurred_ncc", "ncc", "plant_views"]
+# The kernels (framing, rasters, NCC: growsim.kernels.views; the IFS population scorer) are
+# imported where they are used: the config schema imports every objective's options, and a
+# run that does not score silhouettes should not pay for loading them.
+
+__all__ = ["SilhouetteObjective", "SilhouetteOptions", "plant_views"]
 
 
 def plant_views(
@@ -73,6 +68,9 @@ def plant_views(
     aa = antialias and line_width == "thin"
     if plant.n_segments == 0:
         return np.zeros((2, size, size), dtype=np.float64 if aa else np.uint8)
+    from growsim.kernels.raster import draw_segments
+    from growsim.kernels.views import frame_points, render_antialiased, render_thin
+
     roots = np.flatnonzero(plant.parent < 0)
     base = plant.start[roots[0] if roots.size else 0]
     coords, k = frame_points(plant.start, plant.end, base, size)
@@ -246,6 +244,8 @@ class SilhouetteObjective(Objective):
 
     def __call__(self, plant) -> float:
         """Mean NCC over the front and side views, in [0, 1] (blurred if ``blur > 0``)."""
+        from growsim.kernels.views import blurred_ncc, ncc
+
         if self.blur > 0.0:
             aa = plant_views(plant, self.size, self.line_width, antialias=True)
             return blurred_ncc(aa, self.target, self.blur, self.area_rejection)
@@ -253,6 +253,8 @@ class SilhouetteObjective(Objective):
 
     def exact(self, plant) -> float:
         """The binary mean NCC (the seed's eq. 3 on silhouettes), whatever ``blur`` is."""
+        from growsim.kernels.views import ncc
+
         return ncc(self.views(plant), self.target, self.area_rejection)
 
     def batch(self, model, params, names, seeds=None) -> np.ndarray | None:
@@ -267,6 +269,8 @@ class SilhouetteObjective(Objective):
         map_groups = getattr(model, "map_groups", None)
         if map_groups is None or self.line_width != "thin":
             return None
+        from growsim.kernels.ifs3d import score_population
+
         params = np.atleast_2d(np.asarray(params, dtype=np.float64))
         out = np.zeros(params.shape[0])
         for rows, maps, depth in map_groups(params, names):
