@@ -1,10 +1,18 @@
-"""``growsim compare DIR...``: table, statistics, curves, renders and an HTML report."""
+"""``growsim compare DIR...``: groups, families, tests, curves, renders and an HTML report."""
 
 from __future__ import annotations
 
 import argparse
+import math
 
 __all__ = ["register"]
+
+#: the measures printed beside the best fitness (all of them are in the report)
+PRINTED_MEASURES = ("height", "crown_width", "n_segments", "light_captured")
+#: at most this many best-fitness tests are printed per family (else the significant ones)
+MAX_PRINTED_PAIRS = 15
+#: group labels longer than this are printed as their number (#) in the tests
+LONG_LABEL = 24
 
 
 def register(subparsers) -> None:
@@ -19,45 +27,108 @@ def register(subparsers) -> None:
     p = subparsers.add_parser(
         "compare",
         help="compare results directories (runs or sweeps)",
-        description="Group the runs found in the DIRs (repeats = same config up to the seed) "
-        "and write compare.csv, stats.csv, runs.csv, curves.png, renders.png and a "
-        "self-contained report.html to --out.",
+        description="Group the runs found in the DIRs (repeats = same config up to the seed, "
+        "one run per seed), sort the groups into families (same model and objectives: "
+        "comparable fitness), test best fitness and every measure between the groups of a "
+        "family (Welch t, Mann-Whitney U, Holm-adjusted), and write compare.csv, stats.csv, "
+        "runs.csv, curves.png, renders.png and a self-contained report.html to --out.",
     )
     p.add_argument("dirs", nargs="+", metavar="DIR", help="run or sweep directories")
-    p.add_argument("--out", metavar="DIR", help="report directory (default runs/compare-<time>)")
+    p.add_argument(
+        "--out",
+        metavar="DIR",
+        help="report directory (default: <the runs' directory>/compare-<time> when the runs "
+        "are all under one directory, else runs/compare-<time>)",
+    )
     p.add_argument("--no-renders", action="store_true", help="skip rendering the best plants")
     p.add_argument("--quiet", "-q", action="store_true", help="print nothing")
     p.set_defaults(func=main)
 
 
-def main(args: argparse.Namespace) -> int:
-    """Compare and print the table."""
+def _group_lines(rows) -> str:
+    """The groups of one family: n, duplicates, best fitness and a few measures."""
     import pandas as pd
 
+    from growsim.report import format_mean_ci as _pm
+
+    out = pd.DataFrame(
+        {
+            "#": range(1, len(rows) + 1),
+            "group": rows["group"],
+            "dirs": rows["dirs"],
+            "n": rows["runs"],
+            "dup": rows["duplicates"],
+            "best": [f"{v:.4g}" for v in rows["best"]],
+            "best fitness": [_pm(m, c) for m, c in zip(rows["mean"], rows["ci95"])],
+        }
+    )
+    for m in PRINTED_MEASURES:
+        if m in rows and rows[m].notna().any():
+            out[m] = [_pm(v, c) for v, c in zip(rows[m], rows.get(f"{m}_ci95", rows[m] * math.nan))]
+    return out.to_string(index=False)
+
+
+def _test_lines(tests, groups: list[str]) -> list[str]:
+    """Best-fitness tests (all, or the significant ones when there are many) and the
+    measures whose Holm-adjusted p is below 0.05; long group labels by their number."""
+    import pandas as pd
+
+    if max(map(len, groups)) > LONG_LABEL:
+        number = {g: f"#{i}" for i, g in enumerate(groups, 1)}
+        tests = tests.assign(
+            group_a=tests["group_a"].map(number), group_b=tests["group_b"].map(number)
+        )
+
+    sig = (tests["welch_t_p_holm"] < 0.05) | (tests["mann_whitney_p_holm"] < 0.05)
+    best = tests["measure"] == "best_fitness"
+    shown = best & (sig | (best.sum() <= MAX_PRINTED_PAIRS)) | (~best & sig)
+    cols = [
+        "measure",
+        "group_a",
+        "group_b",
+        "difference",
+        "cliffs_delta",
+        "welch_t_p",
+        "welch_t_p_holm",
+        "mann_whitney_p",
+        "mann_whitney_p_holm",
+    ]
+    lines = [f"  {len(tests)} tests, Holm-Bonferroni over all of them (per test):"]
+    if shown.any():
+        with pd.option_context(
+            "display.width", 250, "display.max_columns", 20, "display.float_format", "{:.4g}".format
+        ):
+            lines += ["  " + s for s in tests.loc[shown, cols].to_string(index=False).splitlines()]
+    rest = int((~shown).sum())
+    if rest:
+        n_sig = int((~shown & sig).sum())
+        lines.append(
+            f"  ... {rest} more in stats.csv ({n_sig} of them with a Holm-adjusted p < 0.05)"
+        )
+    return lines
+
+
+def main(args: argparse.Namespace) -> int:
+    """Compare and print, per family, the groups and the tests; then where the report is."""
     from growsim.report import compare
 
     c = compare(args.dirs, args.out, renders=not args.no_renders)
-    if not args.quiet:
-        cols = [
-            "group",
-            "runs",
-            "best",
-            "mean",
-            "ci95",
-            "generations",
-            "evaluations",
-            "seconds",
-            "height",
-            "width",
-            "segments",
-            "light_captured",
-        ]
-        with pd.option_context(
-            "display.width", 200, "display.max_columns", 20, "display.float_format", "{:.4g}".format
-        ):
-            print(c.table[cols].to_string(index=False))
-            if len(c.stats):
-                print()
-                print(c.stats.to_string(index=False))
-        print(f"report: {c.files.get('html', c.files['table'])}")
+    if args.quiet:
+        return 0
+    for family, rows in c.table.groupby("family", sort=False):
+        n = int(rows["runs"].sum())
+        dup = int(rows["duplicates"].sum())
+        head = f"{family}: {len(rows)} group(s), {n} run(s)"
+        print(head + (f" ({dup} duplicated seed(s) not counted)" if dup else ""))
+        print(_group_lines(rows.reset_index(drop=True)))
+        tests = c.stats[c.stats["family"] == family]
+        if len(tests):
+            print("\n".join(_test_lines(tests, list(rows["group"]))))
+        elif len(rows) > 1:
+            print("  no tests: no two groups with at least 2 runs of distinct seeds")
+        print()
+    for note in c.notes:
+        print(f"note: {note}")
+    out = c.files["table"].parent
+    print(f"report: {c.files.get('html', c.files['table'])}  (all files in {out}/)")
     return 0
