@@ -13,7 +13,7 @@ A run directory holds (see ``ARCHITECTURE.md``)::
     best_<kind>.npz    the best phenotype (best_plant.npz for plants); its artefacts
                        (best.vtp/.glb/..., best_<view>.png); fitness.png
     summary.json       written last: its presence marks a finished run
-    .lock              held (flock) while a process writes here
+    .lock              held (flock) while a process writes here; removed when it ends
 
 Every file is written to a temporary name in the same directory and renamed with
 ``os.replace``, so a reader (or a crash) never sees half a file.
@@ -92,34 +92,79 @@ class RunDir:
     def lock(self) -> Iterator[RunDir]:
         """Hold an exclusive lock on the directory; a second holder refuses at once.
 
-        The lock is an ``flock`` on ``.lock``: the kernel drops it when the process dies
-        (even by SIGKILL), so a killed run leaves no stale lock to clean up.
+        The lock is an ``flock`` on ``.lock`` (which holds the pid): the kernel drops it
+        when the process dies (even by SIGKILL), so a killed run leaves no stale lock to
+        clean up (a ``.lock`` left by a killed run is taken over). When the block ends the
+        file is removed while the lock is still held, then the lock released; a process
+        that opened the old file meanwhile sees it was removed and takes a new one.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> rd = RunDir(tempfile.mkdtemp())
+        >>> with rd.lock():
+        ...     rd.lock_path.is_file()
+        True
+        >>> rd.lock_path.exists()
+        False
         """
+        import fcntl
+
         try:
             self.path.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             raise UserInputError(f"--out {self.path}: cannot create ({exc.strerror})") from None
         if not self.path.is_dir():
             raise UserInputError(f"--out {self.path}: not a directory")
-        fd = os.open(self.lock_path, os.O_RDWR | os.O_CREAT, 0o644)
-        try:
-            import fcntl
-
+        while True:
+            fd = os.open(self.lock_path, os.O_RDWR | os.O_CREAT, 0o644)
             try:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:
                 other = os.pread(fd, 64, 0).decode(errors="replace").strip() or "?"
+                os.close(fd)
                 raise UserInputError(
                     f"{self.path} is in use by another growsim run (pid {other}); "
                     "choose another --out"
                 ) from None
+            except BaseException:
+                os.close(fd)
+                raise
+            try:
+                same = os.path.samestat(os.fstat(fd), os.stat(self.lock_path))
+            except FileNotFoundError:
+                same = False
+            if same:
+                break
+            os.close(fd)  # its holder removed it as we opened it: lock the new one
+        try:
             os.ftruncate(fd, 0)
             os.pwrite(fd, str(os.getpid()).encode(), 0)
             self._lock_fd = fd
             yield self
         finally:
             self._lock_fd = None
-            os.close(fd)  # closing the descriptor releases the flock
+            try:
+                with contextlib.suppress(FileNotFoundError):
+                    os.unlink(self.lock_path)  # still locked: nobody else holds this file
+            finally:
+                os.close(fd)  # closing the descriptor releases the flock
+
+    def read_config(self) -> dict[str, Any]:
+        """The resolved config saved in ``config.toml``, as data.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> rd = RunDir(tempfile.mkdtemp())
+        >>> _ = rd.write_text("config.toml", "[ga]\\npopulation = 8\\n")
+        >>> rd.read_config()
+        {'ga': {'population': 8}}
+        """
+        try:
+            return tomllib.loads(self.config_path.read_text())
+        except (OSError, ValueError) as exc:
+            raise UserInputError(f"{self.config_path}: unreadable ({exc})") from None
 
     def create_fresh(self) -> None:
         """Check the directory holds no run yet (a fresh run must not mix with another)."""
@@ -218,10 +263,7 @@ def read_run(path: str | Path, *, finished: bool = True, history: bool = True) -
         raise UserInputError(f"{rd.path}: not a finished growsim run (no summary.json)")
     if not rd.best_path.is_file() or not rd.config_path.is_file():
         raise UserInputError(f"{rd.path}: not a growsim results directory (no best.json)")
-    try:
-        config = tomllib.loads(rd.config_path.read_text())
-    except (OSError, ValueError) as exc:
-        raise UserInputError(f"{rd.config_path}: unreadable ({exc})") from None
+    config = rd.read_config()
     summary = _read_json(rd.summary_path) if rd.summary_path.is_file() else None
     frame = None
     if history and rd.history_path.is_file():

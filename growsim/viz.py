@@ -2,11 +2,15 @@
 animations, image grids, and fitness plots.
 
 Everything renders off-screen with pyvista (no display needed) except :func:`show`, which
-needs one. Files are written atomically (temporary name, then rename).
+needs one; VTK's warnings (e.g. "bad X server connection" without a display) are kept
+quiet while rendering off-screen. Files are written atomically (temporary name, then
+rename). The views (:data:`VIEWS`) and the size limits (:data:`MIN_SIZE`,
+:data:`MAX_SIZE`, :func:`check_size`) are the ones of every command that renders.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 from collections.abc import Sequence
 from pathlib import Path
@@ -18,7 +22,10 @@ from growsim.files import atomic_path, atomic_write
 from growsim.plant import Plant
 
 __all__ = [
+    "MAX_SIZE",
+    "MIN_SIZE",
     "VIEWS",
+    "check_size",
     "growth_animation",
     "plot_fitness",
     "render_grid",
@@ -28,7 +35,8 @@ __all__ = [
     "turntable",
 ]
 
-#: camera directions (from the camera towards the plant) and up vectors
+#: the views of every command (``growsim grow --view``, ``growsim show --view``): camera
+#: directions (from the camera towards the plant) and up vectors
 VIEWS: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]] = {
     "front": ((0.0, 0.0, -1.0), (0.0, 1.0, 0.0)),
     "back": ((0.0, 0.0, 1.0), (0.0, 1.0, 0.0)),
@@ -36,6 +44,10 @@ VIEWS: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]] 
     "top": ((0.0, -1.0, 0.0), (0.0, 0.0, -1.0)),
     "iso": ((-1.0, -0.6, -1.0), (0.0, 1.0, 0.0)),
 }
+
+#: the smallest and largest width or height of a rendered image, in pixels (every command)
+MIN_SIZE = 16
+MAX_SIZE = 4096
 
 _BARK = (0.43, 0.32, 0.23)
 _LEAF = (0.29, 0.55, 0.23)
@@ -53,14 +65,51 @@ def _mesh_of(plant_or_mesh, sides=6, segments=1):
     raise UserInputError(f"expected a Plant or a pyvista mesh, got {type(plant_or_mesh).__name__}")
 
 
-def _check_size(size) -> tuple[int, int]:
+def check_size(size, label: str = "size") -> tuple[int, int]:
+    """``size`` ``(width, height)`` as two ints in ``[MIN_SIZE, MAX_SIZE]``, else
+    :class:`UserInputError` (``label`` names the option).
+
+    Examples
+    --------
+    >>> check_size([640, 480.0])
+    (640, 480)
+    >>> check_size((8000, 100), "--size")
+    Traceback (most recent call last):
+    ...
+    growsim.errors.UserInputError: --size 8000 100: each side must be in [16, 4096] pixels
+    """
     try:
         w, h = (int(size[0]), int(size[1]))
+        if len(size) != 2:
+            raise ValueError
     except (TypeError, ValueError, IndexError):
-        raise UserInputError(f"size must be (width, height), got {size!r}") from None
-    if not (16 <= w <= 8192 and 16 <= h <= 8192):
-        raise UserInputError(f"size {size!r}: each side must be in [16, 8192] pixels")
+        raise UserInputError(f"{label} must be (width, height), got {size!r}") from None
+    if not (MIN_SIZE <= w <= MAX_SIZE and MIN_SIZE <= h <= MAX_SIZE):
+        raise UserInputError(
+            f"{label} {w} {h}: each side must be in [{MIN_SIZE}, {MAX_SIZE}] pixels"
+        )
     return w, h
+
+
+@contextlib.contextmanager
+def _offscreen(w: int, h: int):
+    """An off-screen pyvista Plotter of ``w x h`` pixels, closed on exit. VTK's warnings are
+    off meanwhile (the global switch, restored after): without an X display VTK prints a
+    coloured "bad X server connection" warning on every render, which means nothing for an
+    off-screen render. Errors still show."""
+    import pyvista as pv
+    from vtkmodules.vtkCommonCore import vtkObject
+
+    shown = vtkObject.GetGlobalWarningDisplay()
+    vtkObject.GlobalWarningDisplayOff()
+    pl = None
+    try:
+        pl = pv.Plotter(off_screen=True, window_size=(w, h))
+        yield pl
+    finally:
+        if pl is not None:
+            pl.close()
+        vtkObject.SetGlobalWarningDisplay(shown)
 
 
 def _add(pl, mesh) -> None:
@@ -111,19 +160,14 @@ def render_image(plant_or_mesh, *, view="front", size=(800, 800), background="wh
     >>> img.shape
     (64, 64, 3)
     """
-    import pyvista as pv
-
-    w, h = _check_size(size)
+    w, h = check_size(size)
     mesh = _mesh_of(plant_or_mesh)
-    pl = pv.Plotter(off_screen=True, window_size=(w, h))
-    try:
+    with _offscreen(w, h) as pl:
         pl.set_background(background)
         _add(pl, mesh)
         if mesh.n_points:
             _camera(pl, mesh.bounds, view)
         img = pl.screenshot(return_img=True)
-    finally:
-        pl.close()
     return np.asarray(img)[..., :3].copy()
 
 
@@ -222,18 +266,15 @@ def turntable(
     >>> turntable(honda.develop({"generations": 3}), f, frames=4, size=(48, 48)).exists()
     True
     """
-    import pyvista as pv
-
     path = Path(path)
     write = _frames_writer(path, fps)
     frames = int(frames)
     if not 1 <= frames <= 3600:
         raise UserInputError(f"turntable frames: {frames} not in [1, 3600]")
-    w, h = _check_size(size)
+    w, h = check_size(size)
     mesh = _mesh_of(plant_or_mesh)
-    pl = pv.Plotter(off_screen=True, window_size=(w, h))
     out = []
-    try:
+    with _offscreen(w, h) as pl:
         pl.set_background("white")
         _add(pl, mesh)
         el = np.radians(elevation)
@@ -244,8 +285,6 @@ def turntable(
                 _camera(pl, mesh.bounds, d)
             pl.render()
             out.append(np.asarray(pl.screenshot(return_img=True))[..., :3].copy())
-    finally:
-        pl.close()
     return write(out)
 
 
@@ -265,14 +304,12 @@ def growth_animation(
     >>> growth_animation(ps, f, size=(48, 48)).exists()
     True
     """
-    import pyvista as pv
-
     path = Path(path)
     write = _frames_writer(path, fps)
     plants = list(plants)
     if not plants:
         raise UserInputError("growth_animation: no plants given")
-    w, h = _check_size(size)
+    w, h = check_size(size)
     meshes = [_mesh_of(p) for p in plants]
     nonempty = [m for m in meshes if m.n_points]
     if not nonempty:
@@ -281,14 +318,11 @@ def growth_animation(
     bounds = np.stack([b[:, :, 0].min(0), b[:, :, 1].max(0)], axis=1).ravel()
     out = []
     for m in meshes:
-        pl = pv.Plotter(off_screen=True, window_size=(w, h))
-        try:
+        with _offscreen(w, h) as pl:
             pl.set_background("white")
             _add(pl, m)
             _camera(pl, bounds, view)
             out.append(np.asarray(pl.screenshot(return_img=True))[..., :3].copy())
-        finally:
-            pl.close()
     return write(out)
 
 
@@ -320,7 +354,7 @@ def render_grid(
         raise UserInputError("render_grid: no plants given")
     if titles is not None and len(titles) != len(plants):
         raise UserInputError(f"render_grid: {len(titles)} titles for {len(plants)} plants")
-    cw, ch = _check_size(cell)
+    cw, ch = check_size(cell, "cell")
     cols = int(columns or min(4, len(plants)))
     rows = -(-len(plants) // cols)
     text_h = 18 if titles else 0
@@ -342,8 +376,12 @@ def render_grid(
 
 def plot_fitness(history, path, *, title: str | None = None) -> Path:
     """Plot a GA history (a DataFrame with ``generation`` and some of ``best``, ``mean``,
-    ``best_so_far``, ``worst``) to a PNG with matplotlib (Agg backend). With an ``island``
-    column, islands are pooled: best is the max, mean the mean over islands.
+    ``best_so_far``) to a PNG with matplotlib (Agg backend), with a legend: the best and
+    the mean fitness of each generation and the best so far, drawn dashed on top (it
+    lies on the best wherever the best improves). With an ``island`` column, islands are
+    pooled: best is the max, mean the mean over islands. (``worst`` is not drawn: an
+    evaluation that failed scores the worst value there is, which would flatten the
+    rest.)
 
     Examples
     --------
@@ -359,15 +397,28 @@ def plot_fitness(history, path, *, title: str | None = None) -> Path:
 
     if "generation" not in getattr(history, "columns", ()):
         raise UserInputError("plot_fitness: history needs a 'generation' column")
-    cols = [c for c in ("best_so_far", "best", "mean", "worst") if c in history.columns]
+    # column, how islands are pooled, line style (best so far: dashed, on top)
+    styles = {
+        "best": ("max", {"color": "tab:blue", "linewidth": 2.5, "zorder": 2}),
+        "mean": ("mean", {"color": "tab:orange", "linewidth": 1.5, "zorder": 2}),
+        "best_so_far": (
+            "max",
+            {"color": "black", "linestyle": "--", "linewidth": 1.5, "zorder": 3},
+        ),
+    }
+    cols = [c for c in styles if c in history.columns]
     if not cols:
-        raise UserInputError("plot_fitness: history has none of best_so_far, best, mean, worst")
+        raise UserInputError("plot_fitness: history has none of best, mean, best_so_far")
+    path = Path(path)
+    if path.suffix.lower() != ".png":
+        raise UserInputError(f"{path}: plots are written as .png")
     g = history.groupby("generation")
     fig, ax = plt.subplots(figsize=(6, 4), dpi=100)
     try:
         for c in cols:
-            s = g[c].mean() if c == "mean" else (g[c].min() if c == "worst" else g[c].max())
-            ax.plot(s.index, s.values, label=c.replace("_", " "))
+            how, style = styles[c]
+            s = g[c].agg(how)
+            ax.plot(s.index, s.values, label=c.replace("_", " "), **style)
         ax.set_xlabel("generation")
         ax.set_ylabel("fitness")
         if title:
@@ -375,9 +426,6 @@ def plot_fitness(history, path, *, title: str | None = None) -> Path:
         ax.grid(alpha=0.3)
         ax.legend()
         fig.tight_layout()
-        path = Path(path)
-        if path.suffix.lower() != ".png":
-            raise UserInputError(f"{path}: plots are written as .png")
         atomic_write(path, lambda fh: fig.savefig(fh, format="png"))
     finally:
         plt.close(fig)

@@ -347,3 +347,234 @@ def test_objective_must_accept_the_phenotype(monkeypatch):
     monkeypatch.setattr(type(MODEL), "phenotype", "trajectory")
     with pytest.raises(ConfigError, match=r"objective\[0\].*'light'.*plant.*'trajectory'"):
         load_config(QUICK)
+
+
+# ---- the user report: sweeps reuse only their own runs, nothing written on refusal,
+# ---- Ctrl-C during the artefacts, summary.json, fitness.png, .lock -------------------
+
+
+def _tree_state(root: Path) -> dict[str, int]:
+    """Every file under ``root`` with its modification time (to see nothing was written)."""
+    return {str(p.relative_to(root)): p.stat().st_mtime_ns for p in sorted(root.rglob("*"))}
+
+
+def test_sweep_refuses_run_dirs_made_with_another_config(tmp_path):
+    sw = tmp_path / "sw"
+    ov = [*TINY, "ga.generations=2"]
+    df = sweep(QUICK, ["env.light=1.0,0.5"], repeats=1, out=sw, overrides=ov, progress=False)
+    # a finished run with other settings is not returned as this sweep's result
+    before = _tree_state(sw)
+    with pytest.raises(UserInputError) as exc:
+        sweep(
+            QUICK,
+            ["env.light=1.0,0.5"],
+            repeats=1,
+            out=sw,
+            overrides=[*ov, "ga.population=6"],
+            progress=False,
+        )
+    msg = str(exc.value)
+    assert "\n" not in msg
+    assert str(Path(df["out"][0])) in msg and "ga.population" in msg and "--out" in msg
+    assert _tree_state(sw) == before  # nothing written
+    # an interrupted run with other settings is not resumed with its old config
+    (Path(df["out"][1]) / "summary.json").unlink()
+    before = _tree_state(sw)
+    with pytest.raises(UserInputError, match=r"objective\[0\]\.wood_cost"):
+        sweep(
+            QUICK,
+            ["env.light=0.5"],
+            repeats=1,
+            out=sw,
+            overrides=[*ov, "objective[0].wood_cost=0.5"],
+            progress=False,
+        )
+    assert _tree_state(sw) == before
+    # the same settings resume the interrupted run and reuse the finished one
+    again = sweep(QUICK, ["env.light=1.0,0.5"], repeats=1, out=sw, overrides=ov, progress=False)
+    pd.testing.assert_frame_equal(
+        df.drop(columns=["wall_seconds"]), again.drop(columns=["wall_seconds"])
+    )
+
+
+def _growsim(*args, **kw):
+    import os
+    import subprocess
+    import sys
+
+    return subprocess.run(
+        [sys.executable, "-m", "growsim", *map(str, args)],
+        capture_output=True,
+        text=True,
+        timeout=240,
+        env={**os.environ, "MPLBACKEND": "Agg"},
+        **kw,
+    )
+
+
+def test_a_config_the_run_would_refuse_writes_nothing(tmp_path):
+    from growsim.errors import ConfigError
+
+    out = tmp_path / "g0"
+    p = _growsim("run", QUICK, "--out", out, "--quiet", "--set", "ga.generations=0")
+    assert p.returncode == 2, p.stderr
+    assert p.stderr.startswith("growsim: error: ga.generations") and "Traceback" not in p.stderr
+    assert not out.exists()
+    # a polish taking the whole evaluation budget: refused by the schema too
+    for ov in (["ga.generations=0"], ["ga.evaluations=50", "ga.polish={evaluations = 50}"]):
+        with pytest.raises(ConfigError):
+            run(QUICK, out, overrides=[*TINY, *ov], progress=False)
+        assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("start", "delay"), [("best.json", 0.0), ("best.glb", 0.05), ("best.glb", 0.12)]
+)
+def test_ctrl_c_during_the_artefacts_ends_with_the_hint_and_resumes(tmp_path, start, delay):
+    # Ctrl-C, again and again, from ``delay`` s after ``start`` appears: best.json is
+    # written just before the artefacts (best_plant.npz, meshes, VTK renders,
+    # fitness.png), best.glb just before VTK's rendering modules are imported and the
+    # renders run (a SIGINT there crashed the interpreter: exit -11)
+    import os
+    import signal
+    import subprocess
+    import sys
+    import threading
+    import time
+
+    out = tmp_path / "int"
+    args = [QUICK, "--out", out, "--quiet"]
+    for ov in (
+        "ga.population=8",
+        "ga.generations=2",
+        "model.params.generations=6",
+        "output.screenshots=['front', 'side', 'iso']",
+        "output.size=[600, 600]",
+        "output.mesh=['vtp', 'glb']",
+    ):
+        args += ["--set", ov]
+    hint = f"growsim: to continue: growsim run --resume {out}"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "growsim", "run", *map(str, args)],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "MPLBACKEND": "Agg"},
+    )
+    err: list[str] = []
+    reader = threading.Thread(target=lambda: err.extend(proc.stderr), daemon=True)
+    reader.start()
+    try:
+        t0 = time.monotonic()
+        while not (out / start).exists():
+            assert proc.poll() is None, "".join(err)
+            assert time.monotonic() - t0 < 200, f"{start} did not appear"
+            time.sleep(0.002)
+        time.sleep(delay)
+        sent = 0
+        # Ctrl-C over the artefact phase, again and again (each one during a file is held
+        # until the file is written), until the run says it stopped
+        while proc.poll() is None and not any(hint in line for line in err):
+            proc.send_signal(signal.SIGINT)
+            sent += 1
+            time.sleep(0.1)
+        rc = proc.wait(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    reader.join(timeout=10)
+    text = "".join(err)
+    assert sent >= 1
+    assert rc == 130, (rc, text)
+    assert hint in text and "Traceback" not in text, text
+    assert not (out / "summary.json").exists() and not (out / ".lock").exists()
+    p = _growsim("run", "--resume", out, "--quiet")
+    assert p.returncode == 0, p.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["warnings"] == []
+    names = {q.name for q in out.iterdir()}
+    assert {"best_front.png", "best_side.png", "best_iso.png", "best.vtp", "best.glb"} <= names
+    assert "fitness.png" in names and ".lock" not in names
+
+
+def test_summary_terms_are_the_source_of_the_best_fitness(tiny_run):
+    # the objective's own raster (objective[0].resolution) scores; the plant's measures
+    # use theirs (256): summary["terms"] is what adds up to the best fitness, and
+    # docs/quickstart.md says which resolution each uses
+    s = tiny_run.summary
+    cfg = load_config(tiny_run.out / "config.toml")
+    light = s["terms"]["light"]
+    score = cfg.environment.light.intensity * light["leaf_area"] - (
+        cfg.objective[0].wood_cost * light["wood_volume"]
+    )
+    assert light["score"] == pytest.approx(score, rel=1e-12)
+    assert s["best_fitness"] == pytest.approx(cfg.objective[0].weight * light["score"], rel=1e-12)
+    doc = (ROOT / "docs" / "quickstart.md").read_text()
+    section = doc[doc.index("## Look at the results") :]
+    assert "`terms`" in section and "256" in section and "resolution" in section
+
+
+def test_light_measures_are_absent_for_a_leafless_plant():
+    from growsim.experiment import load_plan
+    from growsim.experiment.runner import _measures
+
+    plan = load_plan(QUICK)
+    stems = Plant.from_points([[0, 0, 0], [0, 1, 0], [1, 2, 0]], [-1, 0], [-1, 0, 1])
+    assert stems.n_leaves == 0
+    m = _measures(stems, plan)
+    assert m["n_leaves"] == 0 and m["height"] > 0
+    assert "light_captured" not in m and "leaf_area_top" not in m
+    leafy = growsim.models.get_model("honda").develop({"generations": 4})
+    assert {"light_captured", "leaf_area_top"} <= set(_measures(leafy, plan))
+
+
+def test_repeats_is_documented_as_sweep_only():
+    from growsim.experiment.schema import ExperimentConfig
+
+    desc = ExperimentConfig.model_fields["repeats"].description
+    assert "growsim sweep only" in desc and "growsim run" in desc
+    assert desc in (ROOT / "docs" / "configs.md").read_text()
+
+
+def test_fitness_plot_shows_best_mean_and_best_so_far(tmp_path, monkeypatch):
+    import matplotlib.pyplot as plt
+
+    from growsim import viz
+
+    figs = []
+    real_close = plt.close
+    monkeypatch.setattr(plt, "close", lambda fig=None: (figs.append(fig), real_close(fig)))
+    h = pd.DataFrame(
+        {
+            "generation": [0, 1, 2, 3],
+            "best": [1.0, 3.0, 3.0, 2.0],
+            "mean": [0.5, 1.0, 2.0, 1.5],
+            "worst": [-1e9, 0.0, 0.0, 0.0],
+            "best_so_far": [1.0, 3.0, 3.0, 3.0],
+        }
+    )
+    viz.plot_fitness(h, tmp_path / "f.png")
+    (ax,) = figs[0].axes
+    lines = {ln.get_label(): ln for ln in ax.get_lines()}
+    assert set(lines) == {"best", "mean", "best so far"}
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["best", "mean", "best so far"]
+    best, so_far = lines["best"], lines["best so far"]
+    # best so far lies on best wherever best improves: it must stay visible on top of it
+    assert so_far.get_zorder() > best.get_zorder()
+    assert so_far.get_linestyle() != best.get_linestyle()
+    assert list(so_far.get_ydata()) == [1.0, 3.0, 3.0, 3.0]
+
+
+def test_the_lock_file_is_removed_when_the_run_ends(tiny_run, tmp_path):
+    assert not (tiny_run.out / ".lock").exists()
+    rd = RunDir(tmp_path / "l")
+    with rd.lock():
+        assert rd.lock_path.is_file()
+        with pytest.raises(UserInputError, match="in use"), RunDir(tmp_path / "l").lock():
+            pass
+        assert rd.lock_path.is_file()  # a refused second holder leaves the lock alone
+    assert not rd.lock_path.exists()
+    with rd.lock():  # and the directory can be locked again
+        pass
+    assert sorted(p.name for p in (tmp_path / "l").iterdir()) == []

@@ -1,7 +1,9 @@
-"""``growsim grow``: outputs, JSON, and bad input -> exit code 2 with nothing written."""
+"""``growsim grow``: outputs, JSON, and bad input -> exit code 2 with nothing written; the
+help of ``grow``, ``show`` and ``fit-image``; views and sizes shared by the commands."""
 
 from __future__ import annotations
 
+import argparse
 import json
 import os
 import subprocess
@@ -10,6 +12,7 @@ import sys
 import pytest
 
 from growsim.cli import main
+from growsim.errors import UserInputError
 from growsim.plant import Plant
 
 
@@ -95,3 +98,88 @@ def test_grow_other_registered_model(capsys):
     info = json.loads(capsys.readouterr().out)
     assert info["model"] == "ifs3d" and info["counts"]["stems"] > 0
     assert main(["grow", "ifs3d", "--set", "no_such_param=1"]) == 2
+
+
+def _help(capsys, *argv) -> str:
+    with pytest.raises(SystemExit) as exc:
+        main(list(argv))
+    assert exc.value.code == 0
+    return capsys.readouterr().out
+
+
+def test_grow_help_lists_every_models_parameters_and_presets(capsys):
+    """docs/configs.md sends readers to ``growsim grow MODEL --help`` for a model's
+    parameters: ``grow --help`` lists every registered model's parameters (range, default)
+    and presets, ``grow MODEL --help`` that model's."""
+    from growsim.models import MODELS
+
+    text = _help(capsys, "grow", "--help")
+    for name in MODELS:
+        model = MODELS.get(name)
+        assert f"\n{name} " in text
+        for p in model.params:
+            assert f"\n  {p.name} " in text, p.name
+        for preset in model.presets:
+            assert preset in text
+    assert "0 .. 1, default 0.95" in text  # honda's f
+    one = _help(capsys, "grow", "ifs3d", "--help")
+    assert "theta_y_5" in one and "table1" in one
+    assert "e_wandering_bush" not in one and "\n  theta0 " not in one
+
+
+def test_fit_image_help_describes_every_option(capsys):
+    from growsim.cli import build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    for command in ("fit-image", "grow", "show"):
+        for action in sub.choices[command]._actions:
+            assert action.help, (command, action.dest)
+    text = " ".join(_help(capsys, "fit-image", "--help").split())
+    assert "between 0 (black) and 1 (white)" in text and "--line-width" in text
+
+
+def test_fit_image_threshold_range(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["fit-image", "a.png", "b.png", "--out", "o", "--threshold", "128"])
+    assert exc.value.code == 2
+    assert "between 0 (black) and 1 (white), got '128'" in capsys.readouterr().err
+
+
+def test_views_and_sizes_are_the_same_in_every_command(tmp_path, capsys):
+    """``grow`` and ``show`` take the same views (viz.VIEWS, ``back`` included) and the
+    same ``--size`` (``W H``, or ``N`` for ``N x N``), checked against one limit
+    (viz.MAX_SIZE)."""
+    from growsim import viz
+    from growsim.cli import build_parser
+
+    parse = build_parser().parse_args
+    for view in viz.VIEWS:
+        assert parse(["grow", "honda", "--view", view]).view == view
+        assert parse(["show", "runs/a", "--view", view]).view == view
+    for argv in (["grow", "honda"], ["show", "runs/a"]):
+        assert tuple(parse([*argv, "--size", "64"]).size) == (64, 64)
+        assert tuple(parse([*argv, "--size", "64", "48"]).size) == (64, 48)
+        assert tuple(parse(argv).size) == (800, 800)
+        with pytest.raises(SystemExit):
+            parse([*argv, "--view", "nadir"])
+        with pytest.raises(SystemExit):
+            parse([*argv, "--size", "1", "2", "3"])
+    capsys.readouterr()
+    for command in ("grow", "show"):  # the help states the one limit
+        text = " ".join(_help(capsys, command, "--help").split())
+        assert f"each {viz.MIN_SIZE}..{viz.MAX_SIZE}" in text
+        assert ", ".join(viz.VIEWS) in text
+    png = tmp_path / "t.png"
+    assert main(["grow", "honda", "--set", "generations=3", "--screenshot", str(png),
+                 "--size", "64", "48", "--view", "back"]) == 0  # fmt: skip
+    from PIL import Image
+
+    assert Image.open(png).size == (64, 48)
+    big = str(viz.MAX_SIZE + 1)
+    for argv in (["grow", "honda"], ["show", str(tmp_path / "no_run")]):
+        assert main([*argv, "--screenshot", str(tmp_path / "big.png"), "--size", big]) == 2
+        err = capsys.readouterr().err
+        assert f"[{viz.MIN_SIZE}, {viz.MAX_SIZE}]" in err, err
+    with pytest.raises(UserInputError, match=str(viz.MAX_SIZE)):
+        viz.check_size((int(big), 64))

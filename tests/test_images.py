@@ -42,7 +42,13 @@ def test_polarity_auto(dark):
     g, fg = _tree_picture(dark=dark)
     np.testing.assert_array_equal(silhouette(g), fg)
     wrong = "light" if dark else "dark"
-    np.testing.assert_array_equal(silhouette(g, polarity=wrong), ~fg)
+    # the wrong polarity makes the background the silhouette: 96 % of the picture
+    with pytest.raises(UserInputError, match=f"fills the frame.*polarity {wrong}"):
+        silhouette(g, polarity=wrong)
+    block = np.ones((120, 90))
+    block[20:100, 20:70] = 0.15  # 37 % dark, 63 % light: either polarity is a silhouette
+    np.testing.assert_array_equal(silhouette(block, polarity="dark"), block < 0.5)
+    np.testing.assert_array_equal(silhouette(block, polarity="light"), block > 0.5)
 
 
 def test_fixed_threshold_and_mask():
@@ -71,6 +77,58 @@ def test_empty_and_full_silhouettes_raise():
         silhouette(nearly, threshold=2.0)
     with pytest.raises(UserInputError, match="polarity"):
         silhouette(np.eye(10), polarity="up")
+
+
+def _speckles(p, shape=(200, 200), seed=0):
+    """Black specks on white, each pixel black with probability ``p``."""
+    return np.where(np.random.default_rng(seed).random(shape) < p, 0.0, 1.0)
+
+
+def test_degenerate_silhouettes_are_refused(tmp_path):
+    """One pixel, noise and a full frame are refused, naming the picture (fit-image used to
+    "fit" a single pixel at NCC 0.80 and noise at 0.86)."""
+    one = np.ones((100, 100))
+    one[50, 50] = 0.0
+    with pytest.raises(UserInputError, match=r"one\.png: the silhouette is too small: 1 "):
+        silhouette(one, name="one.png")
+    speck = np.ones((400, 400))
+    speck[100:110, 200:210] = 0.0  # 100 pixels, but 0.06 % of the picture
+    with pytest.raises(UserInputError, match=r"speck\.png: the silhouette is too small"):
+        silhouette(speck, name="speck.png")
+    uniform = np.random.default_rng(0).random((200, 200))
+    with pytest.raises(UserInputError, match=r"noise\.png: the silhouette is too noisy"):
+        silhouette(uniform, name="noise.png")
+    for p in (0.03, 0.2, 0.4):  # sparse specks to near-connected noise
+        with pytest.raises(UserInputError, match="too noisy"):
+            silhouette(_speckles(p), name="specks.png")
+    frame = np.zeros((60, 60))
+    frame[[0, -1], :] = 1.0
+    frame[:, [0, -1]] = 1.0  # a light border round a dark picture: 93 % foreground
+    with pytest.raises(UserInputError, match=r"full\.png: the silhouette fills the frame"):
+        silhouette(frame, name="full.png")
+    # through files (fit-image): the message names the file
+    Image.fromarray((one * 255).astype(np.uint8)).save(tmp_path / "dot.png")
+    Image.fromarray((uniform * 255).astype(np.uint8)).save(tmp_path / "noise.png")
+    g, _ = _tree_picture()
+    with pytest.raises(UserInputError, match=r"dot\.png: the silhouette is too small"):
+        read_silhouettes(g, tmp_path / "dot.png")
+    with pytest.raises(UserInputError, match=r"noise\.png: the silhouette is too noisy"):
+        read_silhouettes(tmp_path / "noise.png", g)
+
+
+@pytest.mark.parametrize("size", [32, 64, 128, 256, 512])
+@pytest.mark.parametrize("line_width", ["thin", "radius"])
+def test_tree_silhouettes_are_accepted(size, line_width):
+    """Trees drawn as growsim draws them (1-pixel lines whose crossings enclose many tiny
+    holes, or tubes) pass the checks at every size, as do the stick tree and a margin."""
+    from growsim.models import ifs3d
+    from growsim.objectives.silhouette import plant_views
+
+    views = plant_views(ifs3d.develop(ifs3d.PRESETS["table1"]), size, line_width)
+    for v in views:
+        np.testing.assert_array_equal(silhouette(np.where(v > 0, 0.1, 0.9)), v > 0)
+    g, fg = _tree_picture()
+    np.testing.assert_array_equal(silhouette(np.pad(g, 100, constant_values=0.85)), np.pad(fg, 100))
 
 
 def test_load_gray_formats(tmp_path):

@@ -243,7 +243,7 @@ def test_a_preset_labels_its_group_without_its_parameters(tmp_path):
 
 def test_short_names_are_unambiguous():
     u = {("a", "b", "c"), ("d", "b", "c"), ("ga", "population"), ("x", "y", "z")}
-    names = report._short_names(sorted(u), u)
+    names = report.configs.short_names(sorted(u), u)
     assert names[("a", "b", "c")] == "a.b.c" and names[("d", "b", "c")] == "d.b.c"
     assert names[("ga", "population")] == "ga.population"
     assert names[("x", "y", "z")] == "y.z"
@@ -397,8 +397,8 @@ def test_curves_have_one_panel_per_family(tmp_path):
         fake_run(tmp_path / "a" / f"seed-{s}", s, 1000.0 + s)
         fake_run(tmp_path / "b" / f"seed-{s}", s, 900.0 + s, light=0.5)
         fake_run(tmp_path / "c" / f"seed-{s}", s, 0.5 + s / 10, base=IFS)
-    fams = report._families(find_runs([tmp_path]), [])
-    fig = report._curves_figure(fams)
+    fams = report.groups.families(find_runs([tmp_path]), [])
+    fig = report.figures.curves_figure(fams)
     axes = [ax for ax in fig.axes if ax.get_visible()]
     assert [ax.get_title() for ax in axes] == [f.label for f in fams]
     assert [len(ax.get_lines()) for ax in axes] == [2, 1]

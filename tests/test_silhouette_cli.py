@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
+import pandas as pd
 import pytest
 from PIL import Image
 
-from growsim.cli import main
+from growsim.cli import build_parser, main
 from growsim.cli.fit_image import fit_config
 from growsim.experiment import load_config
 from growsim.models import ifs3d
@@ -36,6 +39,54 @@ def test_fit_config_is_valid(pictures):
         assert cfg.objective[0].line_width == expected
 
 
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_fit_image_runs_the_best_setup(pictures):
+    """``fit-image --model ifs3d`` and ``experiments/ifs_tree_best.toml`` resolve to the same
+    GA (budget, islands, polish) and model: one setup, not two copies that drift apart."""
+    fit = load_config(fit_config(*pictures)).to_dict()
+    best = load_config(ROOT / "experiments" / "ifs_tree_best.toml").to_dict()
+    assert fit["ga"] == best["ga"]
+    assert fit["model"] == best["model"]
+    assert fit["output"] == best["output"]
+    assert best["ga"]["evaluations"] == 50_000
+    assert best["ga"]["polish"]["evaluations"] == 35_000
+    # the GA runs until the evaluation budget, not the schema's default 20 generations
+    ga = best["ga"]
+    generations_needed = (50_000 - 35_000) / (ga["population"] * ga["islands"])
+    assert ga["generations"] > generations_needed
+    # the experiment file is the package's copy (growsim/data), not a second definition
+    shipped = ROOT / "growsim" / "data" / "ifs_tree_best.toml"
+    assert (ROOT / "experiments" / "ifs_tree_best.toml").resolve() == shipped.resolve()
+
+
+def test_fit_config_scales_the_budget_and_keeps_the_split(pictures):
+    for model, share in (("ifs3d", 0.7), ("honda", 0.2)):
+        ga = load_config(fit_config(*pictures, model=model, evaluations=200_000)).ga
+        assert ga.evaluations == 200_000
+        assert ga.polish.evaluations == int(200_000 * share)
+        # generations never cut the GA's share of the budget short
+        per_generation = ga.population * ga.islands
+        assert ga.generations * per_generation >= 200_000 - ga.polish.evaluations
+
+
+@pytest.mark.slow
+def test_fit_image_budget_split_is_what_runs(pictures, tmp_path):
+    """30 % GA, 70 % CMA-ES polish, read back from the run's history (phase column): of
+    4,000 evaluations the GA spends its 1,200 (up to a generation more: it stops at a
+    generation's end), then the polish exactly its 2,800; at 50,000, 15,000 and 35,000."""
+    out = tmp_path / "fit"
+    args = ["fit-image", *pictures, "--out", str(out), "--evaluations", "4000", "--quiet"]
+    assert main(args) == 0
+    h = pd.read_parquet(out / "history.parquet")
+    assert set(h["phase"]) == {"ga", "polish"}
+    ga_evaluations = h.loc[h.phase == "ga", "evaluations"].max()
+    polish_evaluations = h["evaluations"].max() - ga_evaluations
+    assert 1_200 <= ga_evaluations < 1_200 + 4 * 100  # islands x population
+    assert polish_evaluations == 2_800
+
+
 @pytest.mark.slow
 def test_a_photographed_honda_tree_scores_higher_drawn_at_its_radius(tmp_path):
     """A rendered (shaded, leafy) photo of a zelkova, front and side: the true tree drawn
@@ -56,6 +107,42 @@ def test_a_photographed_honda_tree_scores_higher_drawn_at_its_radius(tmp_path):
     # measured at 600 px: thin 0.882, radius 0.936
     assert score["radius"] >= 0.9
     assert score["radius"] > score["thin"] + 0.02
+
+
+def test_fit_image_line_width_option(pictures, capsys):
+    parse = build_parser().parse_args
+    args = parse(["fit-image", *pictures, "--out", "o", "--line-width", "radius"])
+    assert (
+        load_config(fit_config(*pictures, line_width=args.line_width)).objective[0].line_width
+        == "radius"
+    )
+    args = parse(["fit-image", *pictures, "--out", "o", "--model", "honda", "--line-width", "thin"])
+    cfg = fit_config(*pictures, model="honda", line_width=args.line_width)
+    assert load_config(cfg).objective[0].line_width == "thin"
+    assert parse(["fit-image", *pictures, "--out", "o"]).line_width is None  # the model's
+    with pytest.raises(SystemExit):
+        parse(["fit-image", *pictures, "--out", "o", "--line-width", "fat"])
+    assert "--line-width" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_a_rendered_ifs3d_tree_scores_higher_drawn_at_its_radius(tmp_path):
+    """growsim's own render of the Table 1 tree (tubes 0.04 x their length wide): the true
+    tree matches it better drawn at its radius (docs/models/ifs3d.md, when to use which)."""
+    from growsim import viz
+    from growsim.objectives.silhouette import SilhouetteObjective
+
+    tree = ifs3d.develop(ifs3d.PRESETS["table1"])
+    front, side = tmp_path / "front.png", tmp_path / "side.png"
+    viz.screenshot(tree, front, view="front", size=(400, 400))
+    viz.screenshot(tree, side, view="side", size=(400, 400))
+    score = {
+        lw: SilhouetteObjective(front=str(front), side=str(side), line_width=lw)(tree)
+        for lw in ("thin", "radius")
+    }
+    # measured: thin 0.860, radius 0.964
+    assert score["radius"] >= 0.95
+    assert score["radius"] > score["thin"] + 0.05
 
 
 def test_fit_image_end_to_end(pictures, tmp_path, capsys):
@@ -82,3 +169,15 @@ def test_fit_image_bad_picture_fails_before_evolution(pictures, tmp_path, capsys
     assert not (out / "history.parquet").exists()
     code = main(["fit-image", pictures[0], str(tmp_path / "nope.png"), "--out", str(out)])
     assert code == 2 and "nope.png" in capsys.readouterr().err
+    # degenerate pictures: a single black pixel, uniform noise (fitted at NCC 0.80 and 0.86
+    # before they were refused)
+    dot = np.full((100, 100), 255, np.uint8)
+    dot[50, 50] = 0
+    Image.fromarray(dot).save(tmp_path / "dot.png")
+    noise = np.random.default_rng(0).integers(0, 256, (200, 200)).astype(np.uint8)
+    Image.fromarray(noise).save(tmp_path / "noise.png")
+    for bad, what in (("dot.png", "too small"), ("noise.png", "too noisy")):
+        code = main(["fit-image", pictures[0], str(tmp_path / bad), "--out", str(out)])
+        err = capsys.readouterr().err
+        assert code == 2 and f"{bad}: the silhouette is {what}" in err, err
+        assert not (out / "history.parquet").exists()

@@ -119,3 +119,31 @@ def test_turntable_mp4(tmp_path, tree):
     finally:
         r.close()
     assert os.listdir(tmp_path) == ["t.mp4"]
+
+
+def test_offscreen_rendering_prints_nothing_on_stderr(tmp_path, tree):
+    """Without a display VTK used to print a coloured "bad X server connection" warning on
+    every render (every screenshot of grow, show, run, fit-image): renders are quiet, and
+    VTK's warning switch is left as it was."""
+    import subprocess
+    import sys
+
+    from vtkmodules.vtkCommonCore import vtkObject
+
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+    png = tmp_path / "t.png"
+    code = (
+        "import sys; from growsim.models import honda; from growsim.viz import screenshot; "
+        "screenshot(honda.develop({'generations': 3}), sys.argv[1], size=(64, 64))"
+    )
+    r = subprocess.run([sys.executable, "-c", code, str(png)], capture_output=True, text=True,
+                       env=env)  # fmt: skip
+    assert r.returncode == 0 and png.is_file()
+    assert r.stderr == ""
+    grow = [sys.executable, "-m", "growsim", "grow", "honda", "--set", "generations=3"]
+    r = subprocess.run([*grow, "--screenshot", str(tmp_path / "g.png"), "--size", "64"],
+                       capture_output=True, text=True, env=env)  # fmt: skip
+    assert r.returncode == 0 and r.stderr == ""
+    before = vtkObject.GetGlobalWarningDisplay()
+    viz.render_image(tree, size=(32, 32))
+    assert vtkObject.GetGlobalWarningDisplay() == before

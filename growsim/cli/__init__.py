@@ -13,6 +13,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import pkgutil
+import signal
 import sys
 
 from growsim import __version__
@@ -73,6 +74,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"growsim: error: {exc}", file=sys.stderr)
         return exc.exit_code
     except KeyboardInterrupt:
+        # a second Ctrl-C while the interpreter shuts down must not kill it by the signal
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
         print("growsim: interrupted", file=sys.stderr)
         return 130
 

@@ -2,7 +2,10 @@
 it, print its counts and measures.
 
 Works for every plant model in :data:`growsim.models.MODELS` (``--set`` over the model's
-parameters, ``--preset`` over its presets).
+parameters, ``--preset`` over its presets); ``growsim grow --help`` lists every model's
+parameters (range, default) and presets, ``growsim grow MODEL --help`` one model's
+(:func:`models_help`). The screenshot options (``--view``, ``--size``) are shared with
+``growsim show`` (:func:`add_screenshot_options`).
 """
 
 from __future__ import annotations
@@ -10,11 +13,12 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import textwrap
 from pathlib import Path
 
 from growsim.errors import UserInputError
 
-__all__ = ["parse_sets", "register", "run_grow"]
+__all__ = ["add_screenshot_options", "models_help", "parse_sets", "register", "run_grow"]
 
 
 def parse_sets(items: list[str] | None) -> dict[str, float]:
@@ -38,11 +42,125 @@ def parse_sets(items: list[str] | None) -> dict[str, float]:
     return out
 
 
+def _number(x: float) -> str:
+    return str(int(x)) if float(x).is_integer() else f"{x:g}"
+
+
+def models_help(name: str | None = None) -> str:
+    """The parameters (range, default, unit, meaning) and presets of the registered models
+    (:data:`growsim.models.MODELS`), or of model ``name`` only if it is one of them: the
+    epilog of ``growsim grow --help``.
+
+    Examples
+    --------
+    >>> text = models_help("honda")
+    >>> "zelkova" in text and "  f " in text and "ifs3d" not in text
+    True
+    """
+    from growsim.models import MODELS
+    from growsim.models.base import Model
+
+    names = [name] if name in MODELS else list(MODELS)
+    lines = ["models: their parameters (--set NAME=VALUE; range, default) and presets (--preset):"]
+    for model_name in names:
+        model = MODELS.get(model_name)
+        rows = []
+        for p in model.params:
+            unit = f" {p.unit}" if p.unit else ""
+            rng = f"{_number(p.low)} .. {_number(p.high)}{unit}, default {_number(p.default)}"
+            rows.append((p.name, p.kind, rng, p.doc))
+        lines += ["", f"{model_name} (phenotype: {model.phenotype})"]
+        presets = ", ".join(sorted(model.presets)) or "(none)"
+        lines += textwrap.wrap(
+            f"presets: {presets}", 88, initial_indent="  ", subsequent_indent="    "
+        )
+        if rows:
+            w0, w2 = (max(len(r[i]) for r in rows) for i in (0, 2))
+            lines += [f"  {a:<{w0}}  {b:<4}  {c:<{w2}}  {d}".rstrip() for a, b, c, d in rows]
+        if type(model).param_spec is not Model.param_spec:
+            lines.append("  (shown for the default fixed values: the list depends on them)")
+    return "\n".join(lines) + "\n"
+
+
+class _ModelsHelp(argparse.Action):
+    """``-h/--help`` of ``grow``: the usual help, then :func:`models_help` (of the model
+    given before ``--help``, if any). Built on demand: building the parser imports no model."""
+
+    def __init__(self, option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS,
+                 help=None):  # fmt: skip
+        super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        parser.epilog = models_help(getattr(namespace, "model", None))
+        parser.print_help()
+        parser.exit()
+
+
+class _ViewNames:
+    """The names of :data:`growsim.viz.VIEWS` as argparse choices, read when first needed
+    (building the parser imports neither NumPy nor pyvista)."""
+
+    def _names(self) -> tuple[str, ...]:
+        from growsim.viz import VIEWS
+
+        return tuple(VIEWS)
+
+    def __contains__(self, item) -> bool:
+        return item in self._names()
+
+    def __iter__(self):
+        return iter(self._names())
+
+
+class _Size(argparse.Action):
+    """``--size W H`` or ``--size N`` (``N x N``) into a ``(W, H)`` tuple."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        if len(values) > 2:
+            parser.error(f"argument {option_string}: expected W H or N, got {len(values)} numbers")
+        setattr(namespace, self.dest, (values[0], values[-1]))
+
+
+def add_screenshot_options(p: argparse.ArgumentParser, view: str = "front") -> None:
+    """``--view`` (one of :data:`growsim.viz.VIEWS`, default ``view``) and ``--size W H``
+    (or ``N`` for a square; checked by :func:`growsim.viz.check_size` before anything is
+    grown or read): the screenshot options of ``grow`` and ``show``.
+
+    Examples
+    --------
+    >>> p = argparse.ArgumentParser()
+    >>> add_screenshot_options(p)
+    >>> a = p.parse_args(["--view", "back", "--size", "300"])
+    >>> a.view, a.size
+    ('back', (300, 300))
+    """
+    p.add_argument(
+        "--view",
+        default=view,
+        choices=_ViewNames(),
+        metavar="VIEW",
+        help=f"screenshot camera: %(choices)s (default {view})",
+    )
+    p.add_argument(
+        "--size",
+        type=int,
+        nargs="+",
+        action=_Size,
+        default=(800, 800),
+        metavar=("W", "H"),
+        help="screenshot size in pixels: W H, or N for N x N (each 16..4096; default 800 800)",
+    )
+
+
 def run_grow(args: argparse.Namespace) -> int:
     """Body of ``growsim grow`` (see ``growsim grow --help``)."""
     from growsim.models import get_model
 
     model = get_model(args.model)
+    if args.screenshot is not None:
+        from growsim.viz import check_size
+
+        check_size(args.size, "--size")
     params: dict[str, float] = {}
     if args.preset is not None:
         params.update(model.preset(args.preset))
@@ -75,7 +193,7 @@ def run_grow(args: argparse.Namespace) -> int:
     if args.screenshot is not None:
         from growsim.viz import screenshot
 
-        screenshot(plant, args.screenshot, view=args.view, size=(args.size, args.size))
+        screenshot(plant, args.screenshot, view=args.view, size=args.size)
     if args.save is not None:
         plant.save(args.save)
     generations = plant.data.get("generation")
@@ -130,20 +248,32 @@ def register(subparsers) -> None:
         help="grow one plant from a preset/parameters; export, render, print measures",
         description=(
             "Grow one plant. Example: growsim grow honda --preset zelkova --set f=0.8 "
-            "--export tree.glb --screenshot tree.png --json"
+            "--export tree.glb --screenshot tree.png --json. 'growsim grow MODEL --help' "
+            "lists that model's parameters and presets."
         ),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        add_help=False,
     )
-    p.add_argument("model", help="model name (e.g. honda, ifs3d)")
-    p.add_argument("--preset", help="named parameter set of the model")
+    p.description = textwrap.fill(p.description, 88)
+    p.add_argument(
+        "-h",
+        "--help",
+        action=_ModelsHelp,
+        help="show this help, the models' parameters and presets",
+    )
+    p.add_argument("model", help="model name (growsim.models.MODELS: honda, ifs3d, ...)")
+    p.add_argument("--preset", help="named parameter set of the model (listed below)")
     p.add_argument("--seed", type=int, help="random seed (overrides the preset's)")
     p.add_argument(
-        "--set", action="append", metavar="NAME=VALUE", help="set a parameter (repeatable)"
+        "--set",
+        action="append",
+        metavar="NAME=VALUE",
+        help="set a parameter (repeatable; names and ranges below)",
     )
     p.add_argument("--export", metavar="PATH", help="mesh file: .vtp, .ply, .obj or .glb")
     p.add_argument("--screenshot", metavar="PATH", help="PNG render")
     p.add_argument("--save", metavar="PATH", help="the Plant skeleton as .npz")
-    p.add_argument("--view", default="front", help="screenshot view: front, side, top, iso")
-    p.add_argument("--size", type=int, default=800, help="screenshot size in pixels")
+    add_screenshot_options(p, view="front")
     p.add_argument("--sides", type=int, default=6, help="tube polygon sides")
     p.add_argument("--segments", type=int, default=1, help="tube pieces per segment")
     p.add_argument("--json", action="store_true", help="print counts and measures as JSON")

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import argparse
 
+from growsim.cli.grow import add_screenshot_options
+
 __all__ = ["register"]
 
 
@@ -14,8 +16,9 @@ def register(subparsers) -> None:
     Examples
     --------
     >>> from growsim.cli import build_parser
-    >>> build_parser().parse_args(["show", "runs/a", "--view", "top"]).view
-    'top'
+    >>> args = build_parser().parse_args(["show", "runs/a", "--view", "back", "--size", "400"])
+    >>> args.view, args.size
+    ('back', (400, 400))
     """
     p = subparsers.add_parser(
         "show",
@@ -25,20 +28,8 @@ def register(subparsers) -> None:
     )
     p.add_argument("dir", metavar="DIR", help="results directory of a run")
     p.add_argument("--screenshot", metavar="PNG", help="write a PNG instead of opening a window")
-    p.add_argument(
-        "--view",
-        default="iso",
-        choices=["front", "side", "top", "iso"],
-        help="camera for --screenshot (default iso)",
-    )
-    p.add_argument(
-        "--size",
-        type=int,
-        nargs=2,
-        default=(800, 800),
-        metavar=("W", "H"),
-        help="screenshot size in pixels",
-    )
+    # the same --view (growsim.viz.VIEWS) and --size (W H, or N) as ``growsim grow``
+    add_screenshot_options(p, view="iso")
     p.set_defaults(func=main)
 
 
@@ -49,15 +40,16 @@ def main(args: argparse.Namespace) -> int:
     from growsim.errors import UserInputError
     from growsim.results import read_run
 
-    phenotype = read_run(args.dir, finished=False, history=False).phenotype()
     if args.screenshot:
-        w, h = args.size
-        if not (16 <= w <= 8192 and 16 <= h <= 8192):
-            raise UserInputError(f"--size: {w} x {h} is out of range [16, 8192]")
+        from growsim.viz import check_size
+
+        size = check_size(args.size, "--size")
         out = Path(args.screenshot)
         if out.suffix.lower() != ".png":
             raise UserInputError(f"--screenshot {out}: expected a .png file name")
-        phenotype.screenshot(out, view=args.view, size=(w, h))
+    phenotype = read_run(args.dir, finished=False, history=False).phenotype()
+    if args.screenshot:
+        phenotype.screenshot(out, view=args.view, size=size)
         print(f"wrote {out}")
     else:
         phenotype.show(view=args.view)

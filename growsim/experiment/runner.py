@@ -9,12 +9,15 @@ results directory back (through :func:`growsim.results.read_run`).
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import logging
 import math
+import signal
 import sys
+import threading
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -32,11 +35,70 @@ __all__ = [
     "best_phenotype",
     "best_plant",
     "default_out",
+    "interrupts_deferred",
     "load_run",
     "run",
 ]
 
 log = logging.getLogger("growsim.experiment")
+
+
+@contextlib.contextmanager
+def interrupts_deferred(replay: bool = True) -> Iterator[None]:
+    """Hold Ctrl-C (SIGINT) until the block ends, then raise ``KeyboardInterrupt``.
+
+    Native code must not be interrupted halfway: a ``KeyboardInterrupt`` raised inside
+    pyvista/VTK (its off-screen renders, the import of its rendering modules) crashed the
+    interpreter (segmentation fault), and one raised inside ``np.savez`` or a renderer
+    came out as another exception, which an artefact's error handling took for a failed
+    file. Inside the block a SIGINT is only recorded; at its end the previous handler is
+    put back and, if one came, called (the default one raises ``KeyboardInterrupt``,
+    even over an exception of the block); ``replay=False`` drops it (for code that is
+    already handling an interrupt). Outside the main thread, or when SIGINT is ignored,
+    the block runs as is.
+
+    Examples
+    --------
+    >>> import os, signal
+    >>> try:
+    ...     with interrupts_deferred():
+    ...         os.kill(os.getpid(), signal.SIGINT)
+    ...         print("the block ends")
+    ... except KeyboardInterrupt:
+    ...     print("then the interrupt")
+    the block ends
+    then the interrupt
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.getsignal(signal.SIGINT)
+    if previous in (signal.SIG_IGN, None):  # ignored, or a handler set outside Python
+        yield
+        return
+    caught: list[object] = []
+    signal.signal(signal.SIGINT, lambda signum, frame: caught.append(frame))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+        if caught and replay:
+            if not callable(previous):  # SIG_DFL: stop, as Python's own handler would
+                raise KeyboardInterrupt
+            previous(signal.SIGINT, caught[0])  # Python's default raises KeyboardInterrupt
+
+
+def _interrupted(exc: BaseException) -> bool:
+    """True when ``exc`` was raised while a ``KeyboardInterrupt`` was being handled (a
+    library's clean-up failing under Ctrl-C, e.g. a ZIP file closed halfway)."""
+    seen: set[int] = set()
+    e: BaseException | None = exc
+    while e is not None and id(e) not in seen:
+        if isinstance(e, KeyboardInterrupt):
+            return True
+        seen.add(id(e))
+        e = e.__cause__ or e.__context__
+    return False
 
 
 @dataclasses.dataclass
@@ -128,7 +190,8 @@ class Progress:
             )
         if self.rd is not None and time.perf_counter() - self.last_write > self.every:
             try:
-                self.rd.write_parquet("history.parquet", ga.history)
+                with interrupts_deferred():  # a Ctrl-C here stops the run after the file
+                    self.rd.write_parquet("history.parquet", ga.history)
             except Exception as exc:  # only a live view: never stop a run for it
                 log.warning("live history.parquet not written: %s", exc)
             self.last_write = time.perf_counter()
@@ -175,7 +238,9 @@ def run(
     (``None`` with ``resume=True``: the ``config.toml`` saved in ``out``). ``out``: the
     results directory (default ``runs/<name>-<timestamp>``); a fresh run refuses a
     directory that already holds a run, and a second run on a directory in use refuses
-    at once. ``seed`` overrides ``experiment.seed``. ``workers``: local process pool size;
+    at once; everything that can be checked (the config, the GA's options and budget,
+    the directory) is checked before anything is written. ``seed`` overrides
+    ``experiment.seed``. ``workers``: local process pool size;
     ``scheduler``: ``"local"`` (a Dask LocalCluster of ``workers`` processes) or a Dask
     scheduler address. ``resume=True`` continues from ``out/checkpoint.npz`` to the same
     history and best as an uninterrupted run. ``progress``: a tqdm bar on stderr (only
@@ -183,6 +248,11 @@ def run(
     True to stop). ``executor``: any ``concurrent.futures.Executor`` to evaluate on
     (instead of ``workers``/``scheduler``; not shut down here), e.g.
     ``Client.get_executor(pure=False)``.
+
+    Ctrl-C stops the run at once, except while a file is being written (the end-of-run
+    artefacts: meshes, renders, plots), which is finished first; then it prints
+    ``growsim: to continue: growsim run --resume DIR`` on stderr and raises
+    ``KeyboardInterrupt``. The directory's ``.lock`` is removed when the run ends.
 
     Examples
     --------
@@ -224,25 +294,34 @@ def run(
         (executor, lambda: None) if executor is not None else make_executor(workers, scheduler)
     )
     try:
-        with rd.lock():
-            if not resume:
-                rd.create_fresh()
-                rd.write_text("config.toml", plan.config.to_toml())
+        # the fitness and the GA before the directory: what they refuse writes nothing
+        fitness, ga = _build(plan, ext)
+        try:
             try:
-                return _run_locked(plan, rd, workers, scheduler, resume, progress, callback, ext)
-            except KeyboardInterrupt:
-                print(f"growsim: to continue: growsim run --resume {rd.path}", file=sys.stderr)
+                with rd.lock():
+                    if not resume:
+                        rd.create_fresh()
+                        rd.write_text("config.toml", plan.config.to_toml())
+                    return _run_locked(
+                        plan, rd, workers, scheduler, resume, progress, callback, ext, fitness, ga
+                    )
+            except Exception as exc:
+                if _interrupted(exc):  # a clean-up failing under Ctrl-C: still an interrupt
+                    raise KeyboardInterrupt from exc
                 raise
+        except KeyboardInterrupt:
+            with interrupts_deferred(replay=False):  # a second Ctrl-C: the same stop
+                if rd.config_path.is_file():
+                    print(f"growsim: to continue: growsim run --resume {rd.path}", file=sys.stderr)
+            raise
     finally:
         close()
 
 
-def _run_locked(plan, rd, workers, scheduler, resume, progress, callback, executor) -> RunResult:
-    from growsim import __version__
-
-    cfg = plan.config
+def _build(plan: ExperimentPlan, executor):
+    """The plan's fitness and its GA (evaluating on ``executor``)."""
     fitness = plan.fitness()
-    g = cfg.ga
+    g = plan.config.ga
     # Tasks per generation: the GA splits a population into 4 tasks per worker, counting
     # local CPUs when it cannot see the executor's size; give it the Dask cluster's size.
     # (Batching never changes results: seeds follow the evaluation index.)
@@ -250,7 +329,16 @@ def _run_locked(plan, rd, workers, scheduler, resume, progress, callback, execut
     n_exec = executor_workers(executor) if executor is not None else None
     if g.batch_size is None and n_exec is not None:
         batch = max(1, math.ceil(g.population / (4 * n_exec)))
-    ga = plan.build_ga(fitness, batch_size=batch)
+    return fitness, plan.build_ga(fitness, batch_size=batch)
+
+
+def _run_locked(
+    plan, rd, workers, scheduler, resume, progress, callback, executor, fitness, ga
+) -> RunResult:
+    from growsim import __version__
+
+    cfg = plan.config
+    g = cfg.ga
     show_bar = bool(progress) and sys.stderr.isatty()
     bar = Progress(g.generations, show_bar, callback, rd=rd)
     t0 = time.perf_counter()
@@ -275,7 +363,9 @@ def _run_locked(plan, rd, workers, scheduler, resume, progress, callback, execut
         best_params[n] = round(best_params[n])
     plant_seed = int(fitness.model_seeds(best_row[None, :], None)[0])
     history = result.history
-    rd.write_parquet("history.parquet", history)
+    # every file of the end of the run is finished before a Ctrl-C stops it
+    with interrupts_deferred():
+        rd.write_parquet("history.parquet", history)
 
     warnings: list[str] = []
     phenotype, terms = None, {}
@@ -298,7 +388,8 @@ def _run_locked(plan, rd, workers, scheduler, resume, progress, callback, execut
     raw = getattr(result.best, "raw", None)
     if raw is not None:
         best["genome"] = np.asarray(raw).tolist()
-    rd.write_json("best.json", jsonable(best))
+    with interrupts_deferred():
+        rd.write_json("best.json", jsonable(best))
     warnings += _artefacts(cfg, rd, phenotype, history)
 
     summary = {
@@ -327,7 +418,8 @@ def _run_locked(plan, rd, workers, scheduler, resume, progress, callback, execut
         "warnings": warnings,
     }
     summary = jsonable(summary)
-    rd.write_json("summary.json", summary)  # last: its presence marks a complete run
+    with interrupts_deferred():
+        rd.write_json("summary.json", summary)  # last: its presence marks a complete run
     return RunResult(
         history=history,
         best_params=best_params,
@@ -339,25 +431,40 @@ def _run_locked(plan, rd, workers, scheduler, resume, progress, callback, execut
     )
 
 
+#: measures of the light on the leaves: left out of summaries for a phenotype without
+#: leaves (``n_leaves == 0``, e.g. the IFS tree's), where they would read 0
+LEAF_LIGHT_MEASURES = ("leaf_area_top", "light_captured")
+
+
 def _measures(phenotype, plan) -> dict[str, float]:
-    """The best phenotype's named measures (in its environment), for summaries."""
+    """The best phenotype's named measures (in its environment), for summaries; without
+    :data:`LEAF_LIGHT_MEASURES` when it has no leaves."""
     try:
-        return {
+        out = {
             k: float(v) for k, v in phenotype.measures(plan.environment).items() if np.isscalar(v)
         }
     except Exception as exc:  # measures are informative; never lose a run for them
         log.warning("measures of the best phenotype failed: %s", exc)
         return {}
+    if out.get("n_leaves") == 0:
+        for k in LEAF_LIGHT_MEASURES:
+            out.pop(k, None)
+    return out
 
 
 def _artefacts(cfg: Config, rd, phenotype, history) -> list[str]:
-    """The best phenotype's file and artefacts, the fitness plot. Returns warnings."""
+    """The best phenotype's file and artefacts, the fitness plot. Returns warnings.
+
+    Each file is written with Ctrl-C held (:func:`interrupts_deferred`): an interrupt
+    finishes the file being written (a VTK render must not be cut: it crashed), then
+    stops the run."""
     warnings = []
     o = cfg.output
 
     def attempt(what, fn):
         try:
-            fn()
+            with interrupts_deferred():
+                fn()
         except Exception as exc:  # an artefact must not lose the run's results
             warnings.append(f"{what}: {exc}")
             log.warning("writing %s failed: %s", what, exc)
@@ -367,16 +474,21 @@ def _artefacts(cfg: Config, rd, phenotype, history) -> list[str]:
             path = rd.phenotype_path(phenotype.phenotype)
             attempt(path.name, lambda: phenotype.save(path))
         try:
-            files = phenotype.artefacts(o)
+            with interrupts_deferred():
+                files = phenotype.artefacts(o)
         except Exception as exc:
             files = {}
             warnings.append(f"artefacts: {exc}")
         for name, writer in files.items():
             attempt(name, lambda name=name, writer=writer: writer(rd.path / name))
     if o.plot and len(history):
-        from growsim import viz
 
-        attempt("fitness.png", lambda: viz.plot_fitness(history, rd.path / "fitness.png"))
+        def plot():
+            from growsim import viz
+
+            viz.plot_fitness(history, rd.path / "fitness.png")
+
+        attempt("fitness.png", plot)
     return warnings
 
 

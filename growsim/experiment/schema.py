@@ -21,6 +21,7 @@ from growsim.ga import GAOptions, PolishOptions
 from growsim.ga.options import GA_OPTIONS_CONFIG
 from growsim.objectives import OBJECTIVES
 from growsim.options import Options
+from growsim.viz import MAX_SIZE, MIN_SIZE, VIEWS
 
 __all__ = [
     "SECTIONS",
@@ -31,9 +32,6 @@ __all__ = [
     "ObjectiveConfig",
     "OutputConfig",
 ]
-
-VIEWS = ("front", "side", "top", "iso")
-MESH_FORMATS = ("vtp", "ply", "obj", "glb")
 
 
 class ExperimentConfig(Options):
@@ -48,7 +46,11 @@ class ExperimentConfig(Options):
     description: str = Field("", description="free text, copied to summary.json")
     seed: int = Field(0, ge=0, le=2**63 - 1, description="seed of the run (--seed overrides)")
     repeats: int = Field(
-        1, ge=1, le=1000, description="default number of seeds per variant in growsim sweep"
+        1,
+        ge=1,
+        le=1000,
+        description="seeds per variant (seed, seed + 1, ...) when growsim sweep is given no "
+        "--repeats; used by growsim sweep only: growsim run always runs one seed",
     )
 
 
@@ -120,7 +122,11 @@ class GAConfig(GAOptions):
     islands...), plus the genome's coding and the run's budget."""
 
     generations: StrictInt | None = Field(
-        20, ge=0, le=10_000_000, description="stop after this many generations"
+        20,
+        ge=1,
+        le=10_000_000,
+        description="stop after this many generations (generation 0, the random population, "
+        "counts as one)",
     )
     evaluations: StrictInt | None = Field(
         None, ge=1, description="stop after this many evaluations"
@@ -138,13 +144,21 @@ class GAConfig(GAOptions):
     polish: PolishOptions | None = Field(
         None,
         description="local refinement of the best at the end (a table: evaluations, sigma, "
-        'batch, min_sigma, method "es" or "cmaes"), e.g. {evaluations = 500, sigma = 0.02}',
+        'batch, min_sigma, method "es" or "cmaes"), e.g. {evaluations = 500, sigma = 0.02}; '
+        "its evaluations come out of ga.evaluations and must leave the GA at least one",
     )
 
     @model_validator(mode="after")
     def _budget(self):
         if self.generations is None and self.evaluations is None and self.wall_time is None:
             raise ValueError("no budget: set at least one of generations, evaluations or wall_time")
+        # what GA.run refuses is refused here, before a run writes anything
+        if self.evaluations is not None and self.polish is not None:
+            if self.evaluations - self.polish.evaluations < 1:
+                raise ValueError(
+                    f"polish.evaluations ({self.polish.evaluations}) leaves no evaluations of "
+                    f"the budget (evaluations = {self.evaluations}) for the GA"
+                )
         return self
 
     def stop_options(self) -> dict[str, Any]:
@@ -166,14 +180,14 @@ class OutputConfig(Options):
         default_factory=lambda: ["vtp", "glb"],
         description="mesh formats of the best phenotype (plants)",
     )
-    screenshots: list[Literal["front", "side", "top", "iso"]] = Field(
+    screenshots: list[Literal[tuple(VIEWS)]] = Field(  # type: ignore[valid-type]
         default_factory=lambda: ["front", "iso"], description="views rendered to best_<view>.png"
     )
     size: list[int] = Field(
         default_factory=lambda: [800, 800],
         min_length=2,
         max_length=2,
-        description="screenshot size [width, height] in pixels (16..4096)",
+        description=f"screenshot size [width, height] in pixels ({MIN_SIZE}..{MAX_SIZE})",
     )
     plot: bool = Field(True, description="write fitness.png")
     phenotype: bool = Field(
@@ -194,8 +208,10 @@ class OutputConfig(Options):
     @field_validator("size")
     @classmethod
     def _check_size(cls, v):
-        if not all(16 <= s <= 4096 for s in v):
-            raise ValueError(f"each of width, height must be in [16, 4096], got {v!r}")
+        if not all(MIN_SIZE <= s <= MAX_SIZE for s in v):
+            raise ValueError(
+                f"each of width, height must be in [{MIN_SIZE}, {MAX_SIZE}], got {v!r}"
+            )
         return v
 
 

@@ -1,26 +1,39 @@
 """Sweeps: a grid of config variants x repeats, run into one directory, one table.
 
-Every variant is compiled once (its objectives built once) and run for each seed.
+Every variant is compiled once (its objectives built once) and run for each seed. A run
+directory already there is reused (finished) or resumed (interrupted) only when its
+``config.toml`` is the config the sweep would run; otherwise the sweep refuses before
+running or writing anything.
 """
 
 from __future__ import annotations
 
 import itertools
+import json
 import re
 import sys
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from growsim.errors import UserInputError
+from growsim.errors import GrowsimError, UserInputError
 from growsim.experiment.executors import check_executor_args, make_executor
-from growsim.experiment.load import load_plan, parse_path, parse_value, read_config, set_path
+from growsim.experiment.load import (
+    load_plan,
+    parse_path,
+    parse_value,
+    read_config,
+    set_path,
+    validate,
+)
 from growsim.experiment.plan import ExperimentPlan
 from growsim.experiment.runner import default_out, run
 from growsim.experiment.schema import Config
 from growsim.options import key_path
 
-__all__ = ["parse_vary", "sweep"]
+__all__ = ["config_difference", "parse_vary", "sweep"]
+
+_MISSING = object()
 
 
 def parse_vary(items: Sequence[str] | Mapping[str, Sequence[Any]]) -> dict[str, list[Any]]:
@@ -94,7 +107,11 @@ def sweep(
     runs ``repeats`` seeds (``experiment.seed + r``, the same seeds for every variant, so
     variants are compared on common random numbers) into
     ``out/<variant label>/seed-<seed>/``. A finished run found there is reused and a
-    killed one resumed, so re-running a sweep completes it. The table (also written to
+    killed one resumed, so re-running a sweep completes it; but only when its saved
+    ``config.toml`` equals the config this sweep would run there: a run made with other
+    settings (another ``--set``, another base config) is refused before anything runs or
+    is written, naming its directory and the first key that differs (use another
+    ``out``). The table (also written to
     ``out/sweep.csv`` and ``out/sweep.parquet``) has one column per varied key, then
     ``repeat``, ``seed``, ``best_fitness``, ``generations``, ``evaluations``,
     ``wall_seconds``, the best plant's measures and ``out``.
@@ -132,6 +149,11 @@ def sweep(
     if len(set(labels)) != len(labels):
         labels = [f"v{i}-{lab}" for i, lab in enumerate(labels)]
     root = Path(out) if out is not None else default_out(base, kind="sweep")
+    # every run directory already there must hold this sweep's run: check them all
+    # before running (or writing) anything
+    for (_, plan), label in zip(variants, labels):
+        for r in range(n_rep):
+            _check_run_dir(root / label / f"seed-{plan.seed + r}", plan.with_seed(plan.seed + r))
     root.mkdir(parents=True, exist_ok=True)
     executor, close = make_executor(workers, scheduler)  # one pool/cluster for every run
     try:
@@ -144,6 +166,90 @@ def sweep(
 
     write_parquet(root / "sweep.parquet", df)
     return df
+
+
+def config_difference(a: Any, b: Any, parts: tuple = ()) -> tuple | None:
+    """The key path (parts) of the first difference between two configs as data
+    (nested dicts; lists of tables compared item by item, other lists as values), or
+    ``None`` when they are equal.
+
+    Examples
+    --------
+    >>> config_difference({"ga": {"population": 8, "elite": 1}}, {"ga": {"population": 6}})
+    ('ga', 'population')
+    >>> config_difference({"objective": [{"kind": "light", "wood_cost": 1.0}]},
+    ...                   {"objective": [{"kind": "light", "wood_cost": 0.5}]})
+    ('objective', 0, 'wood_cost')
+    >>> config_difference({"env": {"direction": [0, -1, 0]}}, {"env": {"direction": [0, -1, 0]}})
+    """
+    if isinstance(a, dict) and isinstance(b, dict):
+        for k in [*a, *(k for k in b if k not in a)]:
+            if k not in a or k not in b:
+                return (*parts, k)
+            diff = config_difference(a[k], b[k], (*parts, k))
+            if diff is not None:
+                return diff
+        return None
+    tables = (
+        isinstance(a, list) and isinstance(b, list) and all(isinstance(x, dict) for x in (*a, *b))
+    )
+    if tables and a and b:
+        for i, (x, y) in enumerate(zip(a, b)):
+            diff = config_difference(x, y, (*parts, i))
+            if diff is not None:
+                return diff
+        return None if len(a) == len(b) else (*parts, min(len(a), len(b)))
+
+    def number(x):
+        return isinstance(x, (int, float)) and not isinstance(x, bool)
+
+    same = type(a) is type(b) or (number(a) and number(b))
+    return None if same and a == b else parts
+
+
+def _value_at(data: Any, parts: tuple) -> Any:
+    for p in parts:
+        try:
+            data = data[p]
+        except (KeyError, IndexError, TypeError):
+            return _MISSING
+    return data
+
+
+def _show(value: Any) -> str:
+    if value is _MISSING:
+        return "unset"
+    text = json.dumps(value, default=str)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _check_run_dir(run_dir: Path, plan: ExperimentPlan) -> None:
+    """Refuse (``UserInputError``, one line, nothing written) a run directory that holds
+    a run whose saved resolved config is not ``plan``'s: neither reuse its results nor
+    resume it with its old config."""
+    from growsim.results import RunDir
+
+    rd = RunDir(run_dir)
+    if not rd.config_path.is_file():
+        if rd.path.exists():
+            rd.create_fresh()  # a run's files without its config.toml: refused too
+        return
+    want = plan.config.to_dict()
+    saved = rd.read_config()
+    diff = config_difference(saved, want)
+    if diff is not None:
+        try:  # saved by another growsim version: compare the configs as resolved now
+            resolved = validate(saved, str(rd.config_path)).to_dict()
+        except GrowsimError:
+            resolved = None
+        if resolved is not None and config_difference(resolved, want) is None:
+            return
+        key = key_path(diff)
+        raise UserInputError(
+            f"{rd.path} holds a run made with another config ({key}: "
+            f"{_show(_value_at(saved, diff))} there, {_show(_value_at(want, diff))} in this "
+            "sweep); choose another --out"
+        )
 
 
 def _sweep_runs(variants, labels, n_rep, root, executor, workers, scheduler, progress):
