@@ -1,0 +1,76 @@
+"""The figures docs/quickstart.md prints, regenerated from real runs.
+
+    python benchmarks/doc_figures.py [--sweep]
+
+Runs the quickstart (``experiments/quickstart.toml``, its own seed) and prints its best
+fitness, generation, evaluations and evolved parameters as JSON; with ``--sweep``, also
+the light-direction sweep of the quickstart page (light from above vs. at 45 degrees, 3
+seeds each) with each variant's mean +/- 95 % CI and Welch's p. The quickstart figures
+are deterministic (same config + seed, same result), and ``tests/test_doc_figures.py``
+checks the page against a fresh run, so they cannot drift.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+QUICK = ROOT / "experiments" / "quickstart.toml"
+NO_FILES = ["output.mesh=[]", "output.screenshots=[]", "output.plot=false"]
+
+
+def quickstart(out: Path) -> dict:
+    """The quickstart run's figures (no artefacts written)."""
+    from growsim.experiment import run
+
+    r = run(QUICK, out, overrides=NO_FILES, progress=False)
+    best = json.loads((r.out / "best.json").read_text())
+    return {
+        "best_fitness": round(r.best_fitness, 2),
+        "best_generation": best["generation"],
+        "evaluations": r.summary["evaluations"],
+        "evolved": {k: round(v, 2) for k, v in best["evolved"].items()},
+    }
+
+
+def light_sweep(out: Path) -> dict:
+    """Light from above vs. at 45 degrees, 3 seeds each: mean, 95 % CI, Welch's p."""
+    from scipy import stats
+
+    from growsim.experiment import sweep
+    from growsim.report.statistics import ci95
+
+    df = sweep(
+        QUICK,
+        ["env.light.direction=[[0, -1, 0], [1, -1, 0]]"],
+        repeats=3,
+        out=out,
+        overrides=NO_FILES,
+        progress=False,
+    )
+    groups = {label: g["best_fitness"].to_numpy() for label, g in df.groupby("variant")}
+    out_rows = {
+        label: {"mean": round(float(x.mean()), 1), "ci95": round(float(ci95(x)), 1)}
+        for label, x in groups.items()
+    }
+    a, b = groups.values()
+    out_rows["welch_p"] = round(float(stats.ttest_ind(a, b, equal_var=False).pvalue), 4)
+    return out_rows
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--sweep", action="store_true", help="also run the light sweep (6 runs)")
+    args = ap.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        result = {"quickstart": quickstart(Path(tmp) / "q")}
+        if args.sweep:
+            result["light_sweep"] = light_sweep(Path(tmp) / "sweep")
+    print(json.dumps(result, indent=1))
+
+
+if __name__ == "__main__":
+    main()
