@@ -26,6 +26,9 @@ from growsim.experiment.schema import Config
 from growsim.options import key_path, validation_message
 
 __all__ = [
+    "UNSET",
+    "config_difference",
+    "flatten_config",
     "load_config",
     "load_plan",
     "parse_overrides",
@@ -61,6 +64,58 @@ def parse_path(path: str) -> list[str | int]:
     if isinstance(parts[0], str):
         parts[0] = ALIASES.get(parts[0], parts[0])
     return parts
+
+
+def flatten_config(data: Any, prefix: tuple[str, ...] = ()) -> dict[tuple[str, ...], Any]:
+    """The leaves of config data by key path: ``{("environment", "light", "intensity"):
+    0.5, ...}``. Lists of tables are indexed (``objective[0]``); other lists are values.
+
+    Examples
+    --------
+    >>> flatten_config({"objective": [{"kind": "light"}], "ga": {"bounds": [0, 1]}})
+    {('objective[0]', 'kind'): 'light', ('ga', 'bounds'): [0, 1]}
+    """
+    out: dict[tuple[str, ...], Any] = {}
+    if isinstance(data, dict):
+        for k, v in data.items():
+            if isinstance(v, list) and v and all(isinstance(e, dict) for e in v):
+                for i, e in enumerate(v):
+                    out.update(flatten_config(e, (*prefix, f"{k}[{i}]")))
+            else:
+                out.update(flatten_config(v, (*prefix, str(k))))
+    else:
+        out[prefix] = data
+    return out
+
+
+#: the value of a key a config does not have (see :func:`config_difference`)
+UNSET = "unset"
+
+
+def config_difference(a: Any, b: Any) -> tuple[str, Any, Any] | None:
+    """The first key path where two configs (as data) differ, with its value in each
+    (:data:`UNSET` where one has no such key), or ``None`` when they are equal. Numbers
+    compare by value (``1 == 1.0``).
+
+    Examples
+    --------
+    >>> config_difference({"ga": {"population": 8, "elite": 1}}, {"ga": {"population": 6}})
+    ('ga.population', 8, 6)
+    >>> config_difference({"objective": [{"kind": "light", "wood_cost": 1.0}]},
+    ...                   {"objective": [{"kind": "light", "wood_cost": 1}]}) is None
+    True
+    """
+
+    def same(x, y):
+        numbers = all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in (x, y))
+        return (numbers or type(x) is type(y)) and x == y
+
+    fa, fb = flatten_config(a), flatten_config(b)
+    for path in [*fa, *(p for p in fb if p not in fa)]:
+        va, vb = fa.get(path, UNSET), fb.get(path, UNSET)
+        if path not in fa or path not in fb or not same(va, vb):
+            return ".".join(path), va, vb
+    return None
 
 
 def parse_value(text: str) -> Any:

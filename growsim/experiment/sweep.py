@@ -19,6 +19,8 @@ from typing import Any
 from growsim.errors import GrowsimError, UserInputError
 from growsim.experiment.executors import check_executor_args, make_executor
 from growsim.experiment.load import (
+    UNSET,
+    config_difference,
     load_plan,
     parse_path,
     parse_value,
@@ -31,9 +33,7 @@ from growsim.experiment.runner import default_out, run
 from growsim.experiment.schema import Config
 from growsim.options import key_path
 
-__all__ = ["config_difference", "parse_vary", "sweep"]
-
-_MISSING = object()
+__all__ = ["parse_vary", "sweep"]
 
 
 def parse_vary(items: Sequence[str] | Mapping[str, Sequence[Any]]) -> dict[str, list[Any]]:
@@ -168,58 +168,8 @@ def sweep(
     return df
 
 
-def config_difference(a: Any, b: Any, parts: tuple = ()) -> tuple | None:
-    """The key path (parts) of the first difference between two configs as data
-    (nested dicts; lists of tables compared item by item, other lists as values), or
-    ``None`` when they are equal.
-
-    Examples
-    --------
-    >>> config_difference({"ga": {"population": 8, "elite": 1}}, {"ga": {"population": 6}})
-    ('ga', 'population')
-    >>> config_difference({"objective": [{"kind": "light", "wood_cost": 1.0}]},
-    ...                   {"objective": [{"kind": "light", "wood_cost": 0.5}]})
-    ('objective', 0, 'wood_cost')
-    >>> config_difference({"env": {"direction": [0, -1, 0]}}, {"env": {"direction": [0, -1, 0]}})
-    """
-    if isinstance(a, dict) and isinstance(b, dict):
-        for k in [*a, *(k for k in b if k not in a)]:
-            if k not in a or k not in b:
-                return (*parts, k)
-            diff = config_difference(a[k], b[k], (*parts, k))
-            if diff is not None:
-                return diff
-        return None
-    tables = (
-        isinstance(a, list) and isinstance(b, list) and all(isinstance(x, dict) for x in (*a, *b))
-    )
-    if tables and a and b:
-        for i, (x, y) in enumerate(zip(a, b)):
-            diff = config_difference(x, y, (*parts, i))
-            if diff is not None:
-                return diff
-        return None if len(a) == len(b) else (*parts, min(len(a), len(b)))
-
-    def number(x):
-        return isinstance(x, (int, float)) and not isinstance(x, bool)
-
-    same = type(a) is type(b) or (number(a) and number(b))
-    return None if same and a == b else parts
-
-
-def _value_at(data: Any, parts: tuple) -> Any:
-    for p in parts:
-        try:
-            data = data[p]
-        except (KeyError, IndexError, TypeError):
-            return _MISSING
-    return data
-
-
 def _show(value: Any) -> str:
-    if value is _MISSING:
-        return "unset"
-    text = json.dumps(value, default=str)
+    text = value if value == UNSET else json.dumps(value, default=str)
     return text if len(text) <= 40 else text[:37] + "..."
 
 
@@ -244,11 +194,10 @@ def _check_run_dir(run_dir: Path, plan: ExperimentPlan) -> None:
             resolved = None
         if resolved is not None and config_difference(resolved, want) is None:
             return
-        key = key_path(diff)
+        key, there, here = diff
         raise UserInputError(
-            f"{rd.path} holds a run made with another config ({key}: "
-            f"{_show(_value_at(saved, diff))} there, {_show(_value_at(want, diff))} in this "
-            "sweep); choose another --out"
+            f"{rd.path} holds a run made with another config ({key}: {_show(there)} there, "
+            f"{_show(here)} in this sweep); choose another --out"
         )
 
 

@@ -1,8 +1,9 @@
 """Runs' configs compared: flattened, keyed up to the seed, labelled by what differs.
 
-A config is flattened to its leaves (:func:`flatten`), without the keys that do not change
-a result (:data:`IGNORED_KEYS`, :func:`result_config`); runs with the same flattened config
-(:func:`run_key`) are repeats of one variant. Variants are labelled by the paths whose
+A config is flattened to its leaves (:func:`growsim.experiment.load.flatten_config`),
+without the keys that do not change a result (:data:`IGNORED_KEYS`,
+:func:`result_config`); runs with the same flattened config (:func:`run_key`) are
+repeats of one variant. Variants are labelled by the paths whose
 values differ, named by their shortest unambiguous suffix (:func:`short_names`,
 :func:`diff_labels`), leaving out the model parameters a preset sets
 (:func:`from_preset`).
@@ -15,6 +16,7 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
+from growsim.experiment.load import flatten_config
 from growsim.results import RunRecord
 
 __all__ = [
@@ -22,7 +24,6 @@ __all__ = [
     "MISSING",
     "Path_",
     "diff_labels",
-    "flatten",
     "fmt_value",
     "from_preset",
     "result_config",
@@ -47,28 +48,6 @@ MISSING = "\0unset"
 _MAX_LABEL_ITEMS = 4
 
 
-def flatten(obj: Any, prefix: Path_ = ()) -> dict[Path_, Any]:
-    """Leaves of a nested config: ``{("environment", "light", "intensity"): 0.5, ...}``.
-    Lists of tables are indexed (``objective[0]``); other lists are values.
-
-    Examples
-    --------
-    >>> flatten({"objective": [{"kind": "light"}], "ga": {"bounds": [0, 1]}})
-    {('objective[0]', 'kind'): 'light', ('ga', 'bounds'): [0, 1]}
-    """
-    out: dict[Path_, Any] = {}
-    if isinstance(obj, dict):
-        for k, v in obj.items():
-            if isinstance(v, list) and v and all(isinstance(e, dict) for e in v):
-                for i, e in enumerate(v):
-                    out.update(flatten(e, (*prefix, f"{k}[{i}]")))
-            else:
-                out.update(flatten(v, (*prefix, str(k))))
-    else:
-        out[prefix] = obj
-    return out
-
-
 def _ignored(path: Path_) -> bool:
     dotted = ".".join(path)
     return any(dotted == k or dotted.startswith(k + ".") for k in IGNORED_KEYS)
@@ -84,7 +63,7 @@ def result_config(run: RunRecord) -> dict[Path_, Any]:
     >>> result_config(RunRecord(Path("r"), cfg, {}))
     {('ga', 'population'): 8}
     """
-    return {p: v for p, v in flatten(run.config).items() if not _ignored(p)}
+    return {p: v for p, v in flatten_config(run.config).items() if not _ignored(p)}
 
 
 def _canon(v: Any) -> str:

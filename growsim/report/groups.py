@@ -15,11 +15,11 @@ import logging
 from collections.abc import Sequence
 from typing import Any
 
+from growsim.experiment.load import flatten_config
 from growsim.report.configs import (
     MISSING,
     Path_,
     diff_labels,
-    flatten,
     from_preset,
     result_config,
     run_key,
@@ -168,7 +168,7 @@ def families(runs: Sequence[RunRecord], notes: list[str]) -> list[Family]:
             continue
         # options named by their objective's kind (kind#i if repeated), as short as
         # unambiguous: "light (wood_cost=1.0)"
-        cfgs = [flatten(_by_kind(h[2])) for h in same]
+        cfgs = [flatten_config(_by_kind(h[2])) for h in same]
         labels, _ = diff_labels(cfgs, set().union(*cfgs), min_parts=1)
         for h, lab in zip(same, labels):
             fam_labels[h[0]] = f"{base} ({lab})"
