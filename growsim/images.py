@@ -16,9 +16,22 @@ A user's front and side pictures (PNG, JPEG, ... any size) become binary silhoue
    the raster unless the half-width around the trunk base is tighter, the trunk base at
    the horizontal centre, the lowest point on the bottom row. What differs from plants:
    each view is first scaled to unit height (the two pictures need not share a zoom); the
-   trunk base is the middle of the silhouette's lowest rows; the points placed are the
-   input pixels' squares (the lowest pixels' centres on the bottom row's centre line),
-   and every raster pixel a square overlaps is set.
+   trunk base is the middle of the silhouette's lowest rows. Two ways to place the
+   picture's pixels, chosen to match how the model will be drawn (the silhouette
+   objective's ``line_width``):
+
+   - ``"radius"`` (tubes at their thickness; photos): each input pixel's square is
+     mapped and every raster pixel it overlaps is set (the lowest pixels' centres on the
+     bottom row's centre line), so thin branches survive down-sampling;
+   - ``"thin"`` (1-pixel lines): the picture is read as a thin-line rendering, the exact
+     inverse of :func:`growsim.kernels.views.render_thin`: strokes are one raster pixel
+     wide, so the tree's extent runs between stroke centres, half a raster pixel inside
+     the silhouette's outer edges; the renderer lights pixel ``floor(x)`` of a point at
+     ``x`` and puts the trunk base on the raster's middle edge, so the trunk's pixel
+     centre is half a pixel right of it; each input pixel's centre (sub-sampled when a
+     picture pixel is larger than a raster pixel) sets the pixel it falls in. A line
+     drawing of a tree at any scale is framed into exactly the silhouette the renderer
+     draws for that tree (tested on enlarged renders of random IFS trees).
 """
 
 from __future__ import annotations
@@ -34,6 +47,7 @@ from growsim.kernels.views import frame_scale, frame_view
 __all__ = [
     "check_silhouette",
     "frame_silhouettes",
+    "frame_thin_lines",
     "load_gray",
     "otsu_threshold",
     "read_silhouettes",
@@ -274,11 +288,15 @@ def _view_geometry(mask: np.ndarray):
     return rows, cols, float(rmax), h, base, hw
 
 
-def frame_silhouettes(front: np.ndarray, side: np.ndarray, size: int = 64) -> np.ndarray:
+def frame_silhouettes(
+    front: np.ndarray, side: np.ndarray, size: int = 64, line_width: str = "radius"
+) -> np.ndarray:
     """Frame two silhouettes ``(H1, W1)``, ``(H2, W2)`` bool into ``(2, size, size)`` uint8.
 
-    Each input pixel square is mapped to the raster and every raster pixel it overlaps is
-    set (so thin branches survive down-sampling, as thin lines do in rendered plants).
+    ``line_width = "radius"``: each input pixel square is mapped to the raster and every
+    raster pixel it overlaps is set (so thin branches survive down-sampling);
+    ``"thin"``: the pictures are read as thin-line renderings (see the module docstring;
+    :func:`frame_thin_lines`).
 
     Examples
     --------
@@ -289,6 +307,10 @@ def frame_silhouettes(front: np.ndarray, side: np.ndarray, size: int = 64) -> np
     ((2, 16, 16), True)
     """
     size = int(size)
+    if line_width == "thin":
+        return frame_thin_lines(front, side, size)
+    if line_width != "radius":
+        raise UserInputError(f"line_width: expected 'thin' or 'radius', got {line_width!r}")
     out = np.zeros((2, size, size), dtype=np.uint8)
     geo = [_view_geometry(np.asarray(m, dtype=bool)) for m in (front, side)]
     # both views at unit height: one scale for both, as a rendered plant's views
@@ -315,6 +337,62 @@ def frame_silhouettes(front: np.ndarray, side: np.ndarray, size: int = 64) -> np
     return out
 
 
+def frame_thin_lines(front: np.ndarray, side: np.ndarray, size: int = 64) -> np.ndarray:
+    """Frame two silhouettes read as thin-line renderings into ``(2, size, size)`` uint8:
+    the inverse of :func:`growsim.kernels.views.render_thin` (see the module docstring).
+
+    With ``f`` raster pixels per picture pixel, a view's extent runs between stroke
+    centres: its height is ``H - 1/f`` (``H`` the silhouette's height in picture pixels,
+    edge to edge), its half-width ``max(base - L - 1/f, R - base)`` (``L``, ``R`` the
+    outer edges, ``base`` the trunk's centre), and ``f = k / height`` with the framing
+    scale ``k`` of both views (:func:`growsim.kernels.views.frame_scale` at unit height):
+    a fixed point, found by iteration. A picture pixel's centre ``(c, r)`` goes to
+    ``col = size/2 + 1/2 + f (c - base)``, ``row = size - MARGIN - f (bottom - r)``,
+    ``bottom`` the lowest stroke centre.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from growsim.models import ifs3d
+    >>> from growsim.objectives.silhouette import plant_views
+    >>> v = plant_views(ifs3d.develop(ifs3d.PRESETS["table1"]), 64)
+    >>> big = [np.kron(x, np.ones((5, 5))) > 0 for x in v]  # a 320 x 320 drawing of it
+    >>> bool((frame_thin_lines(*big, 64) == v).all())
+    True
+    """
+    from growsim.kernels.views import MARGIN
+
+    geo = []
+    for m in (front, side):
+        rows, cols = np.nonzero(np.asarray(m, dtype=bool))
+        rmax = float(rows.max())
+        height = rmax + 1.0 - float(rows.min())
+        band = rows >= rmax - BASE_BAND * max(height - 1.0, 1.0)
+        base = float(cols[band].mean()) + 0.5
+        geo.append((rows, cols, rmax, height, base, float(cols.min()), float(cols.max() + 1)))
+    f = [1.0, 1.0]
+    for _ in range(50):  # converges in a few steps: f changes h by 1/f only
+        hs = [max(g[3] - 1.0 / fv, 1e-9) for g, fv in zip(geo, f)]
+        hw = max(max(g[4] - g[5] - 1.0 / fv, g[6] - g[4]) / h for g, fv, h in zip(geo, f, hs))
+        k = frame_scale(1.0, max(hw, 0.0), size)
+        new = [k / h for h in hs]
+        if np.allclose(new, f, rtol=0.0, atol=1e-12):
+            break
+        f = new
+    out = np.zeros((2, size, size), dtype=np.uint8)
+    for v, ((rows, cols, rmax, _, base, _, _), fv) in enumerate(zip(geo, f)):
+        bottom = rmax + 1.0 - 0.5 / fv
+        n = max(1, int(np.ceil(fv)))  # points per picture pixel side: no raster pixel skipped
+        sub = (np.arange(n) + 0.5) / n
+        for a in sub:
+            for b in sub:
+                col = np.floor(0.5 * size + 0.5 + fv * (cols + a - base)).astype(np.int64)
+                row = np.floor((size - MARGIN) - fv * (bottom - (rows + b))).astype(np.int64)
+                ok = (row >= 0) & (row < size) & (col >= 0) & (col < size)
+                out[v, row[ok], col[ok]] = 1
+    return out
+
+
 def read_silhouettes(
     front,
     side,
@@ -324,8 +402,10 @@ def read_silhouettes(
     polarity: str = "auto",
     mask_front=None,
     mask_side=None,
+    line_width: str = "radius",
 ) -> np.ndarray:
-    """Front and side pictures (paths or grey arrays) to framed ``(2, size, size)`` uint8.
+    """Front and side pictures (paths or grey arrays) to framed ``(2, size, size)`` uint8
+    (``line_width``: how the model will be drawn, see :func:`frame_silhouettes`).
 
     Examples
     --------
@@ -341,7 +421,7 @@ def read_silhouettes(
         silhouette(img, threshold=threshold, polarity=polarity, mask=m, name=label)
         for img, m, label in ((front, mask_front, "front"), (side, mask_side, "side"))
     ]
-    return frame_silhouettes(masks[0], masks[1], size)
+    return frame_silhouettes(masks[0], masks[1], size, line_width)
 
 
 def silhouette_image(views, path: str | os.PathLike, *, titles=None, scale: int = 4) -> Path:

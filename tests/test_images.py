@@ -186,3 +186,42 @@ def test_silhouette_image(tmp_path):
     assert im[14:, 32 + 4 :].max() == 0  # the all-foreground view is black
     with pytest.raises(UserInputError):
         silhouette_image([np.eye(4)], tmp_path / "missing_dir" / "s.png")
+
+
+@pytest.mark.parametrize("scale", [1, 3, 4, 7])
+def test_thin_framing_inverts_the_thin_renderer(scale):
+    # a line drawing of a tree at any scale (with a margin) frames into exactly the
+    # silhouettes the thin renderer draws for it: the fit's target is the tree's own
+    from growsim.models import honda, ifs3d
+    from growsim.objectives.silhouette import plant_views
+
+    rng = np.random.default_rng(scale)
+    trees = [ifs3d.develop(ifs3d.PRESETS["table1"]), honda.develop(honda.PRESETS["ginkgo"])]
+    while len(trees) < 5:
+        tree = ifs3d.develop({p.name: rng.uniform(p.low, p.high) for p in ifs3d.PARAMS[2:]})
+        # a picture's trunk base is found in its lowest rows: trees standing on their base
+        if min(tree.start[:, 1].min(), tree.end[:, 1].min()) >= 0.0:
+            trees.append(tree)
+    for tree in trees:
+        views = plant_views(tree, 64)
+        pics = [np.pad(np.kron(v, np.ones((scale, scale))) > 0, 17) for v in views]
+        assert np.array_equal(frame_silhouettes(*pics, 64, line_width="thin"), views)
+    # the area framing (for tubes drawn at their radius) fattens such lines
+    assert not np.array_equal(frame_silhouettes(*pics, 64), views)
+
+
+def test_picture_target_of_the_thin_objective_is_the_rendered_one(tmp_path):
+    from PIL import Image
+
+    from growsim.models import ifs3d
+    from growsim.objectives.silhouette import SilhouetteObjective, plant_views
+
+    tree = ifs3d.develop(ifs3d.PRESETS["table1"])
+    paths = []
+    for v, label in zip(plant_views(tree, 64), ("front", "side")):
+        img = np.where(np.kron(v, np.ones((4, 4))) > 0, 20, 240).astype(np.uint8)
+        Image.fromarray(np.pad(img, 30, constant_values=240)).save(tmp_path / f"{label}.png")
+        paths.append(str(tmp_path / f"{label}.png"))
+    obj = SilhouetteObjective(front=paths[0], side=paths[1])
+    rendered = SilhouetteObjective(target_model="ifs3d", target_preset="table1")
+    assert np.array_equal(obj.target, rendered.target) and obj(tree) == 1.0

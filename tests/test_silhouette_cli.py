@@ -181,3 +181,24 @@ def test_fit_image_bad_picture_fails_before_evolution(pictures, tmp_path, capsys
         err = capsys.readouterr().err
         assert code == 2 and f"{bad}: the silhouette is {what}" in err, err
         assert not (out / "history.parquet").exists()
+
+
+def test_fit_on_the_table1_pictures_is_the_fit_on_the_rendered_target(pictures, tmp_path):
+    # the pictures of line drawings frame into the rendered target itself, so a fit to the
+    # pictures is the best config's fit, evaluation for evaluation
+    from growsim.experiment import run
+
+    cfg = fit_config(*pictures, evaluations=1200)
+    rendered = dict(
+        cfg,
+        objective=[
+            {"kind": "silhouette", "target_model": "ifs3d", "target_preset": "table1", "size": 64}
+        ],
+    )
+    quiet = ["output.mesh=[]", "output.screenshots=[]", "output.plot=false"]
+    a = run(cfg, tmp_path / "pictures", overrides=quiet, progress=False)
+    b = run(rendered, tmp_path / "rendered", overrides=quiet, progress=False)
+    pd.testing.assert_frame_equal(
+        a.history.drop(columns=["seconds"]), b.history.drop(columns=["seconds"])
+    )
+    assert a.best_fitness == b.best_fitness

@@ -205,6 +205,7 @@ class SilhouetteObjective(Objective):
             from growsim.images import read_silhouettes
 
             pictures = ("front", "side", "threshold", "polarity", "mask_front", "mask_side")
+            pictures += ("line_width",)  # framed as the plant will be drawn
             self.target = read_silhouettes(size=self.size, **o.model_dump(include=set(pictures)))
         else:
             self.source = {"target_model": o.target_model, "target_preset": o.target_preset}
