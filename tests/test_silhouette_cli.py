@@ -92,18 +92,9 @@ def test_a_photographed_honda_tree_scores_higher_drawn_at_its_radius(tmp_path):
     """A rendered (shaded, leafy) photo of a zelkova, front and side: the true tree drawn
     with its tubes' radius matches its own photo better than thin lines (why fit-image
     uses line_width = "radius" for Honda)."""
-    from growsim import viz
     from growsim.models.honda import PRESETS, develop
-    from growsim.objectives.silhouette import SilhouetteObjective
 
-    tree = develop(PRESETS["zelkova"])
-    front, side = tmp_path / "front.png", tmp_path / "side.png"
-    viz.screenshot(tree, front, view="front", size=(400, 400))
-    viz.screenshot(tree, side, view="side", size=(400, 400))
-    score = {
-        lw: SilhouetteObjective(front=str(front), side=str(side), line_width=lw)(tree)
-        for lw in ("thin", "radius")
-    }
+    score = _own_render_scores(develop(PRESETS["zelkova"]), tmp_path)
     # measured at 600 px: thin 0.882, radius 0.936
     assert score["radius"] >= 0.9
     assert score["radius"] > score["thin"] + 0.02
@@ -129,17 +120,7 @@ def test_fit_image_line_width_option(pictures, capsys):
 def test_a_rendered_ifs3d_tree_scores_higher_drawn_at_its_radius(tmp_path):
     """growsim's own render of the Table 1 tree (tubes 0.04 x their length wide): the true
     tree matches it better drawn at its radius (docs/models/ifs3d.md, when to use which)."""
-    from growsim import viz
-    from growsim.objectives.silhouette import SilhouetteObjective
-
-    tree = ifs3d.develop(ifs3d.PRESETS["table1"])
-    front, side = tmp_path / "front.png", tmp_path / "side.png"
-    viz.screenshot(tree, front, view="front", size=(400, 400))
-    viz.screenshot(tree, side, view="side", size=(400, 400))
-    score = {
-        lw: SilhouetteObjective(front=str(front), side=str(side), line_width=lw)(tree)
-        for lw in ("thin", "radius")
-    }
+    score = _own_render_scores(ifs3d.develop(ifs3d.PRESETS["table1"]), tmp_path)
     # measured: thin 0.860, radius 0.964
     assert score["radius"] >= 0.95
     assert score["radius"] > score["thin"] + 0.05
@@ -202,3 +183,18 @@ def test_fit_on_the_table1_pictures_is_the_fit_on_the_rendered_target(pictures, 
         a.history.drop(columns=["seconds"]), b.history.drop(columns=["seconds"])
     )
     assert a.best_fitness == b.best_fitness
+
+
+def _own_render_scores(tree, tmp_path) -> dict[str, float]:
+    """The tree scored against growsim's own 400 px renders of it, drawn thin and at
+    its radius."""
+    from growsim import viz
+    from growsim.objectives.silhouette import SilhouetteObjective
+
+    front, side = tmp_path / "front.png", tmp_path / "side.png"
+    viz.screenshot(tree, front, view="front", size=(400, 400))
+    viz.screenshot(tree, side, view="side", size=(400, 400))
+    return {
+        lw: SilhouetteObjective(front=str(front), side=str(side), line_width=lw)(tree)
+        for lw in ("thin", "radius")
+    }
