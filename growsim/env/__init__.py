@@ -3,7 +3,7 @@
 - :mod:`growsim.env.environment`: :class:`Environment`, the whole table;
 - :mod:`growsim.env.light`: :class:`Light`, orthographic projection and projected area
   of segment arrays (the shadow-map light grows here);
-- :mod:`growsim.env.gravity`: :class:`Gravity`; :mod:`growsim.env.water`: :class:`Water`;
+- :mod:`growsim.env.gravity`: :class:`Gravity` (loads, bending stress, breaking joints); :mod:`growsim.env.water`: :class:`Water`;
 - :mod:`growsim.env.tank`: :class:`Tank` and :class:`Obstacle`.
 
 Examples
@@ -14,7 +14,7 @@ Examples
 """
 
 from growsim.env.environment import Environment
-from growsim.env.gravity import Gravity
+from growsim.env.gravity import Gravity, Loads
 from growsim.env.light import Light, projected_area, view_basis
 from growsim.env.tank import Obstacle, Tank
 from growsim.env.water import Water
@@ -23,6 +23,7 @@ __all__ = [
     "Environment",
     "Gravity",
     "Light",
+    "Loads",
     "Obstacle",
     "Tank",
     "Water",
