@@ -3,7 +3,8 @@
 - :mod:`growsim.env.environment`: :class:`Environment`, the whole table;
 - :mod:`growsim.env.light`: :class:`Light`, orthographic projection and projected area
   of segment arrays (the shadow-map light grows here);
-- :mod:`growsim.env.gravity`: :class:`Gravity` (loads, bending stress, breaking joints); :mod:`growsim.env.water`: :class:`Water`;
+- :mod:`growsim.env.gravity`: :class:`Gravity` (loads, bending stress, breaking joints);
+- :mod:`growsim.env.water`: :class:`Water`;
 - :mod:`growsim.env.tank`: :class:`Tank` and :class:`Obstacle`.
 
 Examples
