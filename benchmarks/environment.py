@@ -1,0 +1,103 @@
+"""Speed of the environment's passes over whole populations (JSON).
+
+    NUMBA_NUM_THREADS=1 python benchmarks/environment.py [--plants 1000] [--segments 300]
+
+A population of random parents-first skeletons (``--plants`` x ``--segments``; 30 % leaves)
+in one array. For each pass: the kernel alone (arrays prepared once, the output buffer
+reused: the figure the issue's floors are about) and the public function on the whole
+population (input checks included), in million segments per second, best of 20 (kernel)
+or 5 (public) runs. Passes: gravity (``growsim.env.Gravity``: mass above, moments, stress
+ratios and each plant's first break); water is added when its pass lands.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import time
+
+import numpy as np
+
+
+def forest(n_plants: int, n_segments: int, seed: int = 0):
+    """One :class:`growsim.plant.Plant` holding ``n_plants`` random trees, parents first."""
+    from growsim.plant import Plant
+
+    rng = np.random.default_rng(seed)
+    plants = []
+    for _ in range(n_plants):
+        parent = np.array(
+            [-1] + [int(rng.integers(max(0, s - 20), s)) for s in range(1, n_segments)]
+        )
+        d = rng.normal(size=(n_segments, 3)) * 0.3
+        d[:, 1] = np.abs(d[:, 1])
+        start = np.zeros((n_segments, 3))
+        end = np.zeros((n_segments, 3))
+        for s in range(n_segments):
+            if parent[s] >= 0:
+                start[s] = end[parent[s]]
+            end[s] = start[s] + d[s]
+        kind = (rng.random(n_segments) < 0.3).astype(np.int8)
+        kind[0] = 0
+        radius = rng.uniform(0.005, 0.1, n_segments)
+        plants.append(Plant(start, end, radius, parent, np.zeros(n_segments, np.int32), kind))
+    return Plant.concat(plants)
+
+
+def best_of(fn, repeats: int) -> float:
+    fn()
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
+def gravity(plants, n_plants: int, n_segments: int) -> dict:
+    from growsim.env import Gravity
+    from growsim.kernels.gravity import first_break_kernel, loads_kernel
+
+    g = Gravity()
+    n = plants.n_segments
+    radius_end = plants.radius_end()
+    strength = np.full(n, g.strength)
+    offsets = np.arange(0, n + 1, n_segments, dtype=np.int64)
+    out = np.empty((4, n))
+
+    def kernel():
+        o = loads_kernel(
+            plants.start, plants.end, plants.radius, radius_end, plants.parent, plants.kind,
+            strength, g.density, g.leaf_mass_per_area, g.g, out,
+        )  # fmt: skip
+        return first_break_kernel(o[3], offsets)
+
+    t_kernel = best_of(kernel, 20)
+    t_public = best_of(lambda: g.loads(plants), 5)
+    return {
+        "kernel_ms": round(t_kernel * 1e3, 2),
+        "kernel_msegments_per_s": round(n / t_kernel / 1e6, 1),
+        "public_ms": round(t_public * 1e3, 2),
+        "public_msegments_per_s": round(n / t_public / 1e6, 1),
+    }
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--plants", type=int, default=1000)
+    ap.add_argument("--segments", type=int, default=300)
+    args = ap.parse_args()
+    plants = forest(args.plants, args.segments)
+    result = {
+        "plants": args.plants,
+        "segments_per_plant": args.segments,
+        "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
+        "load_1min": round(os.getloadavg()[0], 2),
+        "gravity": gravity(plants, args.plants, args.segments),
+    }
+    print(json.dumps(result, indent=1))
+
+
+if __name__ == "__main__":
+    main()
