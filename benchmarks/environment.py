@@ -7,7 +7,8 @@ in one array. For each pass: the kernel alone (arrays prepared once, the output 
 reused: the figure the issue's floors are about) and the public function on the whole
 population (input checks included), in million segments per second, best of 20 (kernel)
 or 5 (public) runs. Passes: gravity (``growsim.env.Gravity``: mass above, moments, stress
-ratios and each plant's first break); water is added when its pass lands.
+ratios and each plant's first break) and water (``growsim.env.water.transport``: subtree
+demands up, shares down; demand 1 per leaf).
 """
 
 from __future__ import annotations
@@ -83,6 +84,31 @@ def gravity(plants, n_plants: int, n_segments: int) -> dict:
     }
 
 
+def water(plants) -> dict:
+    from growsim.env.water import LIFT, RESISTANCE, segment_demand, transport
+    from growsim.kernels.water import transport_into_kernel
+
+    n = plants.n_segments
+    light = (plants.kind == 1).astype(np.float64)
+    demand = segment_demand(plants.kind, light, plants.lengths(), 0.0)
+    received, met = np.empty(n), np.empty(n)
+
+    def kernel():
+        transport_into_kernel(
+            plants.start, plants.end, plants.radius, plants.parent, demand, 1.0,
+            RESISTANCE, LIFT, received, met,
+        )  # fmt: skip
+
+    t_kernel = best_of(kernel, 20)
+    t_public = best_of(lambda: transport(plants, light), 5)
+    return {
+        "kernel_ms": round(t_kernel * 1e3, 2),
+        "kernel_msegments_per_s": round(n / t_kernel / 1e6, 1),
+        "public_ms": round(t_public * 1e3, 2),
+        "public_msegments_per_s": round(n / t_public / 1e6, 1),
+    }
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--plants", type=int, default=1000)
@@ -95,6 +121,7 @@ def main() -> None:
         "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
         "load_1min": round(os.getloadavg()[0], 2),
         "gravity": gravity(plants, args.plants, args.segments),
+        "water": water(plants),
     }
     print(json.dumps(result, indent=1))
 

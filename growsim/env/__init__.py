@@ -4,7 +4,7 @@
 - :mod:`growsim.env.light`: :class:`Light`, orthographic projection and projected area
   of segment arrays (the shadow-map light grows here);
 - :mod:`growsim.env.gravity`: :class:`Gravity` (loads, bending stress, breaking joints);
-- :mod:`growsim.env.water`: :class:`Water`;
+- :mod:`growsim.env.water`: :class:`Water` (transport by negative pressure: :func:`transport`);
 - :mod:`growsim.env.tank`: :class:`Tank` and :class:`Obstacle`.
 
 Examples
@@ -18,7 +18,7 @@ from growsim.env.environment import Environment
 from growsim.env.gravity import Gravity, Loads
 from growsim.env.light import Light, projected_area, view_basis
 from growsim.env.tank import Obstacle, Tank
-from growsim.env.water import Water
+from growsim.env.water import Water, WaterFlow, transport
 
 __all__ = [
     "Environment",
@@ -28,6 +28,8 @@ __all__ = [
     "Obstacle",
     "Tank",
     "Water",
+    "WaterFlow",
     "projected_area",
+    "transport",
     "view_basis",
 ]
