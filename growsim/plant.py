@@ -43,18 +43,9 @@ LEAF = 1
 
 
 def _as_array(name: str, value, dtype, shape_tail: tuple[int, ...], n: int | None) -> np.ndarray:
-    try:
-        arr = np.asarray(value, dtype=dtype)
-    except (TypeError, ValueError) as exc:
-        raise UserInputError(f"Plant.{name}: cannot convert to {np.dtype(dtype)} ({exc})") from None
-    if arr.ndim != 1 + len(shape_tail) or arr.shape[1:] != shape_tail:
-        want = "(n" + "".join(f", {s}" for s in shape_tail) + ")"
-        raise UserInputError(f"Plant.{name}: expected shape {want}, got {arr.shape}")
-    if n is not None and arr.shape[0] != n:
-        raise UserInputError(
-            f"Plant.{name}: has {arr.shape[0]} rows, expected {n} (one per segment)"
-        )
-    return np.ascontiguousarray(arr)
+    from growsim.env.skeleton import checked_array  # not at import: growsim.env imports plants
+
+    return checked_array("Plant", name, value, shape_tail, n, dtype=dtype, finite=False)
 
 
 @dataclass
@@ -373,11 +364,9 @@ class Plant(Phenotype):
         """
         if "radius_end" in self.data:
             return np.asarray(self.data["radius_end"], dtype=np.float64)
-        out = np.full(self.n_segments, -1.0)
-        has = self.parent >= 0
-        same = has & (self.kind == self.kind[np.maximum(self.parent, 0)])
-        np.maximum.at(out, self.parent[same], self.radius[same])
-        return np.where(out < 0, self.radius, np.minimum(out, self.radius))
+        from growsim.env.skeleton import radius_end
+
+        return radius_end(self.parent, self.kind, self.radius)
 
     def wood_volume(self) -> float:
         """Volume of the STEM segments as truncated cones (radius to :meth:`radius_end`).

@@ -11,13 +11,15 @@ kg, moment N m, stress Pa) unless a model says otherwise. See ``docs/environment
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from pydantic import Field
 
+from growsim.env.skeleton import checked_array, skeleton_arrays
+from growsim.env.skeleton import radius_end as radius_end_of
 from growsim.errors import UserInputError
 from growsim.kernels.gravity import first_break_kernel, loads_kernel
 from growsim.options import Options
@@ -197,82 +199,22 @@ def _loads(a: dict, gravity: Gravity) -> Loads:
     return Loads(out[0], out[1], out[2], out[3], a["strength"], first)
 
 
-def _f64(name: str, value, shape_tail: tuple[int, ...], n: int | None) -> np.ndarray:
-    try:
-        arr = np.ascontiguousarray(value, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise UserInputError(f"gravity: {name}: cannot convert to float64 ({exc})") from None
-    if arr.ndim != 1 + len(shape_tail) or arr.shape[1:] != shape_tail:
-        want = "(n" + "".join(f", {s}" for s in shape_tail) + ")"
-        raise UserInputError(f"gravity: {name}: expected shape {want}, got {arr.shape}")
-    if n is not None and arr.shape[0] != n:
-        raise UserInputError(f"gravity: {name}: has {arr.shape[0]} rows, expected {n}")
-    bad = ~np.isfinite(arr).reshape(arr.shape[0], -1).all(1)
-    if bad.any():
-        raise UserInputError(
-            f"gravity: {name}: segment {int(np.flatnonzero(bad)[0])} is not finite"
-        )
-    return arr
-
-
 def _arrays(skeleton: Any, strength, default_strength: float) -> dict[str, np.ndarray]:
     """Validated kernel inputs from a Plant or a mapping of arrays."""
-    if isinstance(skeleton, Mapping):
-        get = skeleton.get
-        data = skeleton
-    elif all(hasattr(skeleton, k) for k in ("start", "end", "radius", "parent")):
-
-        def get(k, default=None):
-            return getattr(skeleton, k, default)
-
-        data = getattr(skeleton, "data", None) or {}
-    else:
-        raise UserInputError(
-            f"gravity: expected a Plant or a mapping of segment arrays, got "
-            f"{type(skeleton).__name__}"
-        )
-    missing = [k for k in ("start", "end", "radius", "parent") if get(k) is None]
-    if missing:
-        raise UserInputError(f"gravity: missing segment arrays {missing}")
-    start = _f64("start", get("start"), (3,), None)
+    a = skeleton_arrays(skeleton, "gravity")
+    start, end, radius, parent, data = a["start"], a["end"], a["radius"], a["parent"], a["data"]
     n = start.shape[0]
-    end = _f64("end", get("end"), (3,), n)
-    radius = _f64("radius", get("radius"), (), n)
-    if n and radius.min() < 0:
-        raise UserInputError(f"gravity: radius: segment {int(np.argmin(radius))} is negative")
-    parent = np.ascontiguousarray(get("parent"), dtype=np.int64)
-    if parent.shape != (n,):
-        raise UserInputError(f"gravity: parent: expected shape ({n},), got {parent.shape}")
-    bad = (parent < -1) | (parent >= np.arange(n))
-    if bad.any():
-        i = int(np.flatnonzero(bad)[0])
-        raise UserInputError(
-            f"gravity: segment {i} has parent {int(parent[i])}: segments must be stored "
-            "parents first (parent[s] < s, -1 for a root)"
-        )
-    kind_in = get("kind")
-    if kind_in is None:
-        kind = np.zeros(n, np.int8)
-    else:
-        kind = np.ascontiguousarray(kind_in, dtype=np.int8)
-        if kind.shape != (n,) or np.any((kind != 0) & (kind != 1)):
-            raise UserInputError("gravity: kind: expected (n,) values 0 (stem) or 1 (leaf)")
+    kind = np.zeros(n, np.int8) if a["kind"] is None else a["kind"]
     if "radius_end" in data:
-        radius_end = _f64("radius_end", data["radius_end"], (), n)
-    elif callable(getattr(skeleton, "radius_end", None)):
-        radius_end = _f64("radius_end", skeleton.radius_end(), (), n)
+        radius_end = checked_array("gravity", "radius_end", data["radius_end"], (), n)
     else:
-        # as Plant.radius_end: the widest child of the same kind, capped by the own radius
-        out = np.full(n, -1.0)
-        same = (parent >= 0) & (kind == kind[np.maximum(parent, 0)])
-        np.maximum.at(out, parent[same], radius[same])
-        radius_end = np.where(out < 0, radius, np.minimum(out, radius))
+        radius_end = radius_end_of(parent, kind, radius)
     if strength is None:
         strength = data.get("strength")
     if strength is None:
         strength_arr = np.array([float(default_strength)])
     else:
-        strength_arr = _f64("strength", strength, (), n)
+        strength_arr = checked_array("gravity", "strength", strength, (), n)
         if n and not np.all(strength_arr > 0):
             i = int(np.flatnonzero(~(strength_arr > 0))[0])
             raise UserInputError(f"gravity: strength: segment {i} is not positive")

@@ -41,12 +41,12 @@ per unit of the plant's own length (models' units are not metres): defaults
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
 from pydantic import Field
 
+from growsim.env.skeleton import checked_array, skeleton_arrays
 from growsim.errors import UserInputError
 from growsim.options import Options
 
@@ -72,55 +72,9 @@ class WaterFlow:
     total: float
 
 
-def _finite(name: str, arr: np.ndarray) -> None:
-    bad = ~np.isfinite(arr)
-    if bad.any():
-        i = int(np.flatnonzero(bad.reshape(arr.shape[0], -1).any(1))[0])
-        raise UserInputError(f"water: {name} of segment {i} is not finite")
-
-
 def _arrays(plant) -> dict[str, np.ndarray]:
     """``start, end, radius, parent`` (and ``kind`` or ``None``) of a Plant or a mapping."""
-    if isinstance(plant, Mapping):
-        need = ("start", "end", "radius", "parent")
-        missing = [k for k in need if k not in plant]
-        if missing:
-            raise UserInputError(f"water: segment arrays miss {missing} (need {list(need)})")
-        get = plant.get
-    else:
-        get = lambda k: getattr(plant, k, None)  # noqa: E731
-    shapes = {"start": (3,), "end": (3,), "radius": (), "parent": ()}
-    out = {}
-    for key in shapes:
-        dtype = np.int64 if key == "parent" else np.float64
-        try:
-            out[key] = np.ascontiguousarray(get(key), dtype=dtype)
-        except (TypeError, ValueError) as exc:
-            msg = f"water: {key}: cannot convert to {np.dtype(dtype)} ({exc})"
-            raise UserInputError(msg) from None
-    n = out["start"].shape[0] if out["start"].ndim == 2 else -1
-    for key, tail in shapes.items():
-        if out[key].shape != (n, *tail):
-            want = "(n" + "".join(f", {s}" for s in tail) + ")"
-            raise UserInputError(f"water: {key}: expected shape {want}, got {out[key].shape}")
-    kind = get("kind")
-    out["kind"] = None if kind is None else np.asarray(kind)
-    if out["kind"] is not None and out["kind"].shape != (n,):
-        raise UserInputError(f"water: kind: expected shape (n,), got {out['kind'].shape}")
-    for key in ("start", "end", "radius"):
-        _finite(key, out[key])
-    if n and out["radius"].min() < 0:
-        raise UserInputError(
-            f"water: radius of segment {int(np.argmin(out['radius']))} is negative"
-        )
-    bad = (out["parent"] < -1) | (out["parent"] >= np.arange(n))
-    if bad.any():
-        i = int(np.flatnonzero(bad)[0])
-        raise UserInputError(
-            f"water: segment {i} has parent {int(out['parent'][i])}: parents must come "
-            "before their children (parent[i] < i, -1 for a root)"
-        )
-    return out
+    return skeleton_arrays(plant, "water")
 
 
 def _nonneg(name: str, value: float) -> float:
@@ -188,12 +142,9 @@ def transport(
 
     arrs = _arrays(plant)
     n = arrs["start"].shape[0]
-    light = np.ascontiguousarray(light, dtype=np.float64)
-    if light.shape != (n,):
-        raise UserInputError(f"water: light: expected shape ({n},), got {light.shape}")
-    _finite("light", light)
+    light = checked_array("water", "light", light, (), n)
     if n and light.min() < 0:
-        raise UserInputError(f"water: light of segment {int(np.argmin(light))} is negative")
+        raise UserInputError(f"water: light: segment {int(np.argmin(light))} is negative")
     supply = _nonneg("supply", supply)
     stem_demand = _nonneg("stem_demand", stem_demand)
     resistance = _nonneg("resistance", resistance)
