@@ -79,10 +79,12 @@ def radius_end(parent: np.ndarray, kind: np.ndarray, radius: np.ndarray) -> np.n
     return np.where(out < 0, radius, np.minimum(out, radius))
 
 
-def skeleton_arrays(skeleton: Any, who: str) -> dict[str, Any]:
+def skeleton_arrays(skeleton: Any, who: str, *, topology: bool = True) -> dict[str, Any]:
     """``start``, ``end``, ``radius``, ``parent``, ``kind`` (``None`` when not given) and
     ``data`` (a Plant's per-segment extras, or the mapping itself) of a Plant or a mapping,
     checked: shapes, finite coordinates and radii, radii >= 0, kinds 0 or 1, parents first.
+    ``topology=False`` (a pass that needs no tree, e.g. the light): ``parent`` is not
+    required (``None`` when not given).
 
     Examples
     --------
@@ -100,7 +102,7 @@ def skeleton_arrays(skeleton: Any, who: str) -> dict[str, Any]:
     """
     if isinstance(skeleton, Mapping):
         get, data = skeleton.get, skeleton
-    elif all(hasattr(skeleton, k) for k in ("start", "end", "radius", "parent")):
+    elif all(hasattr(skeleton, k) for k in ("start", "end", "radius")):
 
         def get(k, default=None):
             return getattr(skeleton, k, default)
@@ -110,7 +112,8 @@ def skeleton_arrays(skeleton: Any, who: str) -> dict[str, Any]:
         raise UserInputError(
             f"{who}: expected a Plant or a mapping of segment arrays, got {type(skeleton).__name__}"
         )
-    missing = [k for k in ("start", "end", "radius", "parent") if get(k) is None]
+    need = ("start", "end", "radius", "parent") if topology else ("start", "end", "radius")
+    missing = [k for k in need if get(k) is None]
     if missing:
         raise UserInputError(f"{who}: missing segment arrays {missing}")
     start = checked_array(who, "start", get("start"), (3,), None)
@@ -119,19 +122,10 @@ def skeleton_arrays(skeleton: Any, who: str) -> dict[str, Any]:
     radius = checked_array(who, "radius", get("radius"), (), n)
     if n and radius.min() < 0:
         raise UserInputError(f"{who}: radius: segment {int(np.argmin(radius))} is negative")
-    try:
-        parent = np.ascontiguousarray(get("parent"), dtype=np.int64)
-    except (TypeError, ValueError) as exc:
-        raise UserInputError(f"{who}: parent: cannot convert to int64 ({exc})") from None
-    if parent.shape != (n,):
-        raise UserInputError(f"{who}: parent: expected shape ({n},), got {parent.shape}")
-    bad = (parent < -1) | (parent >= np.arange(n))
-    if bad.any():
-        i = int(np.flatnonzero(bad)[0])
-        raise UserInputError(
-            f"{who}: segment {i} has parent {int(parent[i])}: parents must come before their "
-            "children (segments stored parents first: parent[i] < i, -1 for a root)"
-        )
+    if get("parent") is None:  # only without topology (checked above)
+        parent = None
+    else:
+        parent = _parents(who, get("parent"), n)
     kind = get("kind")
     if kind is not None:
         kind = np.ascontiguousarray(kind, dtype=np.int8)
@@ -145,3 +139,20 @@ def skeleton_arrays(skeleton: Any, who: str) -> dict[str, Any]:
         "kind": kind,
         "data": data,
     }
+
+
+def _parents(who: str, value, n: int) -> np.ndarray:
+    try:
+        parent = np.ascontiguousarray(value, dtype=np.int64)
+    except (TypeError, ValueError) as exc:
+        raise UserInputError(f"{who}: parent: cannot convert to int64 ({exc})") from None
+    if parent.shape != (n,):
+        raise UserInputError(f"{who}: parent: expected shape ({n},), got {parent.shape}")
+    bad = (parent < -1) | (parent >= np.arange(n))
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise UserInputError(
+            f"{who}: segment {i} has parent {int(parent[i])}: parents must come before their "
+            "children (segments stored parents first: parent[i] < i, -1 for a root)"
+        )
+    return parent
