@@ -120,21 +120,10 @@ class Light(Options):
             samples,
         )  # fmt: skip
 
-    def point_light(
-        self,
-        skeleton,
-        end=None,
-        radius=None,
-        offsets=None,
-        *,
-        points,
-        normals,
-        point_offsets=None,
-        resolution: int = 256,
-        bias: float = 1.5,
-    ) -> np.ndarray:
+    def point_light(self, skeleton, *args, **options) -> np.ndarray:
         """``(m,)`` light at ``points`` with ``normals`` ``(m, 3)`` in the shadows of
-        ``skeleton``: :func:`point_light` with :attr:`direction` and :attr:`intensity`.
+        ``skeleton``: :func:`point_light` (same arguments) with :attr:`direction` and
+        :attr:`intensity`.
 
         Examples
         --------
@@ -144,10 +133,8 @@ class Light(Options):
         array([0.])
         """
         return point_light(
-            skeleton, end, radius, offsets, points=points, normals=normals,
-            point_offsets=point_offsets, direction=self.direction, intensity=self.intensity,
-            resolution=resolution, bias=bias,
-        )  # fmt: skip
+            skeleton, *args, direction=self.direction, intensity=self.intensity, **options
+        )
 
 
 def view_basis(direction) -> tuple[np.ndarray, np.ndarray]:

@@ -137,6 +137,17 @@ def _lit(px, py, pz, own, ox, oy, pix, bias, depth, ids, stamp, cur):
 
 
 @njit
+def _map_buffers(res):
+    """The shadow map's buffers: depth, segment ids, the stamp of the plant that last wrote
+    each pixel (so the map is never cleared between plants) and a scratch mask."""
+    depth = np.empty((res, res), np.float64)
+    ids = np.empty((res, res), np.int64)
+    stamp = np.full((res, res), -1, np.int64)
+    mask = np.zeros((res, res), np.uint8)
+    return depth, ids, stamp, mask
+
+
+@njit
 def segment_light_kernel(
     start, end, radius, offsets, normal, use_normal, u, v, d, intensity, res, bias_pixels,
     samples, out,
@@ -167,10 +178,7 @@ def segment_light_kernel(
     ...     np.zeros(2, np.bool_), u, v, d, 1.0, 64, 1.5, 1, np.empty(2)).tolist()
     [1.0, 0.0]
     """
-    depth = np.empty((res, res), np.float64)
-    ids = np.empty((res, res), np.int64)
-    stamp = np.full((res, res), -1, np.int64)
-    mask = np.zeros((res, res), np.uint8)
+    depth, ids, stamp, mask = _map_buffers(res)
     for p in range(offsets.shape[0] - 1):
         s0 = offsets[p]
         s1 = offsets[p + 1]
@@ -228,15 +236,12 @@ def point_light_kernel(
     ...     u, v, d, 1.0, 64, 1.5, np.empty(3)).tolist()
     [0.0, 1.0, 1.0]
     """
-    depth = np.empty((res, res), np.float64)
-    ids = np.empty((res, res), np.int64)
-    stamp = np.full((res, res), -1, np.int64)
-    mask = np.zeros((res, res), np.uint8)
+    depth, ids, stamp, mask = _map_buffers(res)
     for p in range(offsets.shape[0] - 1):
-        s0 = offsets[p]
-        s1 = offsets[p + 1]
-        ox, oy, pix = _render(start, end, radius, s0, s1, u, v, d, res, depth, ids, stamp, p, mask)
-        bias = bias_pixels * pix
+        first, stop = offsets[p], offsets[p + 1]  # this plant's segments: its own map
+        ox, oy, pix = _render(
+            start, end, radius, first, stop, u, v, d, res, depth, ids, stamp, p, mask
+        )
         for i in range(point_offsets[p], point_offsets[p + 1]):
             c = -(normals[i, 0] * d[0] + normals[i, 1] * d[1] + normals[i, 2] * d[2])
             if c <= 0.0 or intensity == 0.0:
@@ -248,6 +253,8 @@ def point_light_kernel(
             pu = qx * u[0] + qy * u[1] + qz * u[2]
             pv = qx * v[0] + qy * v[1] + qz * v[2]
             pz = qx * d[0] + qy * d[1] + qz * d[2]
-            lit = s1 <= s0 or _lit(pu, pv, pz, -1, ox, oy, pix, bias, depth, ids, stamp, p)
+            lit = stop <= first or _lit(
+                pu, pv, pz, -1, ox, oy, pix, bias_pixels * pix, depth, ids, stamp, p
+            )
             out[i] = intensity * c if lit else 0.0
     return out
