@@ -5,7 +5,7 @@ Works for every plant model in :data:`growsim.models.MODELS` (``--set`` over the
 parameters, ``--preset`` over its presets); ``growsim grow --help`` lists every model's
 parameters (range, default) and presets, ``growsim grow MODEL --help`` one model's
 (:func:`models_help`). The screenshot options (``--view``, ``--size``) are shared with
-``growsim show`` (:func:`add_screenshot_options`).
+``growsim show`` (:func:`growsim.cli.arguments.add_screenshot_options`).
 """
 
 from __future__ import annotations
@@ -16,9 +16,10 @@ import sys
 import textwrap
 from pathlib import Path
 
+from growsim.cli.arguments import add_screenshot_options
 from growsim.errors import UserInputError
 
-__all__ = ["add_screenshot_options", "models_help", "parse_sets", "register", "run_grow"]
+__all__ = ["models_help", "parse_sets", "register", "run_grow"]
 
 
 def parse_sets(items: list[str] | None) -> dict[str, float]:
@@ -94,62 +95,6 @@ class _ModelsHelp(argparse.Action):
         parser.epilog = models_help(getattr(namespace, "model", None))
         parser.print_help()
         parser.exit()
-
-
-class _ViewNames:
-    """The names of :data:`growsim.viz.VIEWS` as argparse choices, read when first needed
-    (building the parser imports neither NumPy nor pyvista)."""
-
-    def _names(self) -> tuple[str, ...]:
-        from growsim.viz import VIEWS
-
-        return tuple(VIEWS)
-
-    def __contains__(self, item) -> bool:
-        return item in self._names()
-
-    def __iter__(self):
-        return iter(self._names())
-
-
-class _Size(argparse.Action):
-    """``--size W H`` or ``--size N`` (``N x N``) into a ``(W, H)`` tuple."""
-
-    def __call__(self, parser, namespace, values, option_string=None):
-        if len(values) > 2:
-            parser.error(f"argument {option_string}: expected W H or N, got {len(values)} numbers")
-        setattr(namespace, self.dest, (values[0], values[-1]))
-
-
-def add_screenshot_options(p: argparse.ArgumentParser, view: str = "front") -> None:
-    """``--view`` (one of :data:`growsim.viz.VIEWS`, default ``view``) and ``--size W H``
-    (or ``N`` for a square; checked by :func:`growsim.viz.check_size` before anything is
-    grown or read): the screenshot options of ``grow`` and ``show``.
-
-    Examples
-    --------
-    >>> p = argparse.ArgumentParser()
-    >>> add_screenshot_options(p)
-    >>> a = p.parse_args(["--view", "back", "--size", "300"])
-    >>> a.view, a.size
-    ('back', (300, 300))
-    """
-    p.add_argument(
-        "--view",
-        default=view,
-        choices=_ViewNames(),
-        metavar="VIEW",
-        help=f"screenshot camera: %(choices)s (default {view})",
-    )
-    p.add_argument(
-        "--size",
-        type=int,
-        nargs="+",
-        action=_Size,
-        default=(800, 800),
-        metavar=("W", "H"),
-        help="screenshot size in pixels: W H, or N for N x N (each 16..4096; default 800 800)",
-    )
 
 
 def run_grow(args: argparse.Namespace) -> int:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 
-from growsim.cli.grow import add_screenshot_options
+from growsim.cli.arguments import add_screenshot_options
 
 __all__ = ["register"]
 
