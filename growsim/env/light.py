@@ -11,13 +11,17 @@ them, whatever model grew it:
 - :meth:`Light.captured`: intensity times the shadow area along the light: the light a
   set of segments intercepts when they shade each other.
 
-The shadow-map light (per-segment light with a z-buffer) grows from here.
+- :func:`segment_light`, :func:`point_light`: the shadow-map light on each segment or at
+  sample points with normals, hard or soft shadows, one map per plant of a population,
+  on the CPU (numba, :mod:`growsim.kernels.light`) or through OpenGL
+  (:mod:`growsim.env.shadow_gl`); :meth:`Light.segment_light` adds the sky
+  (:func:`sky_directions`) and reads the settings of ``[environment.light]``.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Annotated
+from typing import Annotated, Literal
 
 import numpy as np
 from pydantic import AfterValidator, Field
@@ -32,9 +36,11 @@ __all__ = [
     "Intensity",
     "Light",
     "check_direction",
+    "DEFAULT_RESOLUTION",
     "point_light",
     "projected_area",
     "segment_light",
+    "sky_directions",
     "view_basis",
 ]
 
@@ -59,14 +65,26 @@ Direction = Annotated[
 #: a light intensity (1 = full light)
 Intensity = Annotated[float, Field(ge=0.0, le=1e6)]
 
+#: default depth bias of the shadow map, in pixels (times the pixel size: world units)
+SHADOW_BIAS_PIXELS = 1.5
+#: default shadow-map resolution (pixels across each plant)
+DEFAULT_RESOLUTION = 128
+
 
 class Light(Options):
     """``[environment.light]``: a parallel light from one direction, plus sky light.
+
+    The light on a surface is ``intensity x ((1 - diffuse) x E(direction) + diffuse x
+    sum_k w_k E(d_k))``: ``E(d)`` the exposure along ``d`` (1 in the open, 0 in a hard
+    shadow, a transmitted share in a soft one; :func:`segment_light`) times Lambert's
+    cosine, and ``(d_k, w_k)`` the :attr:`sky` directions of :func:`sky_directions`.
 
     Examples
     --------
     >>> Light(intensity=0.5).direction
     [0.0, -1.0, 0.0]
+    >>> Light(shadows="soft", transmission=0.5).shadows
+    'soft'
     """
 
     direction: Direction = Field(
@@ -76,6 +94,28 @@ class Light(Options):
     intensity: Intensity = Field(1.0, description="light intensity (1 = full light)")
     diffuse: float = Field(
         0.0, ge=0.0, le=1.0, description="share of the light that comes from the whole sky"
+    )
+    sky: int = Field(
+        6, ge=1, le=256, description="directions of the sky light (the diffuse share), >= 1"
+    )
+    shadows: Literal["hard", "soft"] = Field(
+        "hard",
+        description="hard: binary shadow map; soft: each segment crossed passes `transmission`",
+    )
+    transmission: float = Field(
+        0.25,
+        ge=0.0,
+        le=1.0,
+        description="soft shadows: share of the light one segment crossed lets through",
+    )
+    resolution: int = Field(
+        DEFAULT_RESOLUTION, ge=8, le=8192, description="shadow-map pixels across each plant"
+    )
+    bias: float = Field(
+        SHADOW_BIAS_PIXELS, ge=0.0, le=100.0, description="shadow-map depth bias, in pixels"
+    )
+    backend: Literal["numba", "moderngl"] = Field(
+        "numba", description="shadow map on the CPU (numba) or through OpenGL (moderngl)"
     )
 
     def captured(self, start, end, radius, resolution: int = 256) -> float:
@@ -92,20 +132,34 @@ class Light(Options):
         area = projected_area(start, end, radius, self.direction, resolution)
         return float(self.intensity * area)
 
+    def directions(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(k, 3)`` unit directions and ``(k,)`` weights of this light: the direct beam
+        (weight ``1 - diffuse``) and, when ``diffuse > 0``, the :attr:`sky` directions
+        (weights ``diffuse x w_k``).
+
+        Examples
+        --------
+        >>> d, w = Light(diffuse=0.25, sky=4).directions()
+        >>> d.shape, round(float(w[0]), 2), round(float(w[1:] @ -d[1:, 1]), 2)
+        ((5, 3), 0.75, 0.25)
+        """
+        d = np.asarray(self.direction, np.float64)
+        d = (d / np.linalg.norm(d))[None, :]
+        w = np.array([1.0 - self.diffuse])
+        if self.diffuse > 0.0:
+            sd, sw = sky_directions(self.sky)
+            d = np.concatenate([d, sd])
+            w = np.concatenate([w, self.diffuse * sw])
+        return d, w
+
     def segment_light(
-        self,
-        skeleton,
-        end=None,
-        radius=None,
-        offsets=None,
-        resolution: int = 256,
-        bias: float = 1.5,
-        samples: int = 1,
+        self, skeleton, end=None, radius=None, offsets=None, samples: int = 1, resolution=None
     ) -> np.ndarray:
         """``(n,)`` light on each segment of ``skeleton`` (a Plant, a mapping of arrays, or
-        ``start`` with ``end`` and ``radius``) from this light, hard shadows, one shadow map
-        per plant of ``offsets``: :func:`segment_light` with :attr:`direction` and
-        :attr:`intensity` (the ``diffuse`` share is not used yet).
+        ``start`` with ``end`` and ``radius``), one shadow map per plant of ``offsets`` and
+        direction: the weighted sum over :meth:`directions` of :func:`segment_light` with
+        this light's intensity, shadows, transmission, resolution (or ``resolution``),
+        bias and backend.
 
         Examples
         --------
@@ -114,16 +168,30 @@ class Light(Options):
         >>> light = Light().segment_light(tree)
         >>> light.shape == (tree.n_segments,), bool(0 < light.mean() < 1)
         (True, True)
+        >>> sky = Light(diffuse=0.5).segment_light(tree)  # the sky lights the shaded ones
+        >>> bool((sky[light == 0] > 0).mean() > 0.5)
+        True
         """
-        return segment_light(
-            skeleton, end, radius, offsets, self.direction, self.intensity, resolution, bias,
-            samples,
-        )  # fmt: skip
+        dirs, weights = self.directions()
+        out = None
+        for d, w in zip(dirs, weights):
+            if w == 0.0:
+                continue
+            part = segment_light(
+                skeleton, end, radius, offsets, d, self.intensity * w,
+                resolution or self.resolution, self.bias, samples, self.shadows,
+                self.transmission, self.backend,
+            )  # fmt: skip
+            out = part if out is None else out + part
+        return out
 
-    def point_light(self, skeleton, *args, **options) -> np.ndarray:
+    def point_light(
+        self, skeleton, end=None, radius=None, offsets=None, *, points, normals,
+        point_offsets=None, resolution=None,
+    ) -> np.ndarray:  # fmt: skip
         """``(m,)`` light at ``points`` with ``normals`` ``(m, 3)`` in the shadows of
-        ``skeleton``: :func:`point_light` (same arguments) with :attr:`direction` and
-        :attr:`intensity`.
+        ``skeleton``: the weighted sum over :meth:`directions` of :func:`point_light` (same
+        arguments) with this light's settings.
 
         Examples
         --------
@@ -132,9 +200,51 @@ class Light(Options):
         >>> Light(intensity=0.5).point_light(leaf, points=[[1.0, 0, 0]], normals=[[0, 1, 0]])
         array([0.])
         """
-        return point_light(
-            skeleton, *args, direction=self.direction, intensity=self.intensity, **options
-        )
+        dirs, weights = self.directions()
+        out = None
+        for d, w in zip(dirs, weights):
+            if w == 0.0:
+                continue
+            part = point_light(
+                skeleton, end, radius, offsets, points=points, normals=normals,
+                point_offsets=point_offsets, direction=d, intensity=self.intensity * w,
+                resolution=resolution or self.resolution, bias=self.bias,
+                shadows=self.shadows, transmission=self.transmission, backend=self.backend,
+            )  # fmt: skip
+            out = part if out is None else out + part
+        return out
+
+
+def sky_directions(count: int) -> tuple[np.ndarray, np.ndarray]:
+    """``count`` directions of sky light (unit vectors travelling downwards, y up) and
+    their weights, for a standard overcast sky.
+
+    The directions are a Fibonacci lattice over the upper hemisphere (equal solid angles,
+    ``cos(zenith) = 1 - (k + 0.5) / count``, azimuths turning by the golden angle); each
+    weighs its CIE standard overcast radiance ``(1 + 2 cos z) / 3`` (Moon & Spencer 1942),
+    normalised so that an open horizontal surface facing up receives 1:
+    ``sum_k w_k cos z_k = 1``. One direction is straight down.
+
+    Examples
+    --------
+    >>> d, w = sky_directions(6)
+    >>> d.shape, bool(np.all(d[:, 1] < 0)), round(float(w @ -d[:, 1]), 12)
+    ((6, 3), True, 1.0)
+    >>> sky_directions(1)[0].tolist()
+    [[0.0, -1.0, 0.0]]
+    """
+    count = int(count)
+    if count < 1:
+        raise UserInputError(f"sky: needs at least 1 direction, got {count}")
+    if count == 1:
+        return np.array([[0.0, -1.0, 0.0]]), np.array([1.0])
+    k = np.arange(count)
+    cz = 1.0 - (k + 0.5) / count
+    sz = np.sqrt(1.0 - cz * cz)
+    az = k * math.pi * (3.0 - math.sqrt(5.0))
+    d = np.stack([sz * np.cos(az), -cz, sz * np.sin(az)], axis=1)
+    w = (1.0 + 2.0 * cz) / 3.0
+    return d, w / (w @ cz)
 
 
 def view_basis(direction) -> tuple[np.ndarray, np.ndarray]:
@@ -214,9 +324,6 @@ def projected_area(start, end, radius, direction=(0.0, -1.0, 0.0), resolution: i
 
 # --------------------------------------------------------------------------- shadow-map light
 
-#: default depth bias of the shadow map, in pixels (times the pixel size: world units)
-SHADOW_BIAS_PIXELS = 1.5
-
 
 def _shadow_direction(where: str, direction) -> np.ndarray:
     d = np.asarray(direction, dtype=np.float64)
@@ -240,15 +347,13 @@ def _shadow_offsets(where: str, name: str, offsets, n: int) -> np.ndarray:
 
 
 def _shadow_skeleton(where: str, skeleton, end, radius):
-    """``start, end, radius, normal or None, kind or None`` from a Plant, a mapping or arrays."""
+    """``start, end, radius, data, kind`` from a Plant, a mapping or arrays (``data`` the
+    optional per-segment arrays: ``normal``, ``transmission``)."""
     if end is not None or radius is not None:
         skeleton = {"start": skeleton, "end": end, "radius": radius}
     a = skeleton_arrays(skeleton, where, topology=False)
-    n = a["start"].shape[0]
-    normal = a["data"].get("normal") if hasattr(a["data"], "get") else None
-    if normal is not None:
-        normal = checked_array(where, "normal", normal, (3,), n)
-    return a["start"], a["end"], a["radius"], normal, a["kind"]
+    data = a["data"] if hasattr(a["data"], "get") else {}
+    return a["start"], a["end"], a["radius"], data, a["kind"]
 
 
 def _shadow_resolution(where: str, resolution) -> int:
@@ -258,6 +363,38 @@ def _shadow_resolution(where: str, resolution) -> int:
     return res
 
 
+def _shadow_settings(where, direction, intensity, resolution, bias, shadows, backend):
+    """Checked ``(d, u, v, intensity, resolution, bias)`` of one shadow-map pass."""
+    d = _shadow_direction(where, direction)
+    res = _shadow_resolution(where, resolution)
+    if not (math.isfinite(bias) and bias >= 0):
+        raise UserInputError(f"{where}: bias must be a finite number >= 0, got {bias!r}")
+    intensity = float(intensity)
+    if not (math.isfinite(intensity) and intensity >= 0):
+        raise UserInputError(f"{where}: intensity must be finite and >= 0, got {intensity!r}")
+    if shadows not in ("hard", "soft"):
+        raise UserInputError(f"{where}: shadows must be 'hard' or 'soft', got {shadows!r}")
+    if backend not in ("numba", "moderngl"):
+        raise UserInputError(f"{where}: backend must be 'numba' or 'moderngl', got {backend!r}")
+    if backend == "moderngl" and shadows == "soft":
+        raise UserInputError(f"{where}: soft shadows need backend 'numba' (moderngl: hard only)")
+    u, v = view_basis(d)
+    return d, u, v, intensity, res, float(bias)
+
+
+def _transmissions(where: str, data, transmission, n: int) -> np.ndarray:
+    """``(n,)`` per-segment transmission: ``data["transmission"]`` or the scalar."""
+    per = data.get("transmission")
+    if per is not None:
+        t = checked_array(where, "transmission", per, (), n)
+    else:
+        t = np.full(n, float(transmission))
+    if t.size and (t.min() < 0.0 or t.max() > 1.0):
+        bad = int(np.argmax((t < 0.0) | (t > 1.0)))
+        raise UserInputError(f"{where}: transmission: segment {bad} is not in [0, 1]")
+    return t
+
+
 def segment_light(
     start,
     end=None,
@@ -265,36 +402,45 @@ def segment_light(
     offsets=None,
     direction=(0.0, -1.0, 0.0),
     intensity: float = 1.0,
-    resolution: int = 256,
+    resolution: int = DEFAULT_RESOLUTION,
     bias: float = SHADOW_BIAS_PIXELS,
     samples: int = 1,
+    shadows: str = "hard",
+    transmission: float = 0.25,
+    backend: str = "numba",
 ) -> np.ndarray:
-    """Light on each segment from a parallel light, with hard shadows (a shadow map).
+    """Light on each segment from a parallel light through a shadow map.
 
     ``start`` is a :class:`growsim.plant.Plant`, a mapping of arrays (``start``, ``end``,
-    ``radius``, optional ``kind`` and ``normal``) or the ``(n, 3)`` start points with
-    ``end`` ``(n, 3)`` and ``radius`` ``(n,)``. ``offsets`` ``(k + 1,)`` splits the
-    segments into ``k`` plants (plant ``k`` is ``offsets[k]:offsets[k + 1]``; default one
+    ``radius``, optional ``kind``, ``normal`` and ``transmission``) or the ``(n, 3)`` start
+    points with ``end`` ``(n, 3)`` and ``radius`` ``(n,)``. ``offsets`` ``(k + 1,)`` splits
+    the segments into ``k`` plants (plant ``k`` is ``offsets[k]:offsets[k + 1]``; default one
     plant); each plant gets its own shadow map, so plants never shade each other.
 
     Per plant, the segments are rendered as capsules of their radius into an orthographic
-    z-buffer along ``direction`` (``resolution`` pixels across the plant's shadow, framed as
-    :func:`projected_area`). A segment's sample points (``samples`` of them, at
-    ``t = (i + 0.5) / samples`` of its axis; default its midpoint) are lit when the nearest
-    thing at their pixel is the segment itself or lies at most ``bias`` pixels (times the
-    pixel size, in depth) in front of them. Returns ``(n,)`` float64::
+    map along ``direction`` (``resolution`` pixels across the plant's shadow, framed as
+    :func:`projected_area`; rules in :mod:`growsim.kernels.light`). A segment's sample
+    points (``samples`` of them, at ``t = (i + 0.5) / samples`` of its axis; default its
+    midpoint) get an exposure: with ``shadows="hard"``, 1 when the nearest thing at their
+    pixel is the segment itself or lies at most ``bias`` pixels (times the pixel size, in
+    depth) in front of them, else 0; with ``shadows="soft"``, the product of the
+    ``transmission`` of every other segment lying in front of them by more than the bias
+    (a per-segment ``transmission`` array in the skeleton overrides the scalar). Returns
+    ``(n,)`` float64::
 
-        light = intensity x (share of samples lit) x cos
+        light = intensity x (mean exposure of the samples) x cos
 
     with ``cos = |normal . d|`` for a LEAF whose skeleton gives a unit ``normal``
     (``data["normal"]``, two-sided blades) and otherwise the side of a cylinder,
     ``cos = sqrt(1 - (axis . d)^2)``, the sine of the angle between axis and light (its
     projected side area over its broadside area). End caps are not counted: in a skeleton
     they are joints. So a vertical stem under light from straight above gets 0.
+    ``backend="moderngl"`` renders the hard map through OpenGL
+    (:mod:`growsim.env.shadow_gl`).
 
     Raises :class:`growsim.errors.UserInputError` for a zero or non-finite direction, a
-    non-finite coordinate, radius or normal (naming the array and row), a negative radius
-    or bad offsets.
+    non-finite coordinate, radius or normal (naming the array and row), a negative radius,
+    bad offsets or a bad setting.
 
     Examples
     --------
@@ -308,36 +454,48 @@ def segment_light(
     [0.0, 0.0, 1.0]
     >>> segment_light(start, end, r, offsets=[0, 1, 3]).round(3).tolist()  # two plants
     [1.0, 1.0, 0.0]
+    >>> segment_light(start, end, r, shadows="soft", transmission=0.5).round(3).tolist()
+    [1.0, 0.5, 0.0]
     """
-    from growsim.kernels.light import segment_light_kernel
+    from growsim.kernels import light as kernels
     from growsim.plant import LEAF
 
     where = "segment_light"
-    d = _shadow_direction(where, direction)
-    s, e, r, normal, kind = _shadow_skeleton(where, start, end, radius)
+    d, u, v, intensity, res, bias = _shadow_settings(
+        where, direction, intensity, resolution, bias, shadows, backend
+    )
+    s, e, r, data, kind = _shadow_skeleton(where, start, end, radius)
     n = s.shape[0]
     off = _shadow_offsets(where, "offsets", offsets, n)
-    res = _shadow_resolution(where, resolution)
-    if not (math.isfinite(bias) and bias >= 0):
-        raise UserInputError(f"{where}: bias must be a finite number >= 0, got {bias!r}")
     samples = int(samples)
     if samples < 1:
         raise UserInputError(f"{where}: samples must be >= 1, got {samples}")
-    intensity = float(intensity)
-    if not (math.isfinite(intensity) and intensity >= 0):
-        raise UserInputError(f"{where}: intensity must be finite and >= 0, got {intensity!r}")
+    normal = data.get("normal")
     if normal is None:
         normal = np.zeros((n, 3))
         use = np.zeros(n, np.bool_)
     else:
+        normal = checked_array(where, "normal", normal, (3,), n)
         norm = np.linalg.norm(normal, axis=1)
         use = norm > 0 if kind is None else (norm > 0) & (kind == LEAF)
         normal = np.ascontiguousarray(normal / np.where(norm > 0, norm, 1.0)[:, None])
-    u, v = view_basis(d)
+    frames = kernels.plant_frames(s, e, r, off, u, v, res)
     out = np.empty(n)
-    return segment_light_kernel(
-        s, e, r, off, normal, use, u, v, d, intensity, res, float(bias), samples, out
-    )
+    if shadows == "soft":
+        trans = _transmissions(where, data, transmission, n)
+        kernels.soft_segment_exposure_kernel(
+            s, e, r, off, frames, u, v, d, res, bias, samples, trans, out
+        )
+    elif backend == "moderngl":
+        from growsim.env.shadow_gl import segment_exposure_gl
+
+        out = segment_exposure_gl(s, e, r, off, frames, u, v, d, res, bias, samples)
+    else:
+        kernels.segment_exposure_kernel(s, e, r, off, frames, u, v, d, res, bias, samples, out)
+    cos = kernels.segment_cosines(s, e, normal, use, d, np.empty(n))
+    out *= cos
+    out *= intensity
+    return out
 
 
 def point_light(
@@ -351,18 +509,20 @@ def point_light(
     point_offsets=None,
     direction=(0.0, -1.0, 0.0),
     intensity: float = 1.0,
-    resolution: int = 256,
+    resolution: int = DEFAULT_RESOLUTION,
     bias: float = SHADOW_BIAS_PIXELS,
+    shadows: str = "hard",
+    transmission: float = 0.25,
+    backend: str = "numba",
 ) -> np.ndarray:
-    """Light at sample points with normals, in the plants' hard shadows.
+    """Light at sample points with normals (a module's walls), in the plants' shadows.
 
-    The skeleton and ``offsets`` are as in :func:`segment_light`; ``points`` and
-    ``normals`` are ``(m, 3)``; ``point_offsets`` ``(k + 1,)`` assigns points
+    The skeleton, ``offsets`` and the settings are as in :func:`segment_light`; ``points``
+    and ``normals`` are ``(m, 3)``; ``point_offsets`` ``(k + 1,)`` assigns points
     ``point_offsets[k]:point_offsets[k + 1]`` to plant ``k`` (default: all points to the
-    one plant). Returns ``(m,)`` float64 ``intensity x lit x max(0, -n . d)`` (``n`` the
-    unit normal; a surface facing the light has ``n . d < 0``). A point is lit when no part
-    of its plant lies more than ``bias`` pixels in front of it at its pixel of the plant's
-    shadow map (points outside the map are lit).
+    one plant). Returns ``(m,)`` float64 ``intensity x exposure x max(0, -n . d)`` (``n`` the
+    unit normal; a surface facing the light has ``n . d < 0``). A point's exposure is
+    judged against every segment of its plant (points outside the map are in the open).
 
     Examples
     --------
@@ -373,12 +533,16 @@ def point_light(
     [0.0, 1.0]
     >>> point_light(*leaf, points=ground, normals=up, direction=(-1, -1, 0)).round(3).tolist()
     [0.707, 0.707]
+    >>> point_light(*leaf, points=ground, normals=up, shadows="soft", transmission=0.2).tolist()
+    [0.2, 1.0]
     """
-    from growsim.kernels.light import point_light_kernel
+    from growsim.kernels import light as kernels
 
     where = "point_light"
-    d = _shadow_direction(where, direction)
-    s, e, r, _, _ = _shadow_skeleton(where, start, end, radius)
+    d, u, v, intensity, res, bias = _shadow_settings(
+        where, direction, intensity, resolution, bias, shadows, backend
+    )
+    s, e, r, data, _ = _shadow_skeleton(where, start, end, radius)
     off = _shadow_offsets(where, "offsets", offsets, s.shape[0])
     pts = checked_array(where, "points", points, (3,), None)
     m = pts.shape[0]
@@ -397,14 +561,19 @@ def point_light(
             raise UserInputError(
                 f"{where}: point_offsets has {len(poff) - 1} plants, offsets {len(off) - 1}"
             )
-    res = _shadow_resolution(where, resolution)
-    if not (math.isfinite(bias) and bias >= 0):
-        raise UserInputError(f"{where}: bias must be a finite number >= 0, got {bias!r}")
-    intensity = float(intensity)
-    if not (math.isfinite(intensity) and intensity >= 0):
-        raise UserInputError(f"{where}: intensity must be finite and >= 0, got {intensity!r}")
-    u, v = view_basis(d)
+    frames = kernels.plant_frames(s, e, r, off, u, v, res)
     out = np.empty(m)
-    return point_light_kernel(
-        s, e, r, off, pts, nrm, poff, u, v, d, intensity, res, float(bias), out
-    )
+    if shadows == "soft":
+        trans = _transmissions(where, data, transmission, s.shape[0])
+        kernels.soft_point_exposure_kernel(
+            s, e, r, off, frames, pts, poff, u, v, d, res, bias, trans, out
+        )
+    elif backend == "moderngl":
+        from growsim.env.shadow_gl import point_exposure_gl
+
+        out = point_exposure_gl(s, e, r, off, frames, pts, poff, u, v, d, res, bias)
+    else:
+        kernels.point_exposure_kernel(s, e, r, off, frames, pts, poff, u, v, d, res, bias, out)
+    out *= np.maximum(0.0, -(nrm @ d))
+    out *= intensity
+    return out

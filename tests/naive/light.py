@@ -1,4 +1,5 @@
-"""Oracles of the shadow-map light (:mod:`growsim.kernels.light`): no raster at all.
+"""Oracles of the shadow-map light (:mod:`growsim.kernels.light`): exact geometry, no
+raster (and, for the rasteriser itself, a pixel-by-pixel NumPy z-buffer: :func:`render_depth`).
 
 Each sample point is judged exactly against the model the z-buffer discretises: a segment
 ``j`` of the same plant shades the point ``p`` when ``p``'s projection on the image plane
@@ -59,35 +60,92 @@ def shadowed(p, own, start, end, radius, u, v, d, bias, grow=0.0, slack=0.0):
     return False
 
 
-def _cos(s, start, end, normal, use_normal, d):
-    if use_normal[s]:
-        return abs(float(normal[s] @ d))
-    axis = end[s] - start[s]
-    L = float(np.linalg.norm(axis))
-    if L == 0:
-        return 1.0
-    return math.sin(math.acos(min(1.0, abs(float(axis @ d)) / L)))
+def transmitted(p, own, start, end, radius, u, v, d, bias, trans, grow=0.0, slack=0.0):
+    """Product of ``trans[j]`` over the segments ``j != own`` that shade ``p`` (as
+    :func:`shadowed`, each judged on its own, ``grow`` and ``slack`` as there): the soft
+    shadow's exposure."""
+    q = np.array([p @ u, p @ v])
+    zp = float(p @ d)
+    e = 1.0
+    for j in range(len(start)):
+        if j == own:
+            continue
+        a = np.array([start[j] @ u, start[j] @ v])
+        b = np.array([end[j] @ u, end[j] @ v])
+        t, dist = _nearest_on_segment(q, a, b)
+        za, zb = float(start[j] @ d), float(end[j] @ d)
+        proj = float(np.linalg.norm(b - a))
+        cot = abs(zb - za) / proj if proj > 0 else 0.0
+        if dist <= radius[j] + grow and za + t * (zb - za) < zp - bias + slack * (1.0 + cot):
+            e *= trans[j]
+    return e
 
 
-def segment_light_kernel(
-    start, end, radius, offsets, normal, use_normal, u, v, d, intensity, res, bias_pixels,
-    samples, tol_pixels=0.0,
+def segment_cosines(start, end, normal, use_normal, d):
+    """Mirror of :func:`growsim.kernels.light.segment_cosines` (without ``out``)."""
+    out = np.empty(len(start))
+    for s in range(len(start)):
+        if use_normal[s]:
+            out[s] = abs(float(normal[s] @ d))
+            continue
+        axis = end[s] - start[s]
+        L = float(np.linalg.norm(axis))
+        out[s] = 1.0 if L == 0 else math.sin(math.acos(min(1.0, abs(float(axis @ d)) / L)))
+    return out
+
+
+def plant_frames(start, end, radius, offsets, u, v, res):
+    """Mirror of :func:`growsim.kernels.light.plant_frames`."""
+    out = np.zeros((len(offsets) - 1, 3))
+    for k in range(len(offsets) - 1):
+        lo, hi = int(offsets[k]), int(offsets[k + 1])
+        out[k] = frame(start[lo:hi], end[lo:hi], radius[lo:hi], u, v, res) if hi > lo else (0, 0, 1)
+    return out
+
+
+def render_depth(a, b, za, zb, radius, res):
+    """The z-buffer the kernels render, pixel by pixel: ``(depth, ids)`` ``(res, res)``
+    (``inf`` / -1 where empty) of the capsules ``a-b`` (pixel coordinates ``(n, 2)``,
+    radii ``(n,)`` in pixels), a pixel covered when its centre lies within the radius of
+    the axis, its depth the axis' at the point nearest the centre; the first segment wins
+    a tie."""
+    jj, ii = np.meshgrid(np.arange(res) + 0.5, np.arange(res) + 0.5)
+    depth = np.full((res, res), np.inf)
+    ids = np.full((res, res), -1)
+    for k in range(len(a)):
+        ab = b[k] - a[k]
+        L2 = float(ab @ ab)
+        t = np.zeros_like(jj) if L2 == 0 else (jj - a[k, 0]) * ab[0] + (ii - a[k, 1]) * ab[1]
+        t = np.clip(t / L2, 0.0, 1.0) if L2 > 0 else t
+        dist2 = (a[k, 0] + t * ab[0] - jj) ** 2 + (a[k, 1] + t * ab[1] - ii) ** 2
+        z = za[k] + t * (zb[k] - za[k])
+        win = (dist2 <= radius[k] ** 2) & (z < depth)
+        depth[win] = z[win]
+        ids[win] = k
+    return depth, ids
+
+
+def segment_exposure_kernel(
+    start, end, radius, offsets, frames, u, v, d, res, bias_pixels, samples, trans=None,
+    tol_pixels=0.0,
 ):  # fmt: skip
-    """Mirror of :func:`growsim.kernels.light.segment_light_kernel` (without ``out``).
+    """Mirror of :func:`growsim.kernels.light.segment_exposure_kernel` (without ``out``;
+    ``frames`` is ignored: the pixel size, for the bias, is computed here), or with
+    ``trans`` of :func:`growsim.kernels.light.soft_segment_exposure_kernel`.
 
-    With ``tol_pixels > 0`` it returns instead a boolean ``(n,)``: whether some sample's
-    answer changes when every capsule's shadow grows or shrinks by ``tol_pixels`` pixels
-    and the depth test moves by as much (scaled by the occluder's slope): the samples the
-    raster may fairly get either way (within that many pixels of a silhouette edge).
+    With ``tol_pixels > 0`` it returns instead a boolean ``(n,)``: whether some sample has
+    an occluder whose answer changes when every capsule's shadow grows or shrinks by
+    ``tol_pixels`` pixels and the depth test moves by as much (scaled by the occluder's
+    slope): the samples the raster may fairly get either way (within that many pixels of
+    an occluder's edge).
 
     Examples
     --------
     >>> import numpy as np
     >>> s = np.array([[0.0, 1, 0], [0, 0, 0]]); e = np.array([[1.0, 1, 0], [1, 0, 0]])
     >>> u, v, d = np.array([1.0, 0, 0]), np.array([0.0, 0, -1]), np.array([0.0, -1, 0])
-    >>> segment_light_kernel(s, e, np.full(2, 0.2), [0, 2], np.zeros((2, 3)), [False] * 2,
-    ...                      u, v, d, 1.0, 64, 1.5, 1).tolist()
-    [1.0, 0.0]
+    >>> segment_exposure_kernel(s, e, np.full(2, 0.2), [0, 2], None, u, v, d, 64, 1.5, 1)
+    array([1., 0.])
     """
     n = len(start)
     out = np.zeros(n)
@@ -100,44 +158,49 @@ def segment_light_kernel(
         _, _, pix = frame(S, E, R, u, v, res)
         bias = bias_pixels * pix
         for s in range(lo, hi):
-            lit = 0
             for i in range(samples):
                 t = (i + 0.5) / samples
                 p = start[s] + t * (end[s] - start[s])
-                exact = shadowed(p, s - lo, S, E, R, u, v, d, bias)
-                lit += not exact
+                if trans is not None:
+                    out[s] += transmitted(p, s - lo, S, E, R, u, v, d, bias, trans[lo:hi])
+                else:
+                    out[s] += not shadowed(p, s - lo, S, E, R, u, v, d, bias)
                 if tol_pixels > 0:
+                    # near an edge: some occluder's answer changes within the tolerance
                     g = tol_pixels * pix
-                    loose = shadowed(p, s - lo, S, E, R, u, v, d, bias, grow=g, slack=g)
-                    strict = shadowed(p, s - lo, S, E, R, u, v, d, bias, grow=-g, slack=-g)
+                    tr = np.full(hi - lo, 0.5) if trans is None else trans[lo:hi]
+                    loose = transmitted(p, s - lo, S, E, R, u, v, d, bias, tr, g, g)
+                    strict = transmitted(p, s - lo, S, E, R, u, v, d, bias, tr, -g, -g)
                     edge[s] |= loose != strict
-            out[s] = intensity * _cos(s, start, end, normal, use_normal, d) * lit / samples
+            out[s] /= samples
     return edge if tol_pixels > 0 else out
 
 
-def point_light_kernel(
-    start, end, radius, offsets, points, normals, point_offsets, u, v, d, intensity, res,
-    bias_pixels, tol_pixels=0.0,
+def point_exposure_kernel(
+    start, end, radius, offsets, frames, points, point_offsets, u, v, d, res, bias_pixels,
+    trans=None, tol_pixels=0.0,
 ):  # fmt: skip
-    """Mirror of :func:`growsim.kernels.light.point_light_kernel` (without ``out``); with
-    ``tol_pixels > 0``, the boolean ``(m,)`` of points near an edge (as
-    :func:`segment_light_kernel`)."""
-    out = np.zeros(len(points))
+    """Mirror of :func:`growsim.kernels.light.point_exposure_kernel` (without ``out``), or
+    with ``trans`` of the soft kernel; with ``tol_pixels > 0``, the boolean ``(m,)`` of
+    points near an edge (as :func:`segment_exposure_kernel`)."""
+    out = np.ones(len(points))
     edge = np.zeros(len(points), bool)
     for k in range(len(offsets) - 1):
         lo, hi = int(offsets[k]), int(offsets[k + 1])
+        if hi == lo:
+            continue
         S, E, R = start[lo:hi], end[lo:hi], radius[lo:hi]
-        pix = frame(S, E, R, u, v, res)[2] if hi > lo else 0.0
+        pix = frame(S, E, R, u, v, res)[2]
         bias = bias_pixels * pix
         for i in range(int(point_offsets[k]), int(point_offsets[k + 1])):
-            c = -float(normals[i] @ d)
-            if c <= 0:
-                continue
-            if hi == lo or not shadowed(points[i], -1, S, E, R, u, v, d, bias):
-                out[i] = intensity * c
-            if tol_pixels > 0 and hi > lo:
+            if trans is not None:
+                out[i] = transmitted(points[i], -1, S, E, R, u, v, d, bias, trans[lo:hi])
+            else:
+                out[i] = not shadowed(points[i], -1, S, E, R, u, v, d, bias)
+            if tol_pixels > 0:
                 g = tol_pixels * pix
-                loose = shadowed(points[i], -1, S, E, R, u, v, d, bias, grow=g, slack=g)
-                strict = shadowed(points[i], -1, S, E, R, u, v, d, bias, grow=-g, slack=-g)
+                tr = np.full(hi - lo, 0.5) if trans is None else trans[lo:hi]
+                loose = transmitted(points[i], -1, S, E, R, u, v, d, bias, tr, g, g)
+                strict = transmitted(points[i], -1, S, E, R, u, v, d, bias, tr, -g, -g)
                 edge[i] = loose != strict
     return edge if tol_pixels > 0 else out
