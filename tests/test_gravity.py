@@ -231,3 +231,22 @@ def test_honda_trees_stress_is_highest_near_lateral_bases(name):
         own_best += r[b] >= rest.max()
         assert r[b] >= 0.75 * rest.max()
     assert own_best >= 0.6 * len(laterals)
+
+
+def test_first_break_step_of_a_growing_branch_and_of_a_one_shot_model():
+    from growsim.models import get_model
+    from growsim.plant import Plant
+
+    def lengthening(radius):
+        for k in range(1, 12):
+            yield Plant.from_points([[0, 0, 0], [0.5 * k, 0, 0]], [-1], [-1, 0], radius=radius)
+
+    g = Gravity()
+    step, seg = g.first_break_step(lengthening(0.01))
+    # the first step whose branch breaks, and no earlier one does
+    plants = list(lengthening(0.01))
+    assert seg == 0 and g.breaks(plants[step]) and not any(g.breaks(p) for p in plants[:step])
+    assert g.first_break_step(lengthening(0.5)) == (-1, -1)
+    honda = get_model("honda")
+    dome = honda.preset("f_dome")  # breaks at its defaults (see the docs)
+    assert g.first_break_step(honda.grow(dome)) == (0, g.loads(honda.develop(dome)).first_break)

@@ -224,3 +224,21 @@ def test_into_kernel_reuses_buffers():
     want = transport_kernel(start, end, radius, parent, demand, 0.7, 0.1, 0.1)
     np.testing.assert_array_equal(rec, want[0])
     np.testing.assert_array_equal(met, want[1])
+
+
+def test_environment_water_keys_set_the_losses():
+    from growsim.env import Environment
+    from growsim.models import honda
+
+    tree = honda.develop(honda.PRESETS["zelkova"])
+    light = (tree.kind == 1).astype(float)
+    env = Environment.model_validate(
+        {"water": {"supply": 0.8, "resistance": 0.0, "lift": 0.02, "stem_demand": 0.001}}
+    )
+    got = env.water.transport(tree, light, g=env.gravity.g)
+    want = transport(tree, light, 0.8, resistance=0.0, lift=0.02, stem_demand=0.001)
+    np.testing.assert_array_equal(got.met, want.met)
+    default = Environment().water.transport(tree, light)
+    assert not np.array_equal(got.met, default.met)
+    with pytest.raises(Exception, match="resistance"):
+        Environment.model_validate({"water": {"resistance": -1.0}})

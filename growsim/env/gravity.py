@@ -11,7 +11,7 @@ kg, moment N m, stress Pa) unless a model says otherwise. See ``docs/environment
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -173,6 +173,28 @@ class Gravity(Options):
         ratio = _kernel(merged, self)[3]
         first = first_break_kernel(ratio, offsets)
         return np.where(first >= 0, first - offsets[:-1], -1)
+
+
+    def first_break_step(self, steps: Iterable[Any]) -> tuple[int, int]:
+        """``(step, segment)`` of the first joint to break while a plant grows step-wise:
+        ``steps`` yields the plant after each step (a model's ``grow(...)``), and the first
+        step whose plant breaks gives its :attr:`Loads.first_break`; ``(-1, -1)`` when the
+        plant never breaks. Growth is read only up to the break.
+
+        Examples
+        --------
+        >>> from growsim.plant import Plant
+        >>> def grow():  # a branch that lengthens by 1 each step
+        ...     for k in range(1, 9):
+        ...         yield Plant.from_points([[0, 0, 0], [k, 0, 0]], [-1], [-1, 0], radius=0.01)
+        >>> Gravity().first_break_step(grow())
+        (5, 0)
+        """
+        for step, skeleton in enumerate(steps):
+            first = self.loads(skeleton).first_break
+            if first >= 0:
+                return step, first
+        return -1, -1
 
 
 def _kernel(a: dict, gravity: Gravity) -> np.ndarray:

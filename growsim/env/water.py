@@ -168,21 +168,37 @@ def transport(
 
 
 class Water(Options):
-    """``[environment.water]``: water supply (1 = ample).
+    """``[environment.water]``: water supply (1 = ample) and the losses on the way.
 
     ``supply`` is the water the roots offer as a share of what the plant pulls (1 = all of
-    its demand, before the losses along the way); :meth:`transport` shares it out.
+    its demand, before the losses along the way); ``resistance`` and ``lift`` are the
+    pressure drops per unit length and per unit of height climbed, ``stem_demand`` the
+    stems' upkeep per unit length (see the module's equations); :meth:`transport` shares
+    the water out with them.
 
     Examples
     --------
     >>> Water(supply=0.5).supply
     0.5
+    >>> Water(resistance=0.0, lift=0.0).lift
+    0.0
     """
 
     supply: float = Field(1.0, ge=0.0, le=1e6, description="water supply (1 = ample)")
+    resistance: float = Field(
+        RESISTANCE, ge=0.0, le=1e6,
+        description="pressure drop per unit length where the pull per cross-section is the root's",
+    )  # fmt: skip
+    lift: float = Field(
+        LIFT, ge=0.0, le=1e6, description="pressure drop per unit of height climbed (at g = 9.81)"
+    )
+    stem_demand: float = Field(
+        0.0, ge=0.0, le=1e6, description="water a stem demands per unit length (upkeep)"
+    )
 
     def transport(self, plant, light, **kwargs) -> WaterFlow:
-        """:func:`transport` with this table's ``supply``.
+        """:func:`transport` with this table's ``supply``, ``resistance``, ``lift`` and
+        ``stem_demand`` (keyword arguments override them; pass ``g=env.gravity.g``).
 
         Examples
         --------
@@ -191,4 +207,10 @@ class Water(Options):
         >>> Water(supply=0.0).transport(p, [1.0]).met.tolist()
         [0.0]
         """
-        return transport(plant, light, self.supply, **kwargs)
+        options = {
+            "resistance": self.resistance,
+            "lift": self.lift,
+            "stem_demand": self.stem_demand,
+            **kwargs,
+        }
+        return transport(plant, light, self.supply, **options)
