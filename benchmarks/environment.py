@@ -1,6 +1,7 @@
 """Speed of the environment's passes over whole populations (JSON).
 
     NUMBA_NUM_THREADS=1 python benchmarks/environment.py [--plants 1000] [--segments 300]
+        [--resolutions 64 128 256] [--backends numba moderngl] [--only gravity water light]
 
 A population of random parents-first skeletons (``--plants`` x ``--segments``; 30 % leaves)
 in one array. For each pass: the kernel alone (arrays prepared once, the output buffer
@@ -8,7 +9,10 @@ reused: the figure the issue's floors are about) and the public function on the 
 population (input checks included), in million segments per second, best of 20 (kernel)
 or 5 (public) runs. Passes: gravity (``growsim.env.Gravity``: mass above, moments, stress
 ratios and each plant's first break) and water (``growsim.env.water.transport``: subtree
-demands up, shares down; demand 1 per leaf).
+demands up, shares down; demand 1 per leaf) and light (``growsim.env.light.segment_light``
+on the whole population, light from above, one shadow map per plant: frames, render,
+every segment's midpoint queried, cosines; hard and soft shadows with numba, hard with
+moderngl; best of 3).
 """
 
 from __future__ import annotations
@@ -109,10 +113,43 @@ def water(plants) -> dict:
     }
 
 
+def light(plants, n_plants: int, n_segments: int, resolutions, backends) -> dict:
+    """The shadow-map light through the whole pass (frames, render, query every segment's
+    midpoint, cosines): the public :func:`growsim.env.light.segment_light` on the whole
+    population, light from above, per resolution, shadow mode and backend."""
+    from growsim.env.light import segment_light
+
+    offsets = np.arange(0, plants.n_segments + 1, n_segments, dtype=np.int64)
+    n = plants.n_segments
+    out = {}
+    for res in resolutions:
+        row = {}
+        for shadows, backend in (("hard", "numba"), ("soft", "numba"), ("hard", "moderngl")):
+            if backend not in backends:
+                continue
+            try:
+                t = best_of(
+                    lambda s=shadows, b=backend: segment_light(
+                        plants, offsets=offsets, resolution=res, shadows=s, backend=b
+                    ),
+                    3,
+                )
+            except Exception as exc:  # no GL context: say why, keep the other figures
+                row[f"{shadows}_{backend}"] = f"unavailable: {exc}"
+                continue
+            row[f"{shadows}_{backend}_ms"] = round(t * 1e3, 1)
+            row[f"{shadows}_{backend}_msegments_per_s"] = round(n / t / 1e6, 2)
+        out[str(res)] = row
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--plants", type=int, default=1000)
     ap.add_argument("--segments", type=int, default=300)
+    ap.add_argument("--resolutions", type=int, nargs="+", default=[64, 128, 256])
+    ap.add_argument("--backends", nargs="+", default=["numba", "moderngl"])
+    ap.add_argument("--only", choices=["gravity", "water", "light"], nargs="+")
     args = ap.parse_args()
     plants = forest(args.plants, args.segments)
     result = {
@@ -120,9 +157,16 @@ def main() -> None:
         "segments_per_plant": args.segments,
         "numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default"),
         "load_1min": round(os.getloadavg()[0], 2),
-        "gravity": gravity(plants, args.plants, args.segments),
-        "water": water(plants),
     }
+    only = args.only or ["gravity", "water", "light"]
+    if "gravity" in only:
+        result["gravity"] = gravity(plants, args.plants, args.segments)
+    if "water" in only:
+        result["water"] = water(plants)
+    if "light" in only:
+        result["light"] = light(
+            plants, args.plants, args.segments, args.resolutions, args.backends
+        )
     print(json.dumps(result, indent=1))
 
 

@@ -1,6 +1,9 @@
 """Plant -> pyvista mesh: n-gon tubes and hexagon leaves, levels of detail, export.
 
-- :func:`plant_mesh`: one triangle mesh with ``point_data["kind"]`` (0 bark, 1 leaf);
+- :func:`plant_mesh`: one triangle mesh with ``point_data["kind"]`` (0 bark, 1 leaf) and,
+  on request, per-segment values carried onto its triangles as ``cell_data`` (``fields``:
+  the light, stress or water a view colours the plant by);
+- :func:`triangle_segments`: the segment each triangle of a mesh belongs to;
 - :func:`lod_meshes`: one skeleton, several meshes of falling vertex count (fewer tube
   sides and pieces, leaves clustered) with the same silhouette;
 - :func:`export`: ``.vtp``, ``.ply``, ``.obj`` or ``.glb`` by suffix, written atomically.
@@ -12,14 +15,14 @@ loop is :func:`growsim.kernels.mesh.mesh_kernel`.
 from __future__ import annotations
 
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
 
 from growsim.errors import UserInputError
 from growsim.files import atomic_path, atomic_write
-from growsim.kernels.mesh import mesh_kernel, weld_targets
+from growsim.kernels.mesh import LEAF_TRIS, mesh_kernel, weld_targets
 from growsim.plant import LEAF, Plant
 
 __all__ = [
@@ -31,6 +34,7 @@ __all__ = [
     "lod_meshes",
     "mesh_arrays",
     "plant_mesh",
+    "triangle_segments",
 ]
 
 #: vertex colours written to exports (bark brown, leaf green), uint8 RGB
@@ -86,8 +90,37 @@ def mesh_arrays(
     return mesh_kernel(*arrays, sides, segments, weld)
 
 
+def triangle_segments(plant: Plant, sides: int = 6, segments: int = 1, leaves: bool = True):
+    """``(M,)`` int64: the segment of ``plant`` each triangle of its mesh belongs to (the
+    mesh of :func:`plant_mesh` / :func:`mesh_arrays` with the same ``sides``, ``segments``
+    and ``leaves``; ``merge`` changes vertices, not triangles). The mesh kernel lays out
+    the stems first, in segment order, ``2 * sides * segments`` triangles each, then the
+    leaves in segment order, 6 each.
+
+    Examples
+    --------
+    >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0], [1, 1, 0], [0, 2, 0]],  # stem, leaf,
+    ...                       [-1, 0, 0], [-1, 0, 1, 1], kind=[0, 1, 0])   # stem
+    >>> t = triangle_segments(p, sides=3)
+    >>> t.tolist() == [0] * 6 + [2] * 6 + [1] * 6, t.size == mesh_arrays(p, sides=3)[1].shape[0]
+    (True, True)
+    """
+    plant = _check_plant(plant)
+    sides, segments = int(sides), int(segments)
+    stems = np.flatnonzero(plant.kind != LEAF)
+    leafs = np.flatnonzero(plant.kind == LEAF) if leaves else np.zeros(0, np.int64)
+    return np.concatenate(
+        [np.repeat(stems, 2 * sides * segments), np.repeat(leafs, LEAF_TRIS)]
+    ).astype(np.int64)
+
+
 def plant_mesh(
-    plant: Plant, sides: int = 6, segments: int = 1, leaves: bool = True, merge: bool = False
+    plant: Plant,
+    sides: int = 6,
+    segments: int = 1,
+    leaves: bool = True,
+    merge: bool = False,
+    fields: Mapping[str, Sequence[float]] | None = None,
 ):
     """Triangle mesh (``pyvista.PolyData``) of a plant.
 
@@ -98,21 +131,41 @@ def plant_mesh(
     continues its parent (its thickest stem child) starts from the parent's end ring
     instead of its own, saving ``sides`` vertices per joint without moving any vertex.
 
+    ``fields``: ``{name: (n,) values}``, one value per segment of ``plant``; each becomes
+    ``cell_data[name]`` (float64), every triangle carrying its segment's value
+    (:func:`triangle_segments`), so a view colours each segment flat by it.
+
     Examples
     --------
     >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
     >>> m = plant_mesh(p, sides=6, segments=2)
     >>> m.n_points, int(m.point_data["kind"].sum())
     (18, 0)
+    >>> m = plant_mesh(p, sides=3, fields={"light": [0.5]})
+    >>> m.cell_data["light"].tolist()
+    [0.5, 0.5, 0.5, 0.5, 0.5, 0.5]
     """
     import pyvista as pv
 
     pts, tris, kind = mesh_arrays(plant, sides=sides, segments=segments, leaves=leaves, merge=merge)
+    values = {}
+    for name, value in (fields or {}).items():
+        arr = np.asarray(value, dtype=np.float64)
+        if arr.shape != (plant.n_segments,):
+            raise UserInputError(
+                f"mesh field {name!r}: expected one value per segment, shape "
+                f"({plant.n_segments},), got {arr.shape}"
+            )
+        values[str(name)] = arr
     if tris.shape[0] == 0:
         mesh = pv.PolyData(pts.astype(np.float32)) if pts.shape[0] else pv.PolyData()
     else:
         mesh = pv.PolyData.from_regular_faces(pts, tris)
     mesh.point_data["kind"] = kind
+    if values and tris.shape[0]:
+        seg = triangle_segments(plant, sides=sides, segments=segments, leaves=leaves)
+        for name, arr in values.items():
+            mesh.cell_data[name] = arr[seg]
     return mesh
 
 

@@ -6,6 +6,14 @@ needs one; VTK's warnings (e.g. "bad X server connection" without a display) are
 quiet while rendering off-screen. Files are written atomically (temporary name, then
 rename). The views (:data:`VIEWS`) and the size limits (:data:`MIN_SIZE`,
 :data:`MAX_SIZE`, :func:`check_size`) are the ones of every command that renders.
+
+The environment on a plant: :func:`render_image`, :func:`screenshot` and :func:`show` take
+``color=`` one of :data:`COLORS` (``"light"``, ``"stress"``, ``"water"``) and an
+``env`` (:class:`growsim.env.Environment`): each segment is painted flat by its value in
+``env.segment_table(plant)`` (:func:`segment_colors`, scales in :func:`color_scale`) with a
+labelled scalar bar, and ``light_arrow`` draws the light's direction (an arrow from the
+light's side into the plant; on by default when colouring by light). ``growsim grow
+--color`` and ``growsim show --color`` are these.
 """
 
 from __future__ import annotations
@@ -13,6 +21,7 @@ from __future__ import annotations
 import contextlib
 import os
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -22,15 +31,20 @@ from growsim.files import atomic_path, atomic_write
 from growsim.plant import Plant
 
 __all__ = [
+    "COLORS",
     "MAX_SIZE",
     "MIN_SIZE",
     "VIEWS",
+    "ColorScale",
+    "check_color",
     "check_size",
+    "color_scale",
     "growth_animation",
     "plot_fitness",
     "render_grid",
     "render_image",
     "screenshot",
+    "segment_colors",
     "show",
     "turntable",
 ]
@@ -52,6 +66,14 @@ MAX_SIZE = 4096
 _BARK = (0.43, 0.32, 0.23)
 _LEAF = (0.29, 0.55, 0.23)
 
+#: the fields a view can colour a plant's segments by (``--color``): the light each
+#: receives, the stress ratio at its joint, the share of its water demand met
+COLORS = ("light", "stress", "water")
+
+_NAN_RGB = (0.78, 0.78, 0.78)  # segments a field does not judge: light grey
+_ARROW_RGB = (0.93, 0.55, 0.05)  # the light arrow: orange
+_LEGEND_MARGIN = 0.16  # share of the image height kept free for the scalar bar
+
 
 def _mesh_of(plant_or_mesh, sides=6, segments=1):
     import pyvista as pv
@@ -63,6 +85,222 @@ def _mesh_of(plant_or_mesh, sides=6, segments=1):
     if isinstance(plant_or_mesh, pv.DataSet):
         return plant_or_mesh
     raise UserInputError(f"expected a Plant or a pyvista mesh, got {type(plant_or_mesh).__name__}")
+
+
+@dataclass(frozen=True)
+class ColorScale:
+    """How a field of :data:`COLORS` is painted: the ``column`` of
+    :meth:`growsim.env.Environment.segment_table` it shows, the scalar bar's ``title``, a
+    matplotlib colormap ``cmap`` over ``clim``, the colour of values above the range
+    (``above_color``, ``above_label`` beside the bar; ``None``: clipped to the top colour)
+    and what the grey of a segment without a value means (``nan_label``, beside the bar;
+    ``None``: every segment has one).
+    """
+
+    field: str
+    column: str
+    title: str
+    cmap: str
+    clim: tuple[float, float]
+    above_color: str | None = None
+    above_label: str | None = None
+    nan_label: str | None = None
+
+
+def check_color(color, label: str = "color") -> str | None:
+    """``color`` if it is ``None`` or one of :data:`COLORS`, else :class:`UserInputError`
+    naming ``label`` (the option).
+
+    Examples
+    --------
+    >>> check_color("light"), check_color(None)
+    ('light', None)
+    >>> check_color("heat", "--color")
+    Traceback (most recent call last):
+    ...
+    growsim.errors.UserInputError: --color 'heat': unknown field; choose from light, stress, water
+    """
+    if color is None or (isinstance(color, str) and color in COLORS):
+        return color
+    raise UserInputError(f"{label} {color!r}: unknown field; choose from {', '.join(COLORS)}")
+
+
+def _environment(env):
+    from growsim.env import Environment
+
+    if env is None:
+        return Environment()
+    if not isinstance(env, Environment):
+        raise UserInputError(f"env: expected a growsim Environment, got {type(env).__name__}")
+    return env
+
+
+def color_scale(color: str, env=None) -> ColorScale:
+    """The :class:`ColorScale` of field ``color`` (one of :data:`COLORS`) under ``env``
+    (default ``Environment()``):
+
+    - ``light``: the light received, ``0 .. env.light.intensity``, dark to bright
+      (``inferno``);
+    - ``stress``: the stress ratio at each stem's joint, ``0 .. 1`` (``cividis``); a joint
+      that breaks (ratio ``>= 1``) is red, marked ``>= 1 breaks`` beside the bar; leaves
+      are not judged (grey);
+    - ``water``: the share of each segment's water demand met, ``0 .. 1`` (``viridis``);
+      segments that demand nothing (stems, leaves in full shade) are grey.
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> s = color_scale("light", Environment.model_validate({"light": 0.5}))
+    >>> s.column, s.clim, s.cmap
+    ('light', (0.0, 0.5), 'inferno')
+    >>> color_scale("stress").above_label
+    '>= 1 breaks'
+    """
+    color = check_color(color)
+    if color is None:
+        raise UserInputError("color: choose a field from " + ", ".join(COLORS))
+    env = _environment(env)
+    if color == "light":
+        top = float(env.light.intensity) or 1.0
+        return ColorScale("light", "light", "light received", "inferno", (0.0, top))
+    if color == "stress":
+        return ColorScale(
+            "stress",
+            "stress_ratio",
+            "stress ratio (bending stress / strength)",
+            "cividis",
+            (0.0, 1.0),
+            above_color="red",
+            above_label=">= 1 breaks",
+            nan_label="leaf",
+        )
+    return ColorScale(
+        "water", "water_met", "water: share of demand met", "viridis", (0.0, 1.0),
+        nan_label="no demand",
+    )  # fmt: skip
+
+
+def segment_colors(plant, color: str, env=None) -> np.ndarray:
+    """``(n,)`` float64: the value of field ``color`` (one of :data:`COLORS`) each segment
+    of ``plant`` is painted with, from ``env.segment_table(plant)`` (default environment:
+    ``Environment()``); NaN where the field does not judge a segment (painted grey): the
+    leaves for ``stress``, the segments without water demand for ``water``.
+
+    Examples
+    --------
+    >>> from growsim.models import honda
+    >>> tree = honda.develop(honda.PRESETS["zelkova"])
+    >>> stress = segment_colors(tree, "stress")
+    >>> bool(np.isnan(stress[tree.kind == 1]).all()), bool(np.nanmax(stress) < 1)
+    (True, True)
+    """
+    from growsim.plant import LEAF
+
+    scale = color_scale(color, env)
+    if not isinstance(plant, Plant):
+        raise UserInputError(
+            f"color {color!r}: colouring needs a Plant (its segments), got {type(plant).__name__}"
+        )
+    table = _environment(env).segment_table(plant)
+    values = table[scale.column].to_numpy(dtype=np.float64, copy=True)
+    if color == "stress":
+        values[plant.kind == LEAF] = np.nan
+    elif color == "water":
+        no_demand = (table["water"].to_numpy() == 0) & (table["water_met"].to_numpy() == 1)
+        values[no_demand] = np.nan
+    return values
+
+
+def _light_arrow(bounds, direction):
+    """An arrow (pyvista mesh) outside ``bounds`` on the light's side, pointing along the
+    light's ``direction`` into the plant."""
+    import pyvista as pv
+
+    d = np.asarray(direction, float)
+    d = d / np.linalg.norm(d)
+    b = np.asarray(bounds, float).reshape(3, 2)
+    centre, half = b.mean(1), np.maximum((b[:, 1] - b[:, 0]) / 2.0, 0.0)
+    radius = max(float(np.linalg.norm(half)), 1e-6)
+    # distance from the centre to the box's surface, going towards the light
+    with np.errstate(divide="ignore"):
+        exit_at = float(np.min(np.where(np.abs(d) > 1e-12, half / np.abs(d), np.inf)))
+    length = 0.4 * radius
+    tip = centre - d * (exit_at + 0.06 * radius)
+    return pv.Arrow(
+        start=tip - d * length,
+        direction=d,
+        scale=length,
+        tip_length=0.3,
+        tip_radius=0.12,
+        shaft_radius=0.045,
+    )
+
+
+def _union(a, b):
+    a, b = np.asarray(a, float).reshape(3, 2), np.asarray(b, float).reshape(3, 2)
+    return np.stack([np.minimum(a[:, 0], b[:, 0]), np.maximum(a[:, 1], b[:, 1])], 1).ravel()
+
+
+def _scene(pl, plant_or_mesh, color=None, env=None, light_arrow=None, legend=True):
+    """Add a plant (or mesh) to ``pl``: plain bark and leaves, or coloured by ``color``
+    with its scalar bar (``legend``), and the light arrow. Returns ``(bounds to frame or
+    None, framing options of _camera)``: a coloured view or one with the arrow is framed
+    tight, with room for the scalar bar below."""
+    color = check_color(color)
+    if light_arrow is None:
+        light_arrow = color == "light"
+    env = _environment(env) if (color is not None or light_arrow) else None
+    margin = 0.0
+    if color is None:
+        mesh = _mesh_of(plant_or_mesh)
+        _add(pl, mesh)
+    else:
+        values = segment_colors(plant_or_mesh, color, env)
+        scale = color_scale(color, env)
+        from growsim.mesh import plant_mesh
+
+        mesh = plant_mesh(plant_or_mesh, fields={color: values})
+        if mesh.n_cells and color in mesh.cell_data:
+            bar = {
+                "title": scale.title,
+                "color": "black",
+                "vertical": False,
+                "position_x": 0.15,
+                "position_y": 0.02,
+                "width": 0.7,
+                "height": 0.09,
+                "n_labels": 5,
+                "fmt": "%.2g",
+                "title_font_size": 14,
+                "label_font_size": 12,
+                "nan_annotation": scale.nan_label is not None,
+                "above_label": scale.above_label,
+            }
+            pl.add_mesh(
+                mesh,
+                scalars=color,
+                preference="cell",
+                cmap=scale.cmap,
+                clim=scale.clim,
+                nan_color=_NAN_RGB,
+                above_color=scale.above_color,
+                show_scalar_bar=bool(legend),
+                scalar_bar_args=bar,
+                ambient=0.55,
+                diffuse=0.45,
+                specular=0.0,
+            )
+            if legend:
+                margin = _LEGEND_MARGIN
+                pl.scalar_bar.SetTextPositionToPrecedeScalarBar()  # labels under the bar
+                if scale.nan_label is not None:
+                    pl.scalar_bar.SetNanAnnotation(scale.nan_label)
+    bounds = mesh.bounds if mesh.n_points else None
+    if light_arrow and bounds is not None:
+        arrow = _light_arrow(bounds, env.light.direction)
+        pl.add_mesh(arrow, color=_ARROW_RGB, ambient=0.3)
+        bounds = _union(bounds, arrow.bounds)
+    return bounds, {"bottom": margin, "tight": color is not None or bool(light_arrow)}
 
 
 def check_size(size, label: str = "size") -> tuple[int, int]:
@@ -127,7 +365,11 @@ def _add(pl, mesh) -> None:
             pl.add_mesh(pv.PolyData.from_regular_faces(mesh.points, sel), color=color)
 
 
-def _camera(pl, bounds, view, zoom=1.0) -> None:
+def _camera(pl, bounds, view, zoom=1.0, bottom=0.0, tight=False) -> None:
+    """Frame ``bounds`` (orthographic) looking along ``view``: on its bounding sphere (the
+    same scale from every side), or with ``tight`` on the box's outline as seen (a still
+    image with a legend). ``bottom``: share of the image height kept free below the plant
+    (for a scalar bar)."""
     if isinstance(view, str):
         if view not in VIEWS:
             raise UserInputError(f"unknown view {view!r}; choose from {', '.join(VIEWS)}")
@@ -139,19 +381,49 @@ def _camera(pl, bounds, view, zoom=1.0) -> None:
     b = np.asarray(bounds, float).reshape(3, 2)
     centre = b.mean(1)
     radius = max(float(np.linalg.norm(b[:, 1] - b[:, 0])) / 2.0, 1e-6)
+    screen_up = np.asarray(up, float) - np.dot(up, d) * d
+    if np.linalg.norm(screen_up) < 1e-9:  # looking along up: any screen up will do
+        screen_up = np.cross(d, [1.0, 0.0, 0.0] if abs(d[0]) < 0.9 else [0.0, 0.0, 1.0])
+    screen_up /= np.linalg.norm(screen_up)
+    half = radius * 1.02 / zoom
+    if tight:
+        right = np.cross(d, screen_up)
+        corners = np.array(np.meshgrid(*b, indexing="ij")).reshape(3, -1).T - centre
+        x, y = corners @ right, corners @ screen_up
+        centre = centre + right * (x.max() + x.min()) / 2 + screen_up * (y.max() + y.min()) / 2
+        w, h = pl.window_size
+        half = max(np.ptp(y) / 2, np.ptp(x) / 2 * h / w, 1e-6) * 1.04 / zoom
+    scale = half / (1.0 - bottom)
+    centre = centre - screen_up * (scale - half)  # the plant touches the top; the rest below
     pl.camera.focal_point = centre
     pl.camera.position = centre - d * radius * 4.0
     pl.camera.up = up
     pl.enable_parallel_projection()
-    pl.camera.parallel_scale = radius * 1.02 / zoom
+    pl.camera.parallel_scale = scale
     pl.reset_camera_clipping_range()
 
 
-def render_image(plant_or_mesh, *, view="front", size=(800, 800), background="white"):
+def render_image(
+    plant_or_mesh,
+    *,
+    view="front",
+    size=(800, 800),
+    background="white",
+    color=None,
+    env=None,
+    light_arrow=None,
+    legend=True,
+):
     """Render off-screen and return the image as an ``(H, W, 3)`` uint8 array.
 
     ``view``: one of :data:`VIEWS` or a direction ``(3,)`` the camera looks along.
     Orthographic projection, framed on the plant's bounding sphere.
+
+    ``color``: ``None`` (bark and leaves) or a field of :data:`COLORS` to paint each
+    segment of a Plant by (:func:`segment_colors`) under ``env`` (an
+    :class:`growsim.env.Environment`, default ``Environment()``), with a scalar bar below
+    the plant when ``legend``. ``light_arrow`` (default: when ``color == "light"``) draws
+    ``env.light.direction`` as an orange arrow coming from the light's side.
 
     Examples
     --------
@@ -159,14 +431,19 @@ def render_image(plant_or_mesh, *, view="front", size=(800, 800), background="wh
     >>> img = render_image(honda.develop({"generations": 4}), size=(64, 64))
     >>> img.shape
     (64, 64, 3)
+    >>> from growsim.env import Environment
+    >>> side = Environment.model_validate({"light": {"direction": [1, 0, 0]}})
+    >>> img = render_image(honda.develop({"generations": 4}), size=(64, 64), color="light",
+    ...                    env=side)
+    >>> img.shape
+    (64, 64, 3)
     """
     w, h = check_size(size)
-    mesh = _mesh_of(plant_or_mesh)
     with _offscreen(w, h) as pl:
         pl.set_background(background)
-        _add(pl, mesh)
-        if mesh.n_points:
-            _camera(pl, mesh.bounds, view)
+        bounds, framing = _scene(pl, plant_or_mesh, color, env, light_arrow, legend)
+        if bounds is not None:
+            _camera(pl, bounds, view, **framing)
         img = pl.screenshot(return_img=True)
     return np.asarray(img)[..., :3].copy()
 
@@ -180,8 +457,19 @@ def _save_png(img: np.ndarray, path: Path) -> Path:
     return atomic_write(path, lambda fh: Image.fromarray(img).save(fh, format="PNG"))
 
 
-def screenshot(plant_or_mesh, path, *, view="front", size=(800, 800), background="white") -> Path:
-    """Render a plant or mesh off-screen to a PNG file.
+def screenshot(
+    plant_or_mesh,
+    path,
+    *,
+    view="front",
+    size=(800, 800),
+    background="white",
+    color=None,
+    env=None,
+    light_arrow=None,
+    legend=True,
+) -> Path:
+    """Render a plant or mesh off-screen to a PNG file (options: :func:`render_image`).
 
     Examples
     --------
@@ -190,13 +478,23 @@ def screenshot(plant_or_mesh, path, *, view="front", size=(800, 800), background
     >>> f = pathlib.Path(tempfile.mkdtemp()) / "t.png"
     >>> screenshot(honda.develop({"generations": 4}), f, view="iso", size=(64, 64)).exists()
     True
+    >>> g = f.with_name("stress.png")
+    >>> screenshot(honda.develop({"generations": 4}), g, size=(64, 64), color="stress").exists()
+    True
     """
-    img = render_image(plant_or_mesh, view=view, size=size, background=background)
+    path = Path(path)
+    if path.suffix.lower() != ".png":
+        raise UserInputError(f"{path}: images are written as .png")
+    img = render_image(
+        plant_or_mesh, view=view, size=size, background=background, color=color, env=env,
+        light_arrow=light_arrow, legend=legend,
+    )  # fmt: skip
     return _save_png(img, path)
 
 
-def show(plant_or_mesh, *, view="iso") -> None:
-    """Open an interactive pyvista window (needs a display).
+def show(plant_or_mesh, *, view="iso", color=None, env=None, light_arrow=None) -> None:
+    """Open an interactive pyvista window (needs a display); ``color``, ``env`` and
+    ``light_arrow`` as in :func:`render_image` (with the scalar bar).
 
     Raises :class:`growsim.errors.UserInputError` when no display is available, saying to
     use :func:`screenshot` instead.
@@ -205,19 +503,20 @@ def show(plant_or_mesh, *, view="iso") -> None:
     --------
     >>> from growsim.models import honda
     >>> show(honda.develop({"generations": 3}))  # doctest: +SKIP
+    >>> show(honda.develop({"generations": 3}), color="water")  # doctest: +SKIP
     """
     import pyvista as pv
 
+    check_color(color)
     if os.name != "nt" and not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY"):
         raise UserInputError(
             "no display available for an interactive window (DISPLAY is not set); "
             "write an image with growsim.viz.screenshot / --screenshot instead"
         )
-    mesh = _mesh_of(plant_or_mesh)
     pl = pv.Plotter()
-    _add(pl, mesh)
-    if mesh.n_points:
-        _camera(pl, mesh.bounds, view)
+    bounds, framing = _scene(pl, plant_or_mesh, color, env, light_arrow, True)
+    if bounds is not None:
+        _camera(pl, bounds, view, **framing)
     pl.show()
 
 

@@ -64,6 +64,11 @@ def test_run_then_show(tmp_path):
     p = growsim("show", out, "--screenshot", png, "--size", 200, 200)
     assert p.returncode == 0, p.stderr
     assert png.stat().st_size > 1000
+    # coloured by the run's [environment]: the light each segment receives, with its arrow
+    lit = tmp_path / "lit.png"
+    p = growsim("show", out, "--color", "light", "--screenshot", lit, "--size", 200)
+    assert p.returncode == 0, p.stderr
+    assert lit.stat().st_size > 1000 and lit.read_bytes() != png.read_bytes()
 
 
 @pytest.mark.parametrize(

@@ -1,12 +1,18 @@
 """Command-line options shared by several subcommands: config overrides and where
-evaluations run (``run``, ``sweep``), screenshot view and size (``grow``, ``show``). Not a
-subcommand itself (no ``register``)."""
+evaluations run (``run``, ``sweep``), screenshot view and size, and the colouring of a
+plant by its environment (``grow``, ``show``). Not a subcommand itself (no
+``register``)."""
 
 from __future__ import annotations
 
 import argparse
 
-__all__ = ["add_evaluation_options", "add_overrides", "add_screenshot_options"]
+__all__ = [
+    "add_color_options",
+    "add_evaluation_options",
+    "add_overrides",
+    "add_screenshot_options",
+]
 
 
 def add_overrides(p: argparse.ArgumentParser, what: str = "") -> None:
@@ -47,14 +53,17 @@ def add_evaluation_options(p: argparse.ArgumentParser) -> None:
     )
 
 
-class _ViewNames:
-    """The names of :data:`growsim.viz.VIEWS` as argparse choices, read when first needed
-    (building the parser imports neither NumPy nor pyvista)."""
+class _VizNames:
+    """The names of a :mod:`growsim.viz` table (``VIEWS``, ``COLORS``) as argparse choices,
+    read when first needed (building the parser imports neither NumPy nor pyvista)."""
+
+    def __init__(self, table: str):
+        self.table = table
 
     def _names(self) -> tuple[str, ...]:
-        from growsim.viz import VIEWS
+        from growsim import viz
 
-        return tuple(VIEWS)
+        return tuple(getattr(viz, self.table))
 
     def __contains__(self, item) -> bool:
         return item in self._names()
@@ -88,7 +97,7 @@ def add_screenshot_options(p: argparse.ArgumentParser, view: str = "front") -> N
     p.add_argument(
         "--view",
         default=view,
-        choices=_ViewNames(),
+        choices=_VizNames("VIEWS"),
         metavar="VIEW",
         help=f"screenshot camera: %(choices)s (default {view})",
     )
@@ -100,4 +109,36 @@ def add_screenshot_options(p: argparse.ArgumentParser, view: str = "front") -> N
         default=(800, 800),
         metavar=("W", "H"),
         help="screenshot size in pixels: W H, or N for N x N (each 16..4096; default 800 800)",
+    )
+
+
+def add_color_options(p: argparse.ArgumentParser) -> None:
+    """``--color FIELD`` (one of :data:`growsim.viz.COLORS`: paint each segment by the light
+    it receives, the stress ratio at its joint or the share of its water demand met) and
+    ``--light-arrow`` / ``--no-light-arrow`` (draw the light's direction; default: with
+    ``--color light``): the colouring options of ``grow`` and ``show``.
+
+    Examples
+    --------
+    >>> p = argparse.ArgumentParser()
+    >>> add_color_options(p)
+    >>> a = p.parse_args(["--color", "stress", "--light-arrow"])
+    >>> a.color, a.light_arrow
+    ('stress', True)
+    >>> p.parse_args([]).light_arrow is None
+    True
+    """
+    p.add_argument(
+        "--color",
+        choices=_VizNames("COLORS"),
+        metavar="FIELD",
+        help="colour the plant's segments by its environment: %(choices)s (light received, "
+        "stress ratio with 1 = breaks, share of water demand met), with a scalar bar",
+    )
+    p.add_argument(
+        "--light-arrow",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="draw the light's direction as an arrow from the light's side "
+        "(default: with --color light)",
     )

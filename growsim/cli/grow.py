@@ -4,22 +4,33 @@ it, print its counts and measures.
 Works for every plant model in :data:`growsim.models.MODELS` (``--set`` over the model's
 parameters, ``--preset`` over its presets); ``growsim grow --help`` lists every model's
 parameters (range, default) and presets, ``growsim grow MODEL --help`` one model's
-(:func:`models_help`). The screenshot options (``--view``, ``--size``) are shared with
-``growsim show`` (:func:`growsim.cli.arguments.add_screenshot_options`).
+(:func:`models_help`). The screenshot options (``--view``, ``--size``) and the colouring
+(``--color light|stress|water``, ``--light-arrow``) are shared with ``growsim show``
+(:mod:`growsim.cli.arguments`); the environment the colours show is the default one with
+``--light-direction``, ``--light-intensity`` and ``--water-supply``
+(:func:`environment_from_args`).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 import textwrap
 from pathlib import Path
 
-from growsim.cli.arguments import add_screenshot_options
+from growsim.cli.arguments import add_color_options, add_screenshot_options
 from growsim.errors import UserInputError
 
-__all__ = ["models_help", "parse_sets", "register", "run_grow"]
+__all__ = ["environment_from_args", "models_help", "parse_sets", "register", "run_grow"]
+
+#: the environment options of ``grow``: option -> (table, key) of ``[environment]``
+ENVIRONMENT_OPTIONS = {
+    "--light-direction": ("light", "direction"),
+    "--light-intensity": ("light", "intensity"),
+    "--water-supply": ("water", "supply"),
+}
 
 
 def parse_sets(items: list[str] | None) -> dict[str, float]:
@@ -83,6 +94,53 @@ def models_help(name: str | None = None) -> str:
     return "\n".join(lines) + "\n"
 
 
+def environment_from_args(args: argparse.Namespace):
+    """The :class:`growsim.env.Environment` of ``grow``'s options: the default one with
+    ``--light-direction X Y Z`` (the direction the light travels, y up), ``--light-intensity``
+    and ``--water-supply`` where given; a bad value is a :class:`UserInputError` naming its
+    option.
+
+    Examples
+    --------
+    >>> a = argparse.Namespace(light_direction=[1, 0, 0], light_intensity=None,
+    ...                        water_supply=0.5)
+    >>> env = environment_from_args(a)
+    >>> env.light.direction, env.light.intensity, env.water.supply
+    ([1.0, 0.0, 0.0], 1.0, 0.5)
+    >>> environment_from_args(argparse.Namespace(light_direction=[0, 0, 0]))
+    ... # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    growsim.errors.UserInputError: --light-direction 0 0 0: expected a finite non-zero 3-vector...
+    """
+    from pydantic import ValidationError
+
+    from growsim.env import Environment
+
+    data: dict[str, dict] = {}
+    given = {}
+    for option, (table, key) in ENVIRONMENT_OPTIONS.items():
+        value = getattr(args, option[2:].replace("-", "_"), None)
+        if value is None:
+            continue
+        numbers = value if isinstance(value, list) else [value]
+        shown = " ".join(_number(v) if math.isfinite(v) else str(v) for v in numbers)
+        if not all(math.isfinite(v) for v in numbers):
+            what = "finite numbers" if isinstance(value, list) else "a finite number"
+            raise UserInputError(f"{option} {shown}: expected {what}")
+        data.setdefault(table, {})[key] = value
+        given[(table, key)] = option, shown
+    try:
+        return Environment.model_validate(data)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        option, shown = given.get(tuple(err["loc"][:2]), (None, None))
+        msg = err["msg"].removeprefix("Value error, ")
+        if option is None:  # pragma: no cover - every option is mapped above
+            raise UserInputError(f"environment: {msg}") from None
+        raise UserInputError(f"{option} {shown}: {msg}") from None
+
+
 class _ModelsHelp(argparse.Action):
     """``-h/--help`` of ``grow``: the usual help, then :func:`models_help` (of the model
     given before ``--help``, if any). Built on demand: building the parser imports no model."""
@@ -106,6 +164,10 @@ def run_grow(args: argparse.Namespace) -> int:
         from growsim.viz import check_size
 
         check_size(args.size, "--size")
+    env = environment_from_args(args)
+    if args.screenshot is None and (args.color is not None or args.light_arrow):
+        option = f"--color {args.color}" if args.color is not None else "--light-arrow"
+        raise UserInputError(f"{option}: grow draws it on the image; add --screenshot PATH.png")
     params: dict[str, float] = {}
     if args.preset is not None:
         params.update(model.preset(args.preset))
@@ -138,7 +200,10 @@ def run_grow(args: argparse.Namespace) -> int:
     if args.screenshot is not None:
         from growsim.viz import screenshot
 
-        screenshot(plant, args.screenshot, view=args.view, size=args.size)
+        screenshot(
+            plant, args.screenshot, view=args.view, size=args.size, color=args.color, env=env,
+            light_arrow=args.light_arrow,
+        )  # fmt: skip
     if args.save is not None:
         plant.save(args.save)
     generations = plant.data.get("generation")
@@ -193,8 +258,10 @@ def register(subparsers) -> None:
         help="grow one plant from a preset/parameters; export, render, print measures",
         description=(
             "Grow one plant. Example: growsim grow honda --preset zelkova --set f=0.8 "
-            "--export tree.glb --screenshot tree.png --json. 'growsim grow MODEL --help' "
-            "lists that model's parameters and presets."
+            "--export tree.glb --screenshot tree.png --json. Colour it by its environment: "
+            "growsim grow honda --preset zelkova --light-direction 1 0 0 --color light "
+            "--screenshot lit.png. 'growsim grow MODEL --help' lists that model's parameters "
+            "and presets."
         ),
         formatter_class=argparse.RawDescriptionHelpFormatter,
         add_help=False,
@@ -219,6 +286,18 @@ def register(subparsers) -> None:
     p.add_argument("--screenshot", metavar="PATH", help="PNG render")
     p.add_argument("--save", metavar="PATH", help="the Plant skeleton as .npz")
     add_screenshot_options(p, view="front")
+    add_color_options(p)
+    p.add_argument(
+        "--light-direction",
+        type=float,
+        nargs=3,
+        metavar=("X", "Y", "Z"),
+        help="direction the light travels, y up (default 0 -1 0: from above; 1 0 0: from -x)",
+    )
+    p.add_argument("--light-intensity", type=float, metavar="I", help="light intensity (default 1)")
+    p.add_argument(
+        "--water-supply", type=float, metavar="S", help="roots' water supply (default 1: ample)"
+    )
     p.add_argument("--sides", type=int, default=6, help="tube polygon sides")
     p.add_argument("--segments", type=int, default=1, help="tube pieces per segment")
     p.add_argument("--json", action="store_true", help="print counts and measures as JSON")

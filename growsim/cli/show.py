@@ -1,11 +1,11 @@
 """``growsim show DIR``: open the best phenotype of a run (a plant in pyvista), or save a
-screenshot."""
+screenshot; ``--color light|stress|water`` paints a plant by the run's ``[environment]``."""
 
 from __future__ import annotations
 
 import argparse
 
-from growsim.cli.arguments import add_screenshot_options
+from growsim.cli.arguments import add_color_options, add_screenshot_options
 
 __all__ = ["register"]
 
@@ -19,17 +19,22 @@ def register(subparsers) -> None:
     >>> args = build_parser().parse_args(["show", "runs/a", "--view", "back", "--size", "400"])
     >>> args.view, args.size
     ('back', (400, 400))
+    >>> build_parser().parse_args(["show", "runs/a", "--color", "water"]).color
+    'water'
     """
     p = subparsers.add_parser(
         "show",
         help="show the best plant (phenotype) of a results directory",
         description="Open the best phenotype of a run (a plant: in an interactive pyvista "
-        "window), or render it to a PNG with --screenshot (works without a display).",
+        "window), or render it to a PNG with --screenshot (works without a display). "
+        "--color light|stress|water paints the plant by the run's [environment].",
     )
     p.add_argument("dir", metavar="DIR", help="results directory of a run")
     p.add_argument("--screenshot", metavar="PNG", help="write a PNG instead of opening a window")
     # the same --view (growsim.viz.VIEWS) and --size (W H, or N) as ``growsim grow``
     add_screenshot_options(p, view="iso")
+    # the same --color and --light-arrow as ``growsim grow``; the environment is the run's
+    add_color_options(p)
     p.set_defaults(func=main)
 
 
@@ -47,10 +52,30 @@ def main(args: argparse.Namespace) -> int:
         out = Path(args.screenshot)
         if out.suffix.lower() != ".png":
             raise UserInputError(f"--screenshot {out}: expected a .png file name")
-    phenotype = read_run(args.dir, finished=False, history=False).phenotype()
+    record = read_run(args.dir, finished=False, history=False)
+    phenotype = record.phenotype()
+    if args.color is None and not args.light_arrow:
+        if args.screenshot:
+            phenotype.screenshot(out, view=args.view, size=size)
+            print(f"wrote {out}")
+        else:
+            phenotype.show(view=args.view)
+        return 0
+    from growsim import viz
+    from growsim.experiment.load import validate
+    from growsim.plant import Plant
+
+    option = f"--color {args.color}" if args.color is not None else "--light-arrow"
+    if not isinstance(phenotype, Plant):
+        raise UserInputError(
+            f"{option}: the best phenotype of {args.dir} is a {phenotype.phenotype}, "
+            "not a plant: only plants are coloured by their environment"
+        )
+    env = validate(record.config, str(Path(args.dir) / "config.toml")).environment
+    options = {"view": args.view, "color": args.color, "env": env, "light_arrow": args.light_arrow}
     if args.screenshot:
-        phenotype.screenshot(out, view=args.view, size=size)
+        viz.screenshot(phenotype, out, size=size, **options)
         print(f"wrote {out}")
     else:
-        phenotype.show(view=args.view)
+        viz.show(phenotype, **options)
     return 0

@@ -8,11 +8,15 @@ objectives receive it as built; nothing copies it.
 Shorthands kept from the first configs: ``light = 0.5`` is
 ``light.intensity = 0.5``, ``light_direction = [...]`` is ``light.direction``,
 ``water = 0.5`` is ``water.supply`` and ``gravity = 9.81`` is ``gravity.g``.
+
+:meth:`Environment.segment_table` puts the passes side by side, one row per segment: the
+light a segment receives, the load on its joint and the water it gets (what
+``growsim grow --color`` and ``growsim show --color`` paint on a plant).
 """
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from pydantic import Field, model_validator
 
@@ -22,7 +26,10 @@ from growsim.env.tank import Tank
 from growsim.env.water import Water
 from growsim.options import Options
 
-__all__ = ["SHORTHANDS", "Environment", "expand_shorthands"]
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = ["SEGMENT_COLUMNS", "SHORTHANDS", "Environment", "expand_shorthands"]
 
 #: shorthand key -> (table, key in the table)
 SHORTHANDS = {
@@ -31,6 +38,9 @@ SHORTHANDS = {
     "water": ("water", "supply"),
     "gravity": ("gravity", "g"),
 }
+
+#: the columns of :meth:`Environment.segment_table`, in order
+SEGMENT_COLUMNS = ("kind", "light", "moment", "stress_ratio", "water", "water_met")
 
 
 class Environment(Options):
@@ -54,6 +64,64 @@ class Environment(Options):
     @classmethod
     def _shorthands(cls, data: Any) -> Any:
         return expand_shorthands(data)
+
+    def segment_table(self, plant) -> pd.DataFrame:
+        """The environment on each segment of ``plant``: a DataFrame, one row per segment
+        (index ``segment``), with the columns of :data:`SEGMENT_COLUMNS`:
+
+        - ``kind``: ``"stem"`` or ``"leaf"`` (a categorical; every segment is a stem when
+          ``plant`` is a mapping without ``kind``);
+        - ``light``: the light it receives, ``self.light.segment_light(plant)`` (the
+          shadow map: 0 in the shade, up to ``light.intensity``);
+        - ``moment`` (N m) and ``stress_ratio`` (bending stress over strength, ``>= 1``
+          breaks; 0 for leaves) at its joint, from ``self.gravity.loads(plant)``;
+        - ``water`` (received) and ``water_met`` (share of its demand met, 1 where it
+          demands nothing) from ``self.water.transport(plant, light, g=self.gravity.g)``:
+          the light above is the demand.
+
+        ``plant`` is a :class:`growsim.plant.Plant` or a mapping of segment arrays
+        (``start``, ``end``, ``radius``, ``parent``, optional ``kind``), parents first. One
+        shadow map serves all its segments: plants put together with ``Plant.concat`` shade
+        each other here (gravity and water still treat each root on its own). Bad arrays
+        raise :class:`growsim.errors.UserInputError` from the pass that meets them.
+
+        Examples
+        --------
+        >>> from growsim.models import honda
+        >>> tree = honda.develop(honda.PRESETS["zelkova"])
+        >>> side = Environment.model_validate({"light": {"direction": [1, 0, 0]}})
+        >>> table = side.segment_table(tree)
+        >>> list(table.columns) == list(SEGMENT_COLUMNS), len(table) == tree.n_segments
+        (True, True)
+        >>> leaves = table[table.kind == "leaf"]
+        >>> bool(leaves.stress_ratio.eq(0).all()), bool(leaves.water_met.between(0, 1).all())
+        (True, True)
+        >>> x = (tree.start[:, 0] + tree.end[:, 0]) / 2   # light from -x: that side is brighter
+        >>> bool(table.light[x < 0].mean() > table.light[x > 0].mean())
+        True
+        """
+        import numpy as np
+        import pandas as pd
+
+        from growsim.env.skeleton import skeleton_arrays
+
+        arrays = skeleton_arrays(plant, "segment_table")
+        n = arrays["start"].shape[0]
+        kind = np.zeros(n, np.int8) if arrays["kind"] is None else arrays["kind"]
+        light = np.asarray(self.light.segment_light(plant), dtype=np.float64)
+        loads = self.gravity.loads(plant)
+        flow = self.water.transport(plant, light, g=self.gravity.g)
+        return pd.DataFrame(
+            {
+                "kind": pd.Categorical.from_codes(kind.astype(np.int64), ["stem", "leaf"]),
+                "light": light,
+                "moment": np.asarray(loads.moment, dtype=np.float64),
+                "stress_ratio": np.asarray(loads.stress_ratio, dtype=np.float64),
+                "water": np.asarray(flow.received, dtype=np.float64),
+                "water_met": np.asarray(flow.met, dtype=np.float64),
+            },
+            index=pd.RangeIndex(n, name="segment"),
+        )
 
 
 def expand_shorthands(data: Any) -> Any:

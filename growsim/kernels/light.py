@@ -13,15 +13,16 @@ shadow. Every backend (this one, :mod:`growsim.env.shadow_gl`) uses these frames
 
 Coverage and depth
 ------------------
-Every segment is a capsule of its radius (in pixels ``r = radius / pix``, taken as 0 when
-at most half a pixel): it covers the pixels whose centre lies within ``r`` of its projected
-axis, plus, when ``r^2 < 1/2``, the pixels its axis passes through (the thin line's
-supercover). The depth it gives a pixel is the depth of its axis at the point nearest the
-pixel centre. This is the shared rasteriser's rule
-(:func:`growsim.kernels.raster.draw_segments_depth`), pixel for pixel; here each capsule
-is walked row by row over exactly the columns it covers (the row's chord of the capsule,
-computed in closed form, its two ends checked with the distance test), so a plant costs
-the pixels its segments cover.
+Every segment is a capsule of its radius (in pixels ``r = radius / pix``): it covers the
+pixels whose centre lies within ``r`` of its projected axis, and the depth it gives a
+pixel is the depth of its axis at the point nearest the pixel centre. Sampling pixel
+centres at the true radius estimates each shadow's area without bias (a segment thinner
+than a pixel covers some pixels or none, in proportion to its width); a minimum width of
+a pixel, as silhouettes use, would darken plants of thin twigs (measured in
+``docs/environment.md``). Each capsule is walked line by line along its longer extent
+(rows, or columns for a segment wider than tall) over exactly the pixels of the line's
+chord of the capsule, computed in closed form, so a plant costs the pixels its segments
+cover. Oracle: ``tests/naive/light.py``'s ``render_depth``, pixel by pixel.
 
 Hard shadows (:func:`segment_exposure_kernel`, :func:`point_exposure_kernel`): a z-buffer
 keeps each pixel's nearest depth and segment. A point at depth ``z`` in pixel ``(i, j)``
@@ -36,9 +37,10 @@ the bias: ``exp(-sum k_s)``, ``k_s = -ln trans[s]``. With every ``trans -> 0`` i
 when anything else lies in front: the binary map, except that a steep segment whose own
 nearest depth at the pixel is in front of an occluder does not shield its point here.
 
-Maps are never cleared between plants: a per-pixel stamp (the plant's number) marks the
-pixels the current plant wrote, so a population costs what its segments cover, not
-``resolution`` squared per plant. Plants never shade each other.
+Maps are never cleared between plants (a z-buffer pixel whose segment id is below the
+plant's first segment is empty; the deep map stamps its pixels with the plant's number),
+so a population costs what its segments cover, not ``resolution`` squared per plant.
+Plants never shade each other.
 """
 
 from __future__ import annotations
@@ -108,22 +110,16 @@ def plant_frames(start, end, radius, offsets, u, v, res):
     return out
 
 
-#: smallest capsule radius, in pixels: a capsule at least this wide holds every pixel its
-#: axis passes through (a point of a pixel's square is at most sqrt(1/2) from its centre)
-MIN_RADIUS_PIXELS = 0.0
-
-
 @njit(inline="always")
 def _setup(ax, ay, bx, by, rr, res):
-    """The walk of a capsule (axis ``a-b`` in pixels, radius ``rr``, at least
-    :data:`MIN_RADIUS_PIXELS`) along its longer extent: ``tr`` (walk columns: x and y are
+    """The walk of a capsule (axis ``a-b`` in pixels, radius ``rr``) along its longer extent: ``tr`` (walk columns: x and y are
     swapped, and so are the pixel's indices), the swapped ends, the radius, the first and
     last line, ``dx, dy, 1 / L2`` and the body's chord per line (see :func:`_span`)."""
     tr = abs(bx - ax) > abs(by - ay)
     if tr:
         ax, ay = ay, ax
         bx, by = by, bx
-    r = max(rr, MIN_RADIUS_PIXELS)
+    r = rr
     i0 = max(0, _iceil(min(ay, by) - r - 0.5, res))
     i1 = min(res - 1, _ifloor(max(ay, by) + r - 0.5, res))
     dx = bx - ax
@@ -184,7 +180,7 @@ def _span(i, ax, ay, bx, by, r, dx, dy, L2, slope, half, cap, cap_w, res):
 def _zbuffer_walk(k, ax, ay, bx, by, za, zb, rr, res, depth, ids, first):
     """Rasterise segment ``k`` (pixel coordinates ``a``, ``b``, depths ``za``, ``zb``,
     radius ``rr`` pixels) into the z-buffer ``depth``/``ids``: every pixel whose centre
-    lies within the radius (at least :data:`MIN_RADIUS_PIXELS`) of the axis, walked line
+    lies within the radius of the axis, walked line
     by line along the segment's longer extent over exactly the columns it covers; a pixel
     whose id is below ``first`` (the plant's first segment) is empty."""
     tr, ax, ay, bx, by, r, i0, i1, dx, dy, L2, inv_L2, slope, half, cap, cap_w = _setup(
@@ -260,19 +256,19 @@ def _render(start, end, radius, s0, s1, u, v, d, frame, res, depth, ids, stamp, 
     ``depth``/``ids`` (pixels whose id is below ``s0`` are empty), or (``deep``) into the
     deep map (``ids`` holds the lists' heads, pixels stamped ``cur``, see
     :func:`_deep_put`). Returns the fragment buffers."""
-    ox, oy, pix = frame[0], frame[1], frame[2]
+    ox, oy, inv = frame[0], frame[1], 1.0 / frame[2]
     for k in range(s0, s1):
-        ax = (start[k, 0] * u[0] + start[k, 1] * u[1] + start[k, 2] * u[2] - ox) / pix
-        ay = (start[k, 0] * v[0] + start[k, 1] * v[1] + start[k, 2] * v[2] - oy) / pix
-        bx = (end[k, 0] * u[0] + end[k, 1] * u[1] + end[k, 2] * u[2] - ox) / pix
-        by = (end[k, 0] * v[0] + end[k, 1] * v[1] + end[k, 2] * v[2] - oy) / pix
+        ax = (start[k, 0] * u[0] + start[k, 1] * u[1] + start[k, 2] * u[2] - ox) * inv
+        ay = (start[k, 0] * v[0] + start[k, 1] * v[1] + start[k, 2] * v[2] - oy) * inv
+        bx = (end[k, 0] * u[0] + end[k, 1] * u[1] + end[k, 2] * u[2] - ox) * inv
+        by = (end[k, 0] * v[0] + end[k, 1] * v[1] + end[k, 2] * v[2] - oy) * inv
         za = start[k, 0] * d[0] + start[k, 1] * d[1] + start[k, 2] * d[2]
         zb = end[k, 0] * d[0] + end[k, 1] * d[1] + end[k, 2] * d[2]
         if deep:
-            frag = _deep_walk(k, ax, ay, bx, by, za, zb, radius[k] / pix, res, ids, stamp, cur,
+            frag = _deep_walk(k, ax, ay, bx, by, za, zb, radius[k] * inv, res, ids, stamp, cur,
                               frag)  # fmt: skip
         else:
-            _zbuffer_walk(k, ax, ay, bx, by, za, zb, radius[k] / pix, res, depth, ids, s0)
+            _zbuffer_walk(k, ax, ay, bx, by, za, zb, radius[k] * inv, res, depth, ids, s0)
     return frag
 
 
