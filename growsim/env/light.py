@@ -66,9 +66,9 @@ Direction = Annotated[
 Intensity = Annotated[float, Field(ge=0.0, le=1e6)]
 
 #: default depth bias of the shadow map, in pixels (times the pixel size: world units)
-SHADOW_BIAS_PIXELS = 1.5
+SHADOW_BIAS_PIXELS = 0.1
 #: default shadow-map resolution (pixels across each plant)
-DEFAULT_RESOLUTION = 128
+DEFAULT_RESOLUTION = 64
 
 
 class Light(Options):

@@ -54,7 +54,9 @@ def checked_array(
         raise UserInputError(f"{who}: {name}: expected shape {want}, got {arr.shape}")
     if n is not None and arr.shape[0] != n:
         raise UserInputError(f"{who}: {name}: has {arr.shape[0]} rows, expected {n}")
-    if not finite:
+    # the sum of finite values is finite unless it overflows: one cheap pass, and the
+    # row-by-row search only when the sum says something may be wrong
+    if not finite or np.isfinite(np.add.reduce(arr, axis=None)):
         return arr
     bad = ~np.isfinite(arr).reshape(arr.shape[0], -1).all(1) if arr.size else np.zeros(0, bool)
     if bad.any():

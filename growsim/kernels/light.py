@@ -276,8 +276,9 @@ def _render(start, end, radius, s0, s1, u, v, d, frame, res, depth, ids, stamp, 
 def _pixel(px, py, pz, frame, res):
     """Pixel ``(i, j)`` of a point given in image-plane coordinates; ``(-1, -1)`` outside
     the frame."""
-    x = (px - frame[0]) / frame[2]
-    y = (py - frame[1]) / frame[2]
+    inv = 1.0 / frame[2]
+    x = (px - frame[0]) * inv
+    y = (py - frame[1]) * inv
     if not (x >= 0.0 and y >= 0.0 and x < res and y < res):
         return -1, -1
     return int(y), int(x)
