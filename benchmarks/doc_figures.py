@@ -3,11 +3,13 @@
     python benchmarks/doc_figures.py [--sweep]
 
 Runs the quickstart (``experiments/quickstart.toml``, its own seed) and prints its best
-fitness, generation, evaluations and evolved parameters as JSON; with ``--sweep``, also
-the light-direction sweep of the quickstart page (light from above vs. at 45 degrees, 3
-seeds each) with each variant's mean +/- 95 % CI and Welch's p. The quickstart figures
-are deterministic (same config + seed, same result), and ``tests/test_doc_figures.py``
-checks the page against a fresh run, so they cannot drift.
+fitness, generation, evaluations, evolved parameters and the best plant's objective terms
+and ``light_captured`` as JSON; with ``--sweep``, also the light-direction sweep of the
+quickstart page and docs/reproduction.md (light from above vs. at 45 degrees, 3 seeds
+each) with each variant's mean +/- 95 % CI, Welch's and Mann-Whitney's p, and the range
+over the runs of the best fitness's rise from generation 0 to the end (per cent). The
+quickstart figures are deterministic (same config + seed, same result), and
+``tests/test_doc_figures.py`` checks the page against a fresh run, so they cannot drift.
 """
 
 from __future__ import annotations
@@ -29,15 +31,23 @@ def quickstart(out: Path) -> dict:
     r = run(QUICK, out, overrides=NO_FILES, progress=False)
     best = json.loads((r.out / "best.json").read_text())
     return {
+        "printed": f"quickstart: best fitness {r.best_fitness:.6g} (generation "
+        f"{best['generation']}), {r.summary['evaluations']} evaluations",
         "best_fitness": round(r.best_fitness, 2),
         "best_generation": best["generation"],
         "evaluations": r.summary["evaluations"],
+        "ga_seconds": r.summary["ga_seconds"],
         "evolved": {k: round(v, 2) for k, v in best["evolved"].items()},
+        "terms": best["terms"],
+        "light_captured": r.summary["measures"].get("light_captured"),
+        "leaf_area_top": r.summary["measures"].get("leaf_area_top"),
     }
 
 
 def light_sweep(out: Path) -> dict:
-    """Light from above vs. at 45 degrees, 3 seeds each: mean, 95 % CI, Welch's p."""
+    """Light from above vs. at 45 degrees, 3 seeds each: mean, 95 % CI, Welch's and
+    Mann-Whitney's p, the best fitness's rise from generation 0 (per cent, min and max)."""
+    import pandas as pd
     from scipy import stats
 
     from growsim.experiment import sweep
@@ -58,6 +68,13 @@ def light_sweep(out: Path) -> dict:
     }
     a, b = groups.values()
     out_rows["welch_p"] = round(float(stats.ttest_ind(a, b, equal_var=False).pvalue), 4)
+    out_rows["mann_whitney_p"] = round(float(stats.mannwhitneyu(a, b).pvalue), 4)
+    rises = []
+    for run_dir in df["out"]:
+        h = pd.read_parquet(Path(run_dir) / "history.parquet")
+        first = float(h.loc[h["generation"] == 0, "best"].max())
+        rises.append(100.0 * (float(h["best_so_far"].iloc[-1]) / first - 1.0))
+    out_rows["rise_percent"] = [round(min(rises), 1), round(max(rises), 1)]
     return out_rows
 
 

@@ -129,8 +129,8 @@ def light(plants, n_plants: int, n_segments: int, resolutions, backends) -> dict
                 continue
             try:
                 t = best_of(
-                    lambda s=shadows, b=backend: segment_light(
-                        plants, offsets=offsets, resolution=res, shadows=s, backend=b
+                    lambda s=shadows, b=backend, r=res: segment_light(
+                        plants, offsets=offsets, resolution=r, shadows=s, backend=b
                     ),
                     3,
                 )
@@ -164,9 +164,7 @@ def main() -> None:
     if "water" in only:
         result["water"] = water(plants)
     if "light" in only:
-        result["light"] = light(
-            plants, args.plants, args.segments, args.resolutions, args.backends
-        )
+        result["light"] = light(plants, args.plants, args.segments, args.resolutions, args.backends)
     print(json.dumps(result, indent=1))
 
 

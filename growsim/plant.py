@@ -26,7 +26,7 @@ import os
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
@@ -34,7 +34,7 @@ from growsim.errors import UserInputError
 from growsim.files import atomic_write, json_default
 from growsim.phenotype import Phenotype
 
-__all__ = ["LEAF", "STEM", "Plant"]
+__all__ = ["LEAF", "STEM", "LeafLight", "Plant", "leaf_light"]
 
 #: ``kind`` of a woody segment (trunk, branch, twig).
 STEM = 0
@@ -411,9 +411,10 @@ class Plant(Phenotype):
 
     def measures(self, env=None, resolution: int = 256) -> dict[str, float]:
         """All measures as a JSON-able dict: counts, extents, lengths, volume, and the
-        shadow areas from above (all segments and leaves only). With an environment
-        (:class:`growsim.env.Environment`), also ``light_captured``: the light the leaves
-        intercept (:meth:`growsim.env.Light.captured`).
+        shadow areas from above (all segments and leaves only, at ``resolution``). With an
+        environment (:class:`growsim.env.Environment`), also ``light_captured``: the light
+        the leaves receive from its shadow-map light, ``sum_i A_i L_i`` over the leaves
+        (:func:`leaf_light`; the light objective's linear ``light`` term).
 
         Examples
         --------
@@ -440,10 +441,7 @@ class Plant(Phenotype):
             "leaf_area_top": self.leaf_area(resolution=resolution),
         }
         if env is not None:
-            sel = self.kind == LEAF
-            out["light_captured"] = env.light.captured(
-                self.start[sel], self.end[sel], self.radius[sel], resolution
-            )
+            out["light_captured"] = leaf_light(self, env.light).light
         return out
 
     def artefacts(self, output) -> dict[str, Any]:
@@ -550,3 +548,48 @@ class Plant(Phenotype):
     def __repr__(self) -> str:
         model = self.meta.get("model", "?")
         return f"Plant(model={model!r}, segments={self.n_segments}, leaves={self.n_leaves})"
+
+
+class LeafLight(NamedTuple):
+    """What :func:`leaf_light` returns: the leaves' light and their blade area."""
+
+    #: ``sum_i A_i R(L_i)`` over the LEAF segments (world units^2 x light)
+    light: float
+    #: ``sum_i A_i``: the leaves' blade area (world units^2)
+    area: float
+
+
+def leaf_light(plant: Plant, light, response=None) -> LeafLight:
+    """The light a plant's leaves receive from a shadow-map light, weighted by blade area.
+
+    ``light`` is a :class:`growsim.env.Light` (``environment.light``, or a copy with other
+    fields); each segment's light ``L_i`` is :meth:`growsim.env.Light.segment_light` of the
+    whole plant (stems and leaves cast shadows, leaves shade leaves). A LEAF segment is a
+    blade of its length times twice its radius, ``A_i = 2 r_i len_i`` (as gravity's leaf
+    mass). Returns :class:`LeafLight` ``(light, area)``::
+
+        light = sum_leaves A_i R(L_i)        area = sum_leaves A_i
+
+    with ``R`` the ``response`` (a function of an array of light values; default
+    ``R(L) = L``). The one home of this sum: ``Plant.measures(env)["light_captured"]`` and
+    the light objective (:mod:`growsim.objectives.light`) both use it. A plant without
+    leaves gives ``(0.0, 0.0)``.
+
+    Examples
+    --------
+    >>> from growsim.env import Light
+    >>> leaves = Plant.from_points([[0, 0, 0], [0, 1, 0], [1, 1, 0]], [-1, 0], [-1, 0, 1],
+    ...                            radius=0.25, kind=[STEM, LEAF])
+    >>> leaf_light(leaves, Light())  # one level blade 1 x 0.5 in full light
+    LeafLight(light=0.5, area=0.5)
+    >>> leaf_light(leaves, Light(intensity=0.5), response=lambda L: 2 * L).light
+    0.5
+    """
+    sel = plant.kind == LEAF
+    if not sel.any():
+        return LeafLight(0.0, 0.0)
+    received = np.asarray(light.segment_light(plant), dtype=np.float64)[sel]
+    area = 2.0 * plant.radius[sel] * plant.lengths()[sel]
+    if response is not None:
+        received = np.asarray(response(received), dtype=np.float64)
+    return LeafLight(float(area @ received), float(area.sum()))

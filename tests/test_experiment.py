@@ -68,8 +68,9 @@ def test_run_writes_a_complete_results_directory(tiny_run):
     assert summary["measures"]["n_segments"] == r.best_plant.n_segments
     # the objective's terms of the best, in best.json and summary.json
     terms = best["terms"]["light"]
-    assert summary["terms"] == best["terms"] and set(terms) == {"score", "leaf_area", "wood_volume"}
-    assert terms["score"] == pytest.approx(terms["leaf_area"] - 1.0 * terms["wood_volume"])
+    assert summary["terms"] == best["terms"]
+    assert set(terms) == {"score", "light", "leaf_area", "wood_volume"}
+    assert terms["score"] == pytest.approx(terms["light"] - 1.0 * terms["wood_volume"])
     assert best["phenotype"] == summary["phenotype"] == "plant"
     # the glue is right: re-scoring the best parameters gives the recorded fitness
     f = build_fitness(cfg)
@@ -257,18 +258,28 @@ def test_light_objective_formula_and_environment():
     from growsim.errors import ConfigError
     from growsim.models.honda import PRESETS, develop
     from growsim.objectives.light import LightObjective
+    from growsim.plant import leaf_light
 
     plant = develop(PRESETS["zelkova"])
-    obj = LightObjective(wood_cost=0.5, resolution=64)
+    # the projection (the measure before the shadow map): intensity x leaf shadow - wood
+    proj = {"shading": "projection", "resolution": 64}
+    obj = LightObjective(wood_cost=0.5, **proj)
     area = plant.leaf_area((0.0, -1.0, 0.0), resolution=64)
     assert obj(plant) == pytest.approx(area - 0.5 * plant.wood_volume())
     env = Environment.model_validate({"light": {"intensity": 0.5, "direction": [1.0, -1.0, 0.0]}})
-    bound = LightObjective(wood_cost=0.5, resolution=64, env=env)
+    bound = LightObjective(wood_cost=0.5, env=env, **proj)
     side = plant.leaf_area((1.0, -1.0, 0.0), resolution=64)
     assert bound(plant) == pytest.approx(0.5 * side - 0.5 * plant.wood_volume())
-    mine = LightObjective(direction=[0, -1, 0], intensity=2.0, resolution=64, env=env)
+    mine = LightObjective(direction=[0, -1, 0], intensity=2.0, env=env, **proj)
     assert mine(plant) == pytest.approx(2.0 * area - 0.02 * plant.wood_volume())
+    # the shadow map (default): the leaves' light from the environment's light - wood
+    shadow = LightObjective(wood_cost=0.5, env=env)
+    assert shadow(plant) == pytest.approx(
+        leaf_light(plant, env.light).light - 0.5 * plant.wood_volume()
+    )
     for bad in (
+        {"half_saturation": 0},
+        {"shading": "projection", "response": "saturating"},
         {"wood_cost": -1},
         {"resolution": 8},
         {"resolution": 1.5},
@@ -499,16 +510,16 @@ def test_ctrl_c_during_the_artefacts_ends_with_the_hint_and_resumes(tmp_path, st
 
 
 def test_summary_terms_are_the_source_of_the_best_fitness(tiny_run):
-    # the objective's own raster (objective[0].resolution) scores; the plant's measures
-    # use theirs (256): summary["terms"] is what adds up to the best fitness, and
-    # docs/quickstart.md says which resolution each uses
+    # the objective's terms add up to the best fitness; the plant's shadow areas from
+    # above use their own raster (256), and docs/quickstart.md says which resolution each
+    # uses. The quickstart's objective (linear, the environment's light) gives
+    # light_captured as its light term.
     s = tiny_run.summary
     cfg = load_config(tiny_run.out / "config.toml")
     light = s["terms"]["light"]
-    score = cfg.environment.light.intensity * light["leaf_area"] - (
-        cfg.objective[0].wood_cost * light["wood_volume"]
-    )
+    score = light["light"] - cfg.objective[0].wood_cost * light["wood_volume"]
     assert light["score"] == pytest.approx(score, rel=1e-12)
+    assert s["measures"]["light_captured"] == light["light"]
     assert s["best_fitness"] == pytest.approx(cfg.objective[0].weight * light["score"], rel=1e-12)
     doc = (ROOT / "docs" / "quickstart.md").read_text()
     section = doc[doc.index("## Look at the results") :]

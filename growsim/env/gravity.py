@@ -174,7 +174,6 @@ class Gravity(Options):
         first = first_break_kernel(ratio, offsets)
         return np.where(first >= 0, first - offsets[:-1], -1)
 
-
     def first_break_step(self, steps: Iterable[Any]) -> tuple[int, int]:
         """``(step, segment)`` of the first joint to break while a plant grows step-wise:
         ``steps`` yields the plant after each step (a model's ``grow(...)``), and the first

@@ -31,12 +31,12 @@ from growsim.errors import UserInputError
 from growsim.options import Options
 
 __all__ = [
+    "DEFAULT_RESOLUTION",
     "SHADOW_BIAS_PIXELS",
     "Direction",
     "Intensity",
     "Light",
     "check_direction",
-    "DEFAULT_RESOLUTION",
     "point_light",
     "projected_area",
     "segment_light",

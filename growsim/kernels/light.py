@@ -112,9 +112,10 @@ def plant_frames(start, end, radius, offsets, u, v, res):
 
 @njit(inline="always")
 def _setup(ax, ay, bx, by, rr, res):
-    """The walk of a capsule (axis ``a-b`` in pixels, radius ``rr``) along its longer extent: ``tr`` (walk columns: x and y are
-    swapped, and so are the pixel's indices), the swapped ends, the radius, the first and
-    last line, ``dx, dy, 1 / L2`` and the body's chord per line (see :func:`_span`)."""
+    """The walk of a capsule (axis ``a-b`` in pixels, radius ``rr``) along its longer
+    extent: ``tr`` (walk columns: x and y are swapped, and so are the pixel's indices),
+    the swapped ends, the radius, the first and last line, ``dx, dy, 1 / L2`` and the
+    body's chord per line (see :func:`_span`)."""
     tr = abs(bx - ax) > abs(by - ay)
     if tr:
         ax, ay = ay, ax

@@ -1,43 +1,110 @@
-"""Light captured under a parallel light, for the least wood.
+"""Light the leaves receive from the environment's light, for the least wood.
 
-A simple light measure until the shadow-map light of the hormone model replaces it: the
-light a plant catches is its leaves' orthographic shadow along the light direction
-(leaves that overlap each other, seen from the light, count once: self-shading), and
-wood is what it costs to hold them up::
+The default measure (``shading = "shadow-map"``) is the light each leaf receives from the
+environment's shadow-map light, so leaves and stems above a leaf shade it (self-shading),
+weighted by the leaf's area and passed through a light response, minus what the wood
+costs::
+
+    score = sum_leaves A_i R(L_i) - wood_cost * V_wood
+
+- ``A_i = 2 r_i len_i``: the blade area of leaf ``i`` (a LEAF segment is a blade of its
+  length times twice its radius, as gravity's leaf mass uses; world units^2);
+- ``L_i``: the light leaf ``i`` receives, :meth:`growsim.env.Light.segment_light` of the
+  environment's light (``[environment.light]``: direct light with hard or soft shadows
+  plus the ``diffuse`` sky share, Lambert's cosine) over the whole plant, with the
+  objective's ``direction``, ``intensity`` and ``resolution`` in place of the
+  environment's where given. The map is an orthographic z-buffer along the light, as
+  PlantGL's directional interception (*PlantGL: a Python-based geometric library for 3D
+  plant modelling at different scales*) computes a shape's light from its visible pixels;
+- ``R``: the light response. ``"linear"`` (default), ``R(L) = L``; ``"saturating"``, the
+  rectangular hyperbola ``P = Pmax L / (L + K)`` scaled so that a leaf in full light
+  counts its area, ``R(1) = 1``::
+
+      R(L) = L (1 + K) / (L + K)        K = half_saturation > 0
+
+  ``R(0) = 0``, ``R`` rises and is concave, ``R(L) >= L`` on ``[0, 1]`` (equal at 0 and
+  1) and ``R(L) <= L`` above 1; the smaller ``K``, the sooner leaves saturate (at
+  ``L = K`` a leaf gives ``(1 + K) / 2`` of its full-light value). With a linear
+  response and binary shadows one flat layer of leaves is best at every light level;
+  with saturation, upper leaves in full light give little more than half-lit ones, so a
+  crown of several layers can pay (Horn, *The adaptive geometry of trees*; why it
+  matters: *Hormone-module growth: facts, formulas and a proposed design*, the team's
+  research notes);
+- ``V_wood``: :meth:`growsim.plant.Plant.wood_volume` (world units^3, the stem tubes).
+
+The sum ``sum_i A_i R(L_i)`` is :func:`growsim.plant.leaf_light` (its linear form is the
+plant's ``light_captured`` measure). Terms: ``light`` (the sum), ``leaf_area``
+(``sum_i A_i``) and ``wood_volume``.
+
+``shading = "projection"`` is the measure this objective used before the shadow-map
+light, kept so old configs can reproduce old results (linear response only)::
 
     score = intensity * A_leaf(d) - wood_cost * V_wood
 
-- ``A_leaf(d)``: :meth:`growsim.plant.Plant.leaf_area` along ``d`` (world units^2: the
-  leaves' shadow, :func:`growsim.env.light.projected_area`), rasterised at ``resolution``
-  pixels across the plant;
-- ``V_wood``: :meth:`growsim.plant.Plant.wood_volume` (world units^3, the stem tubes);
-- ``intensity`` and ``d`` default to ``environment.light.intensity`` and
-  ``environment.light.direction`` of the experiment.
+with ``A_leaf(d)`` the area of the leaves' orthographic shadow along ``d``
+(:meth:`growsim.plant.Plant.leaf_area` at ``resolution``: overlapping leaves count once);
+terms ``light`` (``intensity * A_leaf(d)``), ``leaf_area`` (``A_leaf(d)``) and
+``wood_volume``. An old config gives its old results with ``shading = "projection"`` and
+its old ``resolution`` (then 128 by default).
 
 This follows the light-capture term of Ochoa's fitness (as used by Liu & Zhang, "IFS
-plant populations evolved by a GA with a weighted fitness": the larger the lit area, the
-better) with a wood cost in place of the paper's stability term, and Honda's model
-("Tree branching by nutrient allocation") as the plant that grows it. ``wood_cost`` has
-units of 1/length: at the default 0.02, a unit^3 of wood must catch 0.02 unit^2 more light to
-pay for itself.
+plant populations evolved by a GA with a weighted fitness": the more light, the better)
+with a wood cost in place of the paper's stability term, and Honda's model ("Tree
+branching by nutrient allocation") as the plant that grows it. ``wood_cost`` has units of
+light x area per volume: at the default 0.02, a unit^3 of wood must bring 0.02 unit^2 of
+fully lit leaf more to pay for itself.
 """
 
 from __future__ import annotations
 
 from typing import Any, ClassVar, Literal
 
-from pydantic import Field
+import numpy as np
+from pydantic import Field, model_validator
 
 from growsim.env.light import Direction, Intensity
 from growsim.objectives.base import Objective, ObjectiveOptions
 
-__all__ = ["LightObjective", "LightOptions"]
+__all__ = ["LightObjective", "LightOptions", "saturating_response"]
+
+
+def saturating_response(light, half_saturation: float):
+    """The saturating light response ``R(L) = L (1 + K) / (L + K)``, ``K =
+    half_saturation > 0``: a rectangular hyperbola with ``R(0) = 0`` and ``R(1) = 1``.
+    ``light`` is a number or an array (``>= 0``); returns the same shape.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> saturating_response(np.array([0.0, 0.5, 1.0, 2.0]), 0.5).round(3).tolist()
+    [0.0, 0.75, 1.0, 1.2]
+    """
+    k = float(half_saturation)
+    return light * (1.0 + k) / (light + k)
 
 
 class LightOptions(ObjectiveOptions):
     """Options of the ``light`` objective."""
 
     kind: Literal["light"] = Field("light", description="the objective: light")
+    shading: Literal["shadow-map", "projection"] = Field(
+        "shadow-map",
+        description="'shadow-map': sum of leaf blade area x response(light received), "
+        "environment.light's shadow map; 'projection': intensity x area of the leaves' "
+        "shadow (the measure before the shadow map)",
+    )
+    response: Literal["linear", "saturating"] = Field(
+        "linear",
+        description="light response R(L) of a leaf: 'linear' L, or 'saturating' "
+        "L (1 + K) / (L + K) (R(1) = 1); shadow-map only",
+    )
+    half_saturation: float = Field(
+        0.5,
+        gt=0.0,
+        le=1e6,
+        description="K of the saturating response: the light at which a leaf gives "
+        "(1 + K) / 2 of its full-light value",
+    )
     direction: Direction | None = Field(
         None, description="direction the light travels (y up); default environment.light.direction"
     )
@@ -45,28 +112,48 @@ class LightOptions(ObjectiveOptions):
         None, description="light intensity; default environment.light.intensity"
     )
     wood_cost: float = Field(0.02, ge=0.0, le=1e9, description="cost per unit^3 of wood")
-    resolution: int = Field(
-        128, ge=16, le=4096, description="raster size (pixels across the plant) of the leaf area"
+    resolution: int | None = Field(
+        None,
+        ge=16,
+        le=4096,
+        description="raster size (pixels across the plant) of the shadow map or projection; "
+        "default environment.light.resolution",
     )
+
+    @model_validator(mode="after")
+    def _response_needs_shadow_map(self):
+        if self.response != "linear" and self.shading == "projection":
+            raise ValueError(
+                f"response = {self.response!r} needs shading = 'shadow-map' (the projection "
+                "has no light per leaf)"
+            )
+        return self
 
 
 class LightObjective(Objective):
-    """Leaf area seen from a parallel light minus a cost per unit of wood (maximised).
+    """Light the leaves receive (shadow map, light response) minus a cost per unit of wood
+    (maximised).
 
-    Options (:class:`LightOptions`): ``direction`` (3 floats, the direction the light
-    travels, y up; default the environment's), ``intensity`` (default the environment's),
-    ``wood_cost`` (per unit^3 of wood, >= 0, default 0.02), ``resolution`` (raster size
-    of the projected area, 16..4096, default 128).
+    Options (:class:`LightOptions`): ``shading`` (``"shadow-map"``, default, or
+    ``"projection"``), ``response`` (``"linear"``, default, or ``"saturating"``),
+    ``half_saturation`` (``K > 0``, default 0.5), ``direction`` (3 floats, the direction
+    the light travels, y up), ``intensity`` and ``resolution`` (16..4096; each defaults to
+    ``environment.light``'s), ``wood_cost`` (per unit^3 of wood, >= 0, default 0.02). The
+    formulas: :mod:`growsim.objectives.light`.
 
     Examples
     --------
-    >>> obj = LightObjective(wood_cost=0.0, resolution=64)
+    >>> obj = LightObjective(wood_cost=0.0)
     >>> obj.name, obj.maximize
     ('light', True)
     >>> from growsim.models import get_model
     >>> plant = get_model("honda").develop(get_model("honda").preset("zelkova"))
-    >>> bool(obj(plant) > 0), sorted(obj.terms(plant))
-    (True, ['leaf_area', 'wood_volume'])
+    >>> t = obj.terms(plant)
+    >>> sorted(t), bool(0 < t["light"] < t["leaf_area"]), obj(plant) == t["light"]
+    (['leaf_area', 'light', 'wood_volume'], True, True)
+    >>> sat = LightObjective(wood_cost=0.0, response="saturating", half_saturation=0.2)
+    >>> bool(sat(plant) >= obj(plant))  # every leaf's light is <= 1: R(L) >= L
+    True
     """
 
     name = "light"
@@ -77,17 +164,63 @@ class LightObjective(Objective):
 
     def setup(self) -> None:
         o = self.options
-        light = self.env.light
-        self.direction = tuple(float(x) for x in (o.direction or light.direction))
-        self.intensity = float(light.intensity if o.intensity is None else o.intensity)
+        env_light = self.env.light
+        self.direction = tuple(float(x) for x in (o.direction or env_light.direction))
+        self.intensity = float(env_light.intensity if o.intensity is None else o.intensity)
+        self.resolution = int(env_light.resolution if o.resolution is None else o.resolution)
         self.wood_cost = o.wood_cost
-        self.resolution = o.resolution
+        self.shading = o.shading
+        self.half_saturation = float(o.half_saturation)
+        update = {
+            key: value
+            for key, value in (
+                ("direction", o.direction),
+                ("intensity", o.intensity),
+                ("resolution", o.resolution),
+            )
+            if value is not None
+        }
+        #: the light the leaves receive: the environment's, with this objective's overrides
+        self.light = env_light.model_copy(update=update) if update else env_light
+
+    def respond(self, light: np.ndarray) -> np.ndarray:
+        """The response ``R`` applied to an array of leaf light values (see the module).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> L = np.array([0.0, 0.25, 1.0])
+        >>> LightObjective().respond(L).tolist()
+        [0.0, 0.25, 1.0]
+        >>> LightObjective(response="saturating", half_saturation=0.25).respond(L).tolist()
+        [0.0, 0.625, 1.0]
+        """
+        if self.options.response == "saturating":
+            return saturating_response(light, self.half_saturation)
+        return light
 
     def terms(self, plant) -> dict[str, float]:
-        """The two terms of the score: ``{"leaf_area": A_leaf(d), "wood_volume": V}``."""
-        area = float(plant.leaf_area(self.direction, resolution=self.resolution))
-        return {"leaf_area": area, "wood_volume": float(plant.wood_volume())}
+        """The terms of the score: ``light`` (``sum A_i R(L_i)``, or ``intensity x A_leaf``
+        for the projection), ``leaf_area`` (blade area, or the leaves' shadow for the
+        projection) and ``wood_volume``.
+
+        Examples
+        --------
+        >>> from growsim.plant import LEAF, STEM, Plant
+        >>> plant = Plant.from_points([[0, 0, 0], [0, 1, 0], [1, 1, 0]], [-1, 0], [-1, 0, 1],
+        ...                           radius=0.25, kind=[STEM, LEAF])
+        >>> LightObjective(intensity=0.5).terms(plant)["light"]  # a blade 1 x 0.5, lit
+        0.25
+        """
+        if self.shading == "projection":
+            area = float(plant.leaf_area(self.direction, resolution=self.resolution))
+            light = self.intensity * area
+        else:
+            from growsim.plant import leaf_light
+
+            light, area = leaf_light(plant, self.light, self.respond)
+        return {"light": light, "leaf_area": area, "wood_volume": float(plant.wood_volume())}
 
     def __call__(self, plant) -> float:
         t = self.terms(plant)
-        return self.intensity * t["leaf_area"] - self.wood_cost * t["wood_volume"]
+        return t["light"] - self.wood_cost * t["wood_volume"]
