@@ -293,9 +293,10 @@ def test_bad_input_is_named():
 
 
 @pytest.mark.parametrize("seed", range(6))
-def test_render_matches_the_pixel_by_pixel_zbuffer(seed):
+def test_map_read_at_every_pixel_is_the_pixel_by_pixel_zbuffer(seed):
     # the row-chord walk covers exactly the pixels whose centre lies within the radius,
-    # with the axis' depth at the nearest point (naive.render_depth, pixel by pixel)
+    # with the axis' depth at the nearest point (naive.render_depth, pixel by pixel): read
+    # the sparse map at every pixel centre and compare the whole z-buffer
     rng = np.random.default_rng(seed)
     start, end, radius = random_tree(rng, 60)
     radius *= rng.uniform(0.5, 8.0)
@@ -305,18 +306,22 @@ def test_render_matches_the_pixel_by_pixel_zbuffer(seed):
     d = random_direction(rng) if seed % 2 else np.array([0.0, -1.0, 0.0])
     u, v = view_basis(d)
     res = (37, 64, 128, 200)[seed % 4]
-    frames = kernels.plant_frames(start, end, radius, np.array([0, 60]), u, v, res)
-    depth, ids, stamp = kernels._buffers(res)
-    kernels._render(start, end, radius, 0, 60, u, v, d, frames[0], res, depth, ids, stamp, 0,
-                    False, kernels._empty_frags())  # fmt: skip
+    off = np.array([0, 60])
+    frames = kernels.plant_frames(start, end, radius, off, u, v, res)
     ox, oy, pix = frames[0]
+    jj, ii = np.meshgrid(np.arange(res) + 0.5, np.arange(res) + 0.5)
+    # pixel centres on the image plane, at depth 0 along d
+    centres = (ox + jj.ravel() * pix)[:, None] * u + (oy + ii.ravel() * pix)[:, None] * v
+    depth, seg = kernels.map_depth_kernel(
+        start, end, radius, off, frames, centres, np.array([0, res * res]), u, v, d, res
+    )
     a = np.stack([(start @ u - ox) / pix, (start @ v - oy) / pix], 1)
     b = np.stack([(end @ u - ox) / pix, (end @ v - oy) / pix], 1)
     want, want_ids = naive.render_depth(a, b, start @ d, end @ d, radius / pix, res)
-    covered = ids >= 0
+    covered = seg.reshape(res, res) >= 0
     np.testing.assert_array_equal(covered, np.isfinite(want))
-    np.testing.assert_allclose(depth[covered], want[covered], rtol=0, atol=1e-12)
-    np.testing.assert_array_equal(ids[covered], want_ids[covered])
+    np.testing.assert_allclose(depth.reshape(res, res)[covered], want[covered], rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(seg.reshape(res, res)[covered], want_ids[covered])
 
 
 def test_sky_directions_weigh_an_overcast_sky():

@@ -19,28 +19,33 @@ pixel is the depth of its axis at the point nearest the pixel centre. Sampling p
 centres at the true radius estimates each shadow's area without bias (a segment thinner
 than a pixel covers some pixels or none, in proportion to its width); a minimum width of
 a pixel, as silhouettes use, would darken plants of thin twigs (measured in
-``docs/environment.md``). Each capsule is walked line by line along its longer extent
-(rows, or columns for a segment wider than tall) over exactly the pixels of the line's
-chord of the capsule, computed in closed form, so a plant costs the pixels its segments
-cover. Oracle: ``tests/naive/light.py``'s ``render_depth``, pixel by pixel.
+``docs/environment.md``). Each capsule is walked line by line along its shorter extent
+(rows, or columns for a segment taller than wide) over exactly the pixels of the line's
+chord of the capsule, computed in closed form.
 
-Hard shadows (:func:`segment_exposure_kernel`, :func:`point_exposure_kernel`): a z-buffer
-keeps each pixel's nearest depth and segment. A point at depth ``z`` in pixel ``(i, j)``
-is lit (exposure 1) when the pixel is empty, when its nearest segment is the point's own
-segment, or when ``z - depth[i, j] <= bias`` (``bias = bias_pixels * pix``); else 0.
+The map is read only where it is queried: each plant's query points (segment samples or
+given points) are listed per pixel first, and a capsule's pixel is judged only when it
+holds queries, so a plant costs its segments' walks and its queries, not a whole map's
+writes. The answers are those of the whole map at the pixels read (tested against a
+pixel-by-pixel z-buffer, ``tests/naive/light.py``'s ``render_depth``,
+:func:`map_depth_kernel` read at every pixel centre).
+
+Hard shadows (:func:`segment_exposure_kernel`, :func:`point_exposure_kernel`): the map
+keeps each pixel's nearest depth and segment (the first drawn on a tie, as a z-buffer). A
+point at depth ``z`` in pixel ``(i, j)`` is lit (exposure 1) when the pixel is empty, when
+its nearest segment is the point's own segment, or when ``z - depth[i, j] <= bias``
+(``bias = bias_pixels * pix``); else 0. Points outside the frame are lit.
 
 Soft shadows (:func:`soft_segment_exposure_kernel`, :func:`soft_point_exposure_kernel`):
-a deep shadow map keeps, per pixel, every segment covering it and its depth there (a
-linked list of fragments). A point's exposure is the product of the transmissions
-``trans[s]`` of the other segments ``s`` lying in front of it at its pixel by more than
-the bias: ``exp(-sum k_s)``, ``k_s = -ln trans[s]``. With every ``trans -> 0`` it is 0
-when anything else lies in front: the binary map, except that a steep segment whose own
-nearest depth at the pixel is in front of an occluder does not shield its point here.
+the deep map (every segment covering a pixel, at its depth there). A point's exposure is
+the product of the transmissions ``trans[s]`` of the other segments ``s`` lying in front
+of it at its pixel by more than the bias: ``exp(-sum k_s)``, ``k_s = -ln trans[s]``. With
+every ``trans -> 0`` it is 0 when anything else lies in front: the binary map, except
+that a steep segment whose own nearest depth at the pixel is in front of an occluder does
+not shield its point here.
 
-Maps are never cleared between plants (a z-buffer pixel whose segment id is below the
-plant's first segment is empty; the deep map stamps its pixels with the plant's number),
-so a population costs what its segments cover, not ``resolution`` squared per plant.
-Plants never shade each other.
+Plants never shade each other: each has its own map (one buffer of list heads, reset
+after each plant at its queries' pixels only).
 """
 
 from __future__ import annotations
@@ -53,6 +58,7 @@ from growsim.kernels.config import njit
 from growsim.kernels.raster import _iceil, _ifloor
 
 __all__ = [
+    "map_depth_kernel",
     "plant_frames",
     "point_exposure_kernel",
     "segment_cosines",
@@ -112,11 +118,12 @@ def plant_frames(start, end, radius, offsets, u, v, res):
 
 @njit(inline="always")
 def _setup(ax, ay, bx, by, rr, res):
-    """The walk of a capsule (axis ``a-b`` in pixels, radius ``rr``) along its longer
-    extent: ``tr`` (walk columns: x and y are swapped, and so are the pixel's indices),
+    """The walk of a capsule (axis ``a-b`` in pixels, radius ``rr``) along its shorter
+    extent (fewer lines, each a longer chord): ``tr`` (walk columns: x and y are swapped,
+    and so are the pixel's indices),
     the swapped ends, the radius, the first and last line, ``dx, dy, 1 / L2`` and the
     body's chord per line (see :func:`_span`)."""
-    tr = abs(bx - ax) > abs(by - ay)
+    tr = abs(by - ay) > abs(bx - ax)
     if tr:
         ax, ay = ay, ax
         bx, by = by, bx
@@ -127,7 +134,7 @@ def _setup(ax, ay, bx, by, rr, res):
     dy = by - ay
     L2 = dx * dx + dy * dy
     inv_L2 = 1.0 / L2 if L2 > 0.0 else 0.0
-    # along the longer extent |dy| >= |dx|, and dy = 0 only for a point (no body)
+    # along the shorter extent |dy| <= |dx|: dy = 0 for a level segment or a point
     slope = dx / dy if dy != 0.0 else 0.0
     half = r * math.sqrt(L2) / abs(dy) if dy != 0.0 else -1.0
     # 0 <= t <= 1 on the line e = yc - ay: e dy in [-(x - ax) dx, L2 - (x - ax) dx]
@@ -172,212 +179,144 @@ def _span(i, ax, ay, bx, by, r, dx, dy, L2, slope, half, cap, cap_w, res):
         if plo <= phi:
             lo = min(lo, plo)
             hi = max(hi, phi)
+    elif L2 > 0.0 and e * e <= r2:  # a level segment: its body spans ax..bx
+        lo = min(lo, ax, bx)
+        hi = max(hi, ax, bx)
     if not lo <= hi:
         return 1, 0
     return max(0, _iceil(lo - 0.5, res)), min(res - 1, _ifloor(hi - 0.5, res))
 
 
-@njit
-def _zbuffer_walk(k, ax, ay, bx, by, za, zb, rr, res, depth, ids, first):
-    """Rasterise segment ``k`` (pixel coordinates ``a``, ``b``, depths ``za``, ``zb``,
-    radius ``rr`` pixels) into the z-buffer ``depth``/``ids``: every pixel whose centre
-    lies within the radius of the axis, walked line
-    by line along the segment's longer extent over exactly the columns it covers; a pixel
-    whose id is below ``first`` (the plant's first segment) is empty."""
-    tr, ax, ay, bx, by, r, i0, i1, dx, dy, L2, inv_L2, slope, half, cap, cap_w = _setup(
-        ax, ay, bx, by, rr, res
-    )
-    for i in range(i0, i1 + 1):
-        j0, j1 = _span(i, ax, ay, bx, by, r, dx, dy, L2, slope, half, cap, cap_w, res)
-        e = (i + 0.5 - ay) * dy
-        for j in range(j0, j1 + 1):
-            t = ((j + 0.5 - ax) * dx + e) * inv_L2
-            t = min(1.0, max(0.0, t))
-            z = za + t * (zb - za)
-            pi = j if tr else i
-            pj = i if tr else j
-            if ids[pi, pj] < first or z < depth[pi, pj]:
-                depth[pi, pj] = z
-                ids[pi, pj] = k
-
-
-@njit
-def _deep_walk(k, ax, ay, bx, by, za, zb, rr, res, head, stamp, cur, frag):
-    """Rasterise segment ``k`` as :func:`_zbuffer_walk` does, appending a fragment per
-    pixel to the deep map (list heads ``head``, pixels stamped ``cur``: see
-    :func:`_deep_put`). Returns the fragment buffers."""
-    tr, ax, ay, bx, by, r, i0, i1, dx, dy, L2, inv_L2, slope, half, cap, cap_w = _setup(
-        ax, ay, bx, by, rr, res
-    )
-    for i in range(i0, i1 + 1):
-        j0, j1 = _span(i, ax, ay, bx, by, r, dx, dy, L2, slope, half, cap, cap_w, res)
-        e = (i + 0.5 - ay) * dy
-        for j in range(j0, j1 + 1):
-            t = ((j + 0.5 - ax) * dx + e) * inv_L2
-            t = min(1.0, max(0.0, t))
-            z = za + t * (zb - za)
-            frag = _deep_put(frag, j if tr else i, i if tr else j, z, k, head, stamp, cur)
-    return frag
-
-
 @njit(inline="always")
-def _deep_put(frag, i, j, z, k, head, stamp, cur):
-    """Append the fragment ``(z, k)`` to pixel ``(i, j)``'s list: ``head[i, j]`` is the
-    pixel's last fragment (valid where ``stamp == cur``), ``frag = (fz, fk, fnext, count)``
-    the fragment arrays (grown by doubling)."""
-    fz, fk, fnext, count = frag
-    if count[0] == fz.shape[0]:
-        m = 2 * fz.shape[0]
-        gz = np.empty(m)
-        gk = np.empty(m, np.int64)
-        gn = np.empty(m, np.int64)
-        gz[: count[0]] = fz[: count[0]]
-        gk[: count[0]] = fk[: count[0]]
-        gn[: count[0]] = fnext[: count[0]]
-        fz, fk, fnext = gz, gk, gn
-    c = count[0]
-    fz[c] = z
-    fk[c] = k
-    fnext[c] = head[i, j] if stamp[i, j] == cur else -1
-    stamp[i, j] = cur
-    head[i, j] = c
-    count[0] = c + 1
-    return fz, fk, fnext, count
-
-
-@njit
-def _empty_frags():
-    return np.empty(1024), np.empty(1024, np.int64), np.empty(1024, np.int64), np.zeros(1, np.int64)
-
-
-@njit
-def _render(start, end, radius, s0, s1, u, v, d, frame, res, depth, ids, stamp, cur, deep,
-            frag):  # fmt: skip
-    """Render segments ``s0:s1`` in the plant's ``frame``: into the z-buffer
-    ``depth``/``ids`` (pixels whose id is below ``s0`` are empty), or (``deep``) into the
-    deep map (``ids`` holds the lists' heads, pixels stamped ``cur``, see
-    :func:`_deep_put`). Returns the fragment buffers."""
-    ox, oy, inv = frame[0], frame[1], 1.0 / frame[2]
-    for k in range(s0, s1):
-        ax = (start[k, 0] * u[0] + start[k, 1] * u[1] + start[k, 2] * u[2] - ox) * inv
-        ay = (start[k, 0] * v[0] + start[k, 1] * v[1] + start[k, 2] * v[2] - oy) * inv
-        bx = (end[k, 0] * u[0] + end[k, 1] * u[1] + end[k, 2] * u[2] - ox) * inv
-        by = (end[k, 0] * v[0] + end[k, 1] * v[1] + end[k, 2] * v[2] - oy) * inv
-        za = start[k, 0] * d[0] + start[k, 1] * d[1] + start[k, 2] * d[2]
-        zb = end[k, 0] * d[0] + end[k, 1] * d[1] + end[k, 2] * d[2]
-        if deep:
-            frag = _deep_walk(k, ax, ay, bx, by, za, zb, radius[k] * inv, res, ids, stamp, cur,
-                              frag)  # fmt: skip
+def _walk(k, ax, ay, bx, by, za, zb, rr, res, head, nxt, qz, qown, bias, soft, trans_k,
+          best_z, best_id, expo):  # fmt: skip
+    """Rasterise segment ``k`` (pixel coordinates ``a``, ``b``, depths ``za``, ``zb``,
+    radius ``rr`` pixels) and judge the queries of the pixels it covers: every pixel whose
+    centre lies within the radius of the axis, walked line by line along the segment's
+    shorter extent over exactly the columns it covers. ``head[pixel]`` is the pixel's first
+    query (-1: none), ``nxt[q]`` the next one. Hard shadows: the nearest depth (and its
+    segment) over the pixel goes into ``best_z``/``best_id`` of each of its queries (the
+    first drawn wins a tie, as in a z-buffer). Soft: a query ``q`` of another segment
+    lying more than ``bias`` behind the segment's depth there has its ``expo`` multiplied
+    by ``trans_k``."""
+    tr, ax, ay, bx, by, r, i0, i1, dx, dy, L2, inv_L2, slope, half, cap, cap_w = _setup(
+        ax, ay, bx, by, rr, res
+    )
+    # lines whose band chord lies within the body's length (0 <= t <= 1 at both its ends):
+    # their chord is the band's, ax + e dx / dy +- half (the end discs lie inside the band)
+    inv_dy = 1.0 / dy if dy != 0.0 else 0.0
+    slack = abs(half * dx * inv_L2)
+    line = 1 if tr else res  # pixel (i, j) of the walk is i * line + j * step
+    step = res if tr else 1
+    for i in range(i0, i1 + 1):
+        te = (i + 0.5 - ay) * inv_dy
+        if dy != 0.0 and slack <= te <= 1.0 - slack:
+            c = ax + (i + 0.5 - ay) * slope
+            j0 = max(0, math.ceil(c - half - 0.5))
+            j1 = min(res - 1, math.floor(c + half - 0.5))
         else:
-            _zbuffer_walk(k, ax, ay, bx, by, za, zb, radius[k] * inv, res, depth, ids, s0)
-    return frag
+            j0, j1 = _span(i, ax, ay, bx, by, r, dx, dy, L2, slope, half, cap, cap_w, res)
+        e = (i + 0.5 - ay) * dy
+        for j in range(j0, j1 + 1):
+            q = head[i * line + j * step]
+            if q < 0:
+                continue
+            t = ((j + 0.5 - ax) * dx + e) * inv_L2
+            t = min(1.0, max(0.0, t))
+            z = za + t * (zb - za)
+            while q >= 0:
+                if soft:
+                    if qown[q] != k and z < qz[q] - bias:
+                        expo[q] *= trans_k
+                elif z < best_z[q]:
+                    best_z[q] = z
+                    best_id[q] = k
+                q = nxt[q]
 
 
 @njit
-def _pixel(px, py, pz, frame, res):
-    """Pixel ``(i, j)`` of a point given in image-plane coordinates; ``(-1, -1)`` outside
-    the frame."""
-    inv = 1.0 / frame[2]
-    x = (px - frame[0]) * inv
-    y = (py - frame[1]) * inv
-    if not (x >= 0.0 and y >= 0.0 and x < res and y < res):
-        return -1, -1
-    return int(y), int(x)
-
-
-@njit
-def _hard(i, j, pz, own, bias, depth, ids, first):
-    """Hard-shadow exposure (0 or 1) of a point at depth ``pz`` in pixel ``(i, j)`` of the
-    z-buffer of the plant whose first segment is ``first``."""
-    if i < 0 or ids[i, j] < first or ids[i, j] == own:
-        return 1.0
-    return 1.0 if pz - depth[i, j] <= bias else 0.0
-
-
-@njit
-def _soft(i, j, pz, own, bias, head, stamp, cur, frag, trans):
-    """Soft-shadow exposure of a point: the product of the transmissions of the other
-    segments in front of it by more than ``bias`` at pixel ``(i, j)``."""
-    if i < 0 or stamp[i, j] != cur:
-        return 1.0
-    fz, fk, fnext, _ = frag
-    e = 1.0
-    f = head[i, j]
-    while f >= 0:
-        if fk[f] != own and fz[f] < pz - bias:
-            e *= trans[fk[f]]
-        f = fnext[f]
-    return e
-
-
-@njit
-def _buffers(res):
-    """The maps' buffers: depth, segment ids (or the deep map's list heads; -1: empty) and
-    the stamp of the plant that last wrote each pixel of the deep map. They are never
-    cleared between plants: a z-buffer pixel whose id is below the plant's first segment,
-    or a deep-map pixel stamped by another plant, is empty."""
-    depth = np.empty((res, res), np.float64)
-    ids = np.full((res, res), -1, np.int64)
-    stamp = np.full((res, res), -1, np.int64)
-    return depth, ids, stamp
-
-
-@njit
-def _segments(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, samples,
-              trans, deep, out):  # fmt: skip
-    depth, ids, stamp = _buffers(res)
-    frag = _empty_frags()
-    head = ids  # the deep map's list heads live in the ids buffer
+def _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, query,
+           query_offsets, own, trans, soft, expo):  # fmt: skip
+    """Exposure of every query point (``query`` ``(m, 3)``; plant ``p`` owns queries
+    ``query_offsets[p]:query_offsets[p + 1]``; ``own[q]`` the segment a query belongs to,
+    or -1) into ``expo`` ``(m,)``: the plant's shadow map read at the queries' pixels only
+    (a pixel holding no query is never written: the same answers as a whole z-buffer or
+    deep map, for the pixels read). Also returns, for hard shadows, the map's depth and
+    segment at each query's pixel (``inf`` and -1 where empty)."""
+    m = query.shape[0]
+    head = np.full(res * res, -1, np.int64)
+    nxt = np.empty(m, np.int64)
+    pix = np.empty(m, np.int64)
+    qz = np.empty(m)
+    best_z = np.empty(m)
+    best_id = np.empty(m, np.int64)
     for p in range(offsets.shape[0] - 1):
-        s0 = offsets[p]
-        s1 = offsets[p + 1]
-        frame = frames[p]
-        if deep:
-            frag[3][0] = 0
-        frag = _render(start, end, radius, s0, s1, u, v, d, frame, res, depth, ids, stamp, p,
-                       deep, frag)  # fmt: skip
-        bias = bias_pixels * frame[2]
-        for s in range(s0, s1):
-            e = 0.0
-            for q in range(samples):
-                t = (q + 0.5) / samples
-                qx = start[s, 0] + t * (end[s, 0] - start[s, 0])
-                qy = start[s, 1] + t * (end[s, 1] - start[s, 1])
-                qz = start[s, 2] + t * (end[s, 2] - start[s, 2])
-                pu = qx * u[0] + qy * u[1] + qz * u[2]
-                pv = qx * v[0] + qy * v[1] + qz * v[2]
-                pz = qx * d[0] + qy * d[1] + qz * d[2]
-                i, j = _pixel(pu, pv, pz, frame, res)
-                if deep:
-                    e += _soft(i, j, pz, s, bias, head, stamp, p, frag, trans)
-                else:
-                    e += _hard(i, j, pz, s, bias, depth, ids, s0)
-            out[s] = e / samples
-    return out
-
-
-@njit
-def _points(start, end, radius, offsets, frames, points, point_offsets, u, v, d, res,
-            bias_pixels, trans, deep, out):  # fmt: skip
-    depth, ids, stamp = _buffers(res)
-    frag = _empty_frags()
-    head = ids
-    for p in range(offsets.shape[0] - 1):
-        frame = frames[p]
-        if deep:
-            frag[3][0] = 0
-        frag = _render(start, end, radius, offsets[p], offsets[p + 1], u, v, d, frame, res,
-                       depth, ids, stamp, p, deep, frag)  # fmt: skip
-        bias = bias_pixels * frame[2]
-        for m in range(point_offsets[p], point_offsets[p + 1]):
-            pu = points[m, 0] * u[0] + points[m, 1] * u[1] + points[m, 2] * u[2]
-            pv = points[m, 0] * v[0] + points[m, 1] * v[1] + points[m, 2] * v[2]
-            pz = points[m, 0] * d[0] + points[m, 1] * d[1] + points[m, 2] * d[2]
-            i, j = _pixel(pu, pv, pz, frame, res)
-            if deep:
-                out[m] = _soft(i, j, pz, -1, bias, head, stamp, p, frag, trans)
+        q0 = query_offsets[p]
+        q1 = query_offsets[p + 1]
+        if q1 <= q0:
+            continue
+        ox, oy, inv = frames[p, 0], frames[p, 1], 1.0 / frames[p, 2]
+        bias = bias_pixels * frames[p, 2]
+        # the queries' pixels, as lists per pixel
+        for q in range(q0, q1):
+            x = (query[q, 0] * u[0] + query[q, 1] * u[1] + query[q, 2] * u[2] - ox) * inv
+            y = (query[q, 0] * v[0] + query[q, 1] * v[1] + query[q, 2] * v[2] - oy) * inv
+            qz[q] = query[q, 0] * d[0] + query[q, 1] * d[1] + query[q, 2] * d[2]
+            best_z[q] = np.inf
+            best_id[q] = -1
+            expo[q] = 1.0
+            if x >= 0.0 and y >= 0.0 and x < res and y < res:
+                pix[q] = int(y) * res + int(x)
+                nxt[q] = head[pix[q]]
+                head[pix[q]] = q
             else:
-                out[m] = _hard(i, j, pz, -1, bias, depth, ids, offsets[p])
+                pix[q] = -1  # outside the frame: in the open
+        for k in range(offsets[p], offsets[p + 1]):
+            ax = (start[k, 0] * u[0] + start[k, 1] * u[1] + start[k, 2] * u[2] - ox) * inv
+            ay = (start[k, 0] * v[0] + start[k, 1] * v[1] + start[k, 2] * v[2] - oy) * inv
+            bx = (end[k, 0] * u[0] + end[k, 1] * u[1] + end[k, 2] * u[2] - ox) * inv
+            by = (end[k, 0] * v[0] + end[k, 1] * v[1] + end[k, 2] * v[2] - oy) * inv
+            za = start[k, 0] * d[0] + start[k, 1] * d[1] + start[k, 2] * d[2]
+            zb = end[k, 0] * d[0] + end[k, 1] * d[1] + end[k, 2] * d[2]
+            _walk(k, ax, ay, bx, by, za, zb, radius[k] * inv, res, head, nxt, qz, own, bias,
+                  soft, trans[k] if soft else 1.0, best_z, best_id, expo)  # fmt: skip
+        for q in range(q0, q1):
+            if pix[q] >= 0:
+                head[pix[q]] = -1
+            if not soft:
+                k = best_id[q]
+                lit = k < 0 or k == own[q] or qz[q] - best_z[q] <= bias
+                expo[q] = 1.0 if lit else 0.0
+    return expo, best_z, best_id
+
+
+@njit
+def _samples(start, end, offsets, samples):
+    """The segments' sample points (``samples`` per segment, at ``t = (i + 0.5) /
+    samples`` of the axis), their plants' offsets and their segments."""
+    n = start.shape[0]
+    query = np.empty((n * samples, 3))
+    own = np.empty(n * samples, np.int64)
+    for s in range(n):
+        for i in range(samples):
+            t = (i + 0.5) / samples
+            for c in range(3):
+                query[s * samples + i, c] = start[s, c] + t * (end[s, c] - start[s, c])
+            own[s * samples + i] = s
+    return query, offsets * samples, own
+
+
+@njit
+def _segment_exposure(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, samples,
+                      trans, soft, out):  # fmt: skip
+    query, qoff, own = _samples(start, end, offsets, samples)
+    expo = _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, query, qoff,
+                  own, trans, soft, np.empty(query.shape[0]))[0]  # fmt: skip
+    for s in range(start.shape[0]):
+        acc = 0.0
+        for i in range(samples):
+            acc += expo[s * samples + i]
+        out[s] = acc / samples
     return out
 
 
@@ -402,8 +341,8 @@ def segment_exposure_kernel(start, end, radius, offsets, frames, u, v, d, res, b
     >>> segment_exposure_kernel(s, e, r, off, f, u, v, d, 64, 1.5, 1, np.empty(2)).tolist()
     [1.0, 0.0]
     """
-    return _segments(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, samples,
-                     np.empty(0), False, out)  # fmt: skip
+    return _segment_exposure(start, end, radius, offsets, frames, u, v, d, res, bias_pixels,
+                             samples, np.empty(0), False, out)  # fmt: skip
 
 
 @njit
@@ -425,8 +364,8 @@ def soft_segment_exposure_kernel(start, end, radius, offsets, frames, u, v, d, r
     ...                              np.empty(3)).tolist()
     [1.0, 0.5, 0.25]
     """
-    return _segments(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, samples,
-                     trans, True, out)  # fmt: skip
+    return _segment_exposure(start, end, radius, offsets, frames, u, v, d, res, bias_pixels,
+                             samples, trans, True, out)  # fmt: skip
 
 
 @njit
@@ -447,8 +386,9 @@ def point_exposure_kernel(start, end, radius, offsets, frames, points, point_off
     ...                       np.empty(3)).tolist()
     [0.0, 1.0, 1.0]
     """
-    return _points(start, end, radius, offsets, frames, points, point_offsets, u, v, d, res,
-                   bias_pixels, np.empty(0), False, out)  # fmt: skip
+    own = np.full(points.shape[0], -1, np.int64)
+    return _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, points,
+                  point_offsets, own, np.empty(0), False, out)[0]  # fmt: skip
 
 
 @njit
@@ -467,8 +407,33 @@ def soft_point_exposure_kernel(start, end, radius, offsets, frames, points, poin
     ...     u, v, d, 64, 1.5, np.full(2, 0.1), np.empty(1)).round(6).tolist()
     [0.01]
     """
-    return _points(start, end, radius, offsets, frames, points, point_offsets, u, v, d, res,
-                   bias_pixels, trans, True, out)  # fmt: skip
+    own = np.full(points.shape[0], -1, np.int64)
+    return _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, points,
+                  point_offsets, own, trans, True, out)[0]  # fmt: skip
+
+
+@njit
+def map_depth_kernel(start, end, radius, offsets, frames, points, point_offsets, u, v, d, res):
+    """The hard shadow map read at points: ``(depth, segment)`` ``(m,)`` of the nearest
+    capsule at each point's pixel of its plant's map (``inf`` and -1 where the pixel is
+    empty or the point lies outside the frame).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = np.array([[0.0, 2, 0], [0, 1, 0]]); e = s + np.array([1.0, 0, 0])
+    >>> u, v, d = np.array([1.0, 0, 0]), np.array([0.0, 0, -1]), np.array([0.0, -1, 0])
+    >>> r, off = np.full(2, 0.2), np.array([0, 2]); f = plant_frames(s, e, r, off, u, v, 64)
+    >>> z, k = map_depth_kernel(s, e, r, off, f, np.array([[0.5, 0, 0], [3, 0, 0]]),
+    ...                         np.array([0, 2]), u, v, d, 64)
+    >>> z.tolist(), k.tolist()
+    ([-2.0, inf], [0, -1])
+    """
+    m = points.shape[0]
+    _, depth, seg = _judge(start, end, radius, offsets, frames, u, v, d, res, 0.0, points,
+                           point_offsets, np.full(m, -1, np.int64), np.empty(0), False,
+                           np.empty(m))  # fmt: skip
+    return depth, seg
 
 
 @njit
