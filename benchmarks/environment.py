@@ -1,7 +1,8 @@
 """Speed of the environment's passes over whole populations (JSON).
 
     NUMBA_NUM_THREADS=1 python benchmarks/environment.py [--plants 1000] [--segments 300]
-        [--resolutions 64 128 256] [--backends numba moderngl] [--only gravity water light]
+        [--resolutions 64 128 256] [--backends numba moderngl]
+        [--only gravity water light crossover]
 
 A population of random parents-first skeletons (``--plants`` x ``--segments``; 30 % leaves)
 in one array. For each pass: the kernel alone (arrays prepared once, the output buffer
@@ -12,7 +13,8 @@ ratios and each plant's first break) and water (``growsim.env.water.transport``:
 demands up, shares down; demand 1 per leaf) and light (``growsim.env.light.segment_light``
 on the whole population, light from above, one shadow map per plant: frames, render,
 every segment's midpoint queried, cosines; hard and soft shadows with numba, hard with
-moderngl; best of 3).
+moderngl; best of 3). ``--only crossover``: moderngl's time over numba's for 1, 10 and 100
+plants per call at 256, 512 and 1024 pixels (when moderngl wins).
 """
 
 from __future__ import annotations
@@ -143,13 +145,38 @@ def light(plants, n_plants: int, n_segments: int, resolutions, backends) -> dict
     return out
 
 
+def crossover(plant_counts=(1, 10, 100), resolutions=(256, 512, 1024)) -> list[dict]:
+    """When moderngl wins: its time over numba's (hard shadows, the public function, best
+    of 5) per number of plants per call and resolution; below 1 moderngl is faster."""
+    from growsim.env.light import segment_light
+
+    rows = []
+    for k in plant_counts:
+        plants = forest(k, 300)
+        offsets = np.arange(0, k * 300 + 1, 300, dtype=np.int64)
+        row = {"plants_per_call": k}
+        for res in resolutions:
+            t = {
+                b: best_of(
+                    lambda b=b, r=res: segment_light(
+                        plants, offsets=offsets, resolution=r, backend=b
+                    ),
+                    5,
+                )
+                for b in ("numba", "moderngl")
+            }
+            row[f"moderngl_over_numba_{res}"] = round(t["moderngl"] / t["numba"], 2)
+        rows.append(row)
+    return rows
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--plants", type=int, default=1000)
     ap.add_argument("--segments", type=int, default=300)
     ap.add_argument("--resolutions", type=int, nargs="+", default=[64, 128, 256])
     ap.add_argument("--backends", nargs="+", default=["numba", "moderngl"])
-    ap.add_argument("--only", choices=["gravity", "water", "light"], nargs="+")
+    ap.add_argument("--only", choices=["gravity", "water", "light", "crossover"], nargs="+")
     args = ap.parse_args()
     plants = forest(args.plants, args.segments)
     result = {
@@ -159,6 +186,8 @@ def main() -> None:
         "load_1min": round(os.getloadavg()[0], 2),
     }
     only = args.only or ["gravity", "water", "light"]
+    if "crossover" in only:
+        result["crossover"] = crossover()
     if "gravity" in only:
         result["gravity"] = gravity(plants, args.plants, args.segments)
     if "water" in only:
