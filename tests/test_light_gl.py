@@ -235,3 +235,22 @@ def test_forked_child_gets_a_resource_error_not_a_hang():
     with multiprocessing.get_context("fork").Pool(1) as pool:
         message = pool.apply_async(_in_forked_child).get(timeout=60)
     assert "forked from one" in message and "'spawn'" in message, message
+
+
+def test_survives_a_vtk_render_in_the_same_process():
+    # VTK's off-screen windows may terminate the EGL display every context shares: the
+    # backend makes its context anew and gives the same answer
+    import pyvista as pv
+
+    from growsim.env.light import segment_light
+    from growsim.models import honda
+
+    tree = honda.develop(honda.PRESETS["zelkova"])
+    before = segment_light(tree, backend="moderngl")
+    plotter = pv.Plotter(off_screen=True, window_size=(64, 64))
+    plotter.add_mesh(pv.Sphere())
+    plotter.screenshot(None, return_img=True)
+    plotter.close()
+    after = segment_light(tree, backend="moderngl")
+    np.testing.assert_array_equal(after, before)
+    np.testing.assert_array_equal(after, segment_light(tree))

@@ -511,8 +511,27 @@ def _layout(gl: _GL, res: int, plants: int) -> tuple[int, int]:
     return cols, rows
 
 
-def _run(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, item_offsets, per,
-         queries):  # fmt: skip
+def _run(*args):
+    """:func:`_run_once`; when the context has been lost under us (another library in the
+    process, VTK's off-screen windows among them, may terminate the EGL display that every
+    context of the process shares), the context is made anew and the pass run once more."""
+    try:
+        return _run_once(*args)
+    except Exception as exc:
+        if type(exc).__module__.split(".")[0] not in ("moderngl", "_moderngl"):
+            raise
+        with _CREATING:
+            lost = _STATE.pop("gl", None)
+            if lost is not None:
+                try:
+                    lost.ctx.release()
+                except Exception:  # the context is gone already
+                    pass
+        return _run_once(*args)
+
+
+def _run_once(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, item_offsets,
+              per, queries):  # fmt: skip
     """Render the maps batch by batch (as many plants as the atlas holds) and resolve the
     items of ``item_offsets`` (``per`` samples each); ``queries(p0, p1, c0, c1, cols,
     width, q, z)`` fills the queries of items ``c0:c1``."""

@@ -168,9 +168,13 @@ def segment_exposure_kernel(
                 if tol_pixels > 0:
                     # near an edge: some occluder's answer changes within the tolerance
                     g = tol_pixels * pix
-                    tr = np.full(hi - lo, 0.5) if trans is None else trans[lo:hi]
-                    loose = transmitted(p, s - lo, S, E, R, u, v, d, bias, tr, g, g)
-                    strict = transmitted(p, s - lo, S, E, R, u, v, d, bias, tr, -g, -g)
+                    if trans is None:
+                        loose = shadowed(p, s - lo, S, E, R, u, v, d, bias, grow=g, slack=g)
+                        strict = shadowed(p, s - lo, S, E, R, u, v, d, bias, grow=-g, slack=-g)
+                    else:
+                        tr = trans[lo:hi]
+                        loose = transmitted(p, s - lo, S, E, R, u, v, d, bias, tr, g, g)
+                        strict = transmitted(p, s - lo, S, E, R, u, v, d, bias, tr, -g, -g)
                     edge[s] |= loose != strict
             out[s] /= samples
     return edge if tol_pixels > 0 else out
@@ -199,8 +203,12 @@ def point_exposure_kernel(
                 out[i] = not shadowed(points[i], -1, S, E, R, u, v, d, bias)
             if tol_pixels > 0:
                 g = tol_pixels * pix
-                tr = np.full(hi - lo, 0.5) if trans is None else trans[lo:hi]
-                loose = transmitted(points[i], -1, S, E, R, u, v, d, bias, tr, g, g)
-                strict = transmitted(points[i], -1, S, E, R, u, v, d, bias, tr, -g, -g)
+                q = points[i]
+                if trans is None:
+                    loose = shadowed(q, -1, S, E, R, u, v, d, bias, grow=g, slack=g)
+                    strict = shadowed(q, -1, S, E, R, u, v, d, bias, grow=-g, slack=-g)
+                else:
+                    loose = transmitted(q, -1, S, E, R, u, v, d, bias, trans[lo:hi], g, g)
+                    strict = transmitted(q, -1, S, E, R, u, v, d, bias, trans[lo:hi], -g, -g)
                 edge[i] = loose != strict
     return edge if tol_pixels > 0 else out
