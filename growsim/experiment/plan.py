@@ -9,6 +9,7 @@ that each accepts the model's phenotype, and checks the GA set-up. ``run``, ``sw
 from __future__ import annotations
 
 import dataclasses
+import fnmatch
 import math
 from collections.abc import Mapping
 from typing import Any
@@ -149,13 +150,14 @@ def plan_model(cfg: Config) -> ModelPlan:
         raise ConfigError(f"model.params: {exc}") from None
     by_name = {p.name: p for p in spec}
     allowed = ", ".join(by_name)
-    unknown = sorted(set(cfg.model.evolve) - set(by_name))
+    evolve = _expand_patterns(cfg.model.evolve, by_name, cfg.model.kind)
+    unknown = sorted(set(evolve) - set(by_name))
     if unknown:
         raise ConfigError(
             f"model.evolve.{unknown[0]}: unknown parameter of model {cfg.model.kind!r}; "
             f"allowed: {allowed}"
         )
-    if not cfg.model.evolve:
+    if not evolve:
         raise ConfigError(
             f"model.evolve: nothing to evolve; name at least one parameter (allowed: {allowed})"
         )
@@ -171,7 +173,7 @@ def plan_model(cfg: Config) -> ModelPlan:
         raise ConfigError(str(exc)) from None
     evolved = []
     for p in spec:
-        rng = cfg.model.evolve.get(p.name)
+        rng = evolve.get(p.name)
         if rng is None:
             continue
         if isinstance(rng, list):
@@ -188,12 +190,39 @@ def plan_model(cfg: Config) -> ModelPlan:
     return ModelPlan(
         model=model,
         spec=tuple(spec),
-        fixed={k: v for k, v in resolved.items() if k not in cfg.model.evolve},
+        fixed={k: v for k, v in resolved.items() if k not in evolve},
         evolved=tuple(evolved),
         environment=cfg.environment,
         noise=cfg.model.noise,
         seed=cfg.experiment.seed,
     )
+
+
+def _expand_patterns(evolve: dict, by_name: dict, kind: str) -> dict:
+    """``[model.evolve]`` with its shell-style patterns (``"h*_w?" = true``: names with
+    ``*``, ``?`` or ``[...]``) replaced by the parameters they match, in spec order; a name
+    given in full wins over a pattern. A pattern that matches nothing is a
+    :class:`ConfigError` naming it.
+
+    Examples
+    --------
+    >>> _expand_patterns({"a*": True, "ab": [0, 1]}, {"ab": 0, "ac": 0, "b": 0}, "m")
+    {'ac': True, 'ab': [0, 1]}
+    """
+    out: dict = {}
+    for key, value in evolve.items():
+        if not any(ch in key for ch in "*?["):
+            continue
+        hits = [name for name in by_name if fnmatch.fnmatchcase(name, key)]
+        if not hits:
+            raise ConfigError(
+                f"model.evolve.{key}: the pattern matches no parameter of model {kind!r}"
+            )
+        for name in hits:
+            if name not in evolve:
+                out[name] = value
+    out.update({k: v for k, v in evolve.items() if not any(ch in k for ch in "*?[")})
+    return out
 
 
 def _resolved(cfg: Config, mp: ModelPlan) -> Config:

@@ -66,7 +66,8 @@ class ModelConfig(Options):
     evolve: dict[str, Any] = Field(
         default_factory=dict,
         description="parameters the GA evolves: name = true (the model's range) or "
-        "[low, high] (a range inside the model's range); at least one",
+        "[low, high] (a range inside the model's range); a name may be a shell-style "
+        "pattern (\"h*_w?\" = true: every parameter it matches); at least one",
     )
     noise: Literal["fixed", "per-evaluation"] = Field(
         "fixed",

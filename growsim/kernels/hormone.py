@@ -1,0 +1,285 @@
+"""Numba kernels of the hormone-module model (:mod:`growsim.models.hormone`).
+
+Modules are stored field by field in creation order (a parent before its children), so a
+forward loop carries parent -> child (:func:`place_kernel`: positions) and a reverse loop
+child -> parent (the inhibitor's transport to the base, in :func:`step_kernel`). The
+equations are written out in ``docs/models/hormone.md``; the oracle is
+``tests/naive/hormone.py``.
+
+Constants ``c`` (float64 array, indices :data:`C_*`) and genes ``g`` ``(H, 3 + J)`` (per
+hormone: bias, gain, decay, then one weight per stimulus) are passed in, never global.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from growsim.kernels.config import njit
+
+__all__ = ["HORMONES", "STIMULI", "place_kernel", "step_kernel", "wall_frame"]
+
+#: the hormones and their roles (index: role)
+HORMONES = (
+    "elongation",
+    "thickening",
+    "branching",
+    "inhibitor",
+    "meristem",
+    "lignification",
+    "greening",
+    "drought",
+    "turning",
+    "expansion",
+)
+#: the stimuli a wall senses (index: stimulus)
+STIMULI = ("wall light", "water met", "nutrient", "chlorophyll", "wall up", "inhibitor")
+
+# indices of the constants array
+(C_ELONG, C_MAXLEN, C_TURN, C_THICK, C_NEWLEN, C_NEWRAD, C_BRANCH_ANGLE, C_THRESHOLD,
+ C_INH_TRANSPORT, C_PHOTO, C_HALF_SAT, C_BUILD, C_UPKEEP, C_NEW_COST, C_LIGNIFY, C_GREEN,
+ C_CHL_LOSS, C_DROUGHT, C_EXPAND, C_SHARE, C_LATERALS) = range(21)  # fmt: skip
+N_CONSTANTS = 21
+
+
+@njit
+def wall_frame(R, walls, dims, out_v):
+    """Unit outward directions ``(walls, 3)`` of a module's walls from its pose ``R``
+    ``(3, 3)`` (columns: the two axes across the module and its growth axis): in 3D
+    ``cos(2 pi i / walls) x + sin(2 pi i / walls) y``; in 2D (the plant in the x-y plane)
+    the two sides ``+-x``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> wall_frame(np.eye(3), 2, 2, np.empty((2, 3))).tolist()
+    [[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]
+    """
+    for i in range(walls):
+        if dims == 2:
+            a = math.pi * i
+        else:
+            a = 2.0 * math.pi * i / walls
+        ca, sa = math.cos(a), math.sin(a)
+        if dims == 2:
+            sa = 0.0
+            ca = 1.0 if i == 0 else -1.0
+        for c in range(3):
+            out_v[i, c] = ca * R[c, 0] + sa * R[c, 1]
+    return out_v
+
+
+@njit
+def place_kernel(n, parent, R, length, origin):
+    """Origins of modules ``0..n-1`` (forward, parents first): a root stays where it is, a
+    child starts at its parent's far end ``origin[p] + length[p] R[p][:, 2]``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> R = np.tile(np.eye(3), (2, 1, 1)); o = np.zeros((2, 3))
+    >>> place_kernel(2, np.array([-1, 0]), R, np.array([2.0, 1.0]), o)[1].tolist()
+    [0.0, 0.0, 2.0]
+    """
+    for m in range(n):
+        p = parent[m]
+        if p >= 0:
+            for c in range(3):
+                origin[m, c] = origin[p, c] + length[p] * R[p, c, 2]
+    return origin
+
+
+@njit
+def _sigmoid(x):
+    return 1.0 / (1.0 + math.exp(-x)) if x > -50.0 else 0.0
+
+
+@njit
+def _rotate(R, axis, angle):
+    """``R`` turned by ``angle`` about the unit ``axis`` (Rodrigues), in place."""
+    c, s = math.cos(angle), math.sin(angle)
+    for col in range(3):
+        x, y, z = R[0, col], R[1, col], R[2, col]
+        d = axis[0] * x + axis[1] * y + axis[2] * z
+        cx = axis[1] * z - axis[2] * y
+        cy = axis[2] * x - axis[0] * z
+        cz = axis[0] * y - axis[1] * x
+        R[0, col] = x * c + cx * s + axis[0] * d * (1 - c)
+        R[1, col] = y * c + cy * s + axis[1] * d * (1 - c)
+        R[2, col] = z * c + cz * s + axis[2] * d * (1 - c)
+
+
+@njit
+def step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient, chlorophyll, lignin,
+                apex, laterals, hormone, wall_light, met, genes, c):  # fmt: skip
+    """One growth step of modules ``0..n-1``; returns the new module count (at most
+    ``cap``) and the nutrient gained by photosynthesis this step.
+
+    ``wall_light`` ``(cap, walls)`` the light each wall receives, ``met`` ``(cap,)`` the
+    share of each module's water demand met; ``hormone`` ``(cap, walls, H)`` is updated in
+    place, as are the module fields. See ``docs/models/hormone.md`` for the equations, in
+    the order they run: synthesis, transport of the inhibitor, photosynthesis, costs,
+    elongation and turning, thickening, lignification and greening, nutrient sharing,
+    new modules.
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> from growsim.models.hormone import MODEL
+    >>> env = Environment.model_validate({"light": {"diffuse": 0.5}})
+    >>> MODEL.develop({**MODEL.preset("demo_3d"), "steps": 10}, env=env).n_segments > 1
+    True
+    """
+    H = genes.shape[0]
+    J = genes.shape[1] - 3
+    x = np.empty(J)
+    v = np.empty((walls, 3))
+    inh = np.zeros(n)
+    mean_h = np.zeros((n, H))
+    gained = 0.0
+    # synthesis per wall: s = gain sigmoid(bias + w . x); h = (1 - decay) h + s
+    for m in range(n):
+        wall_frame(R[m], walls, dims, v)
+        for i in range(walls):
+            x[0] = wall_light[m, i]
+            x[1] = met[m]
+            x[2] = nutrient[m] / (1.0 + abs(nutrient[m]))
+            x[3] = chlorophyll[m]
+            x[4] = v[i, 1]
+            x[5] = hormone[m, i, 3]
+            for k in range(H):
+                a = genes[k, 0]
+                for j in range(J):
+                    a += genes[k, 3 + j] * x[j]
+                h = (1.0 - genes[k, 2]) * hormone[m, i, k] + genes[k, 1] * _sigmoid(a)
+                hormone[m, i, k] = h
+                mean_h[m, k] += h / walls
+    # the inhibitor goes to the base: each module adds a share of its children's
+    for m in range(n - 1, -1, -1):
+        inh[m] += mean_h[m, 3]
+        p = parent[m]
+        if p >= 0:
+            inh[p] += c[C_INH_TRANSPORT] * inh[m]
+    n_new = n
+    for m in range(n):
+        wall_frame(R[m], walls, dims, v)
+        L = length[m]
+        r = radius[m]
+        area = 2.0 * math.pi * r * L / walls if dims == 3 else 2.0 * r * L / 2.0
+        area *= 1.0 + c[C_EXPAND] * mean_h[m, 9]
+        # photosynthesis: saturating in the wall's light, limited by water and chlorophyll
+        photo = 0.0
+        for i in range(walls):
+            li = wall_light[m, i]
+            photo += area * li * (1.0 + c[C_HALF_SAT]) / (li + c[C_HALF_SAT])
+        drought = 1.0 - c[C_DROUGHT] * min(1.0, mean_h[m, 7])
+        photo *= c[C_PHOTO] * chlorophyll[m] * met[m] * drought
+        gained += photo
+        vol = math.pi * r * r * L
+        nutrient[m] += photo - c[C_UPKEEP] * vol * (0.2 + 0.8 * chlorophyll[m])
+        # elongation per wall (turgor: water met), the module by the mean of its walls
+        e_mean = 0.0
+        e = np.empty(walls)
+        for i in range(walls):
+            e[i] = c[C_ELONG] * hormone[m, i, 0] * met[m] * drought
+            e_mean += e[i] / walls
+        e_mean = min(e_mean, max(0.0, c[C_MAXLEN] - L))
+        cost = c[C_BUILD] * math.pi * r * r * e_mean
+        if e_mean > 0.0 and nutrient[m] >= cost:
+            nutrient[m] -= cost
+            length[m] = L + e_mean
+            # turning: wall i's excess elongation turns the axis away from it, about the
+            # normal of the triangle (origin, end, wall point): z x v_i
+            gain = c[C_TURN] * min(1.0, mean_h[m, 8]) / max(L, 1e-9)
+            axis = np.empty(3)
+            for i in range(walls):
+                zx, zy, zz = R[m, 0, 2], R[m, 1, 2], R[m, 2, 2]
+                nx = zy * v[i, 2] - zz * v[i, 1]
+                ny = zz * v[i, 0] - zx * v[i, 2]
+                nz = zx * v[i, 1] - zy * v[i, 0]
+                nn = math.sqrt(nx * nx + ny * ny + nz * nz)
+                if nn > 0.0:
+                    axis[0], axis[1], axis[2] = nx / nn, ny / nn, nz / nn
+                    _rotate(R[m], axis, -gain * (e[i] - e_mean))
+        # thickening (walls move out)
+        dr = c[C_THICK] * min(1.0, mean_h[m, 1])
+        cost = c[C_BUILD] * 2.0 * math.pi * r * length[m] * dr
+        if dr > 0.0 and nutrient[m] >= cost:
+            nutrient[m] -= cost
+            radius[m] = r + dr
+        # lignification: chlorophyll down, strength up; greening: chlorophyll up
+        lg = c[C_LIGNIFY] * min(1.0, mean_h[m, 5])
+        lignin[m] = min(1.0, lignin[m] + lg)
+        chl = chlorophyll[m] - c[C_CHL_LOSS] * lg + c[C_GREEN] * min(1.0, mean_h[m, 6])
+        chlorophyll[m] = min(1.0, max(0.0, chl))
+    # nutrient sharing between parent and child (a share of the difference each step)
+    for m in range(n - 1, 0, -1):
+        p = parent[m]
+        if p >= 0:
+            flow = c[C_SHARE] * 0.5 * (nutrient[m] - nutrient[p])
+            nutrient[m] -= flow
+            nutrient[p] += flow
+    # new modules: an apical child from a meristem, laterals from the branching hormone
+    for m in range(n):
+        if n_new >= cap:
+            break
+        grown = length[m] >= 0.999 * c[C_MAXLEN]
+        if apex[m] and grown and mean_h[m, 4] > c[C_THRESHOLD] and nutrient[m] > c[C_NEW_COST]:
+            q = n_new
+            n_new += 1
+            _new(q, m, R[m], R, parent, length, radius, nutrient, chlorophyll, lignin, apex,
+                 laterals, hormone, c)  # fmt: skip
+            apex[m] = False
+        if n_new >= cap:
+            break
+        if (
+            mean_h[m, 2] > c[C_THRESHOLD]
+            and inh[m] < c[C_THRESHOLD]
+            and laterals[m] < c[C_LATERALS]
+            and length[m] >= 0.5 * c[C_MAXLEN]
+            and nutrient[m] > c[C_NEW_COST]
+        ):
+            # lateral direction B = sum_i v_i H_i, tilted from the axis by the branch angle
+            wall_frame(R[m], walls, dims, v)
+            bx = by = bz = 0.0
+            for i in range(walls):
+                bx += v[i, 0] * hormone[m, i, 2]
+                by += v[i, 1] * hormone[m, i, 2]
+                bz += v[i, 2] * hormone[m, i, 2]
+            z = R[m, :, 2]
+            d = bx * z[0] + by * z[1] + bz * z[2]
+            bx, by, bz = bx - d * z[0], by - d * z[1], bz - d * z[2]
+            nb = math.sqrt(bx * bx + by * by + bz * bz)
+            if nb < 1e-9 * walls:  # no side wins: laterals take the walls in turn
+                w = (laterals[m] * (walls // 2 + 1) + m) % walls
+                bx, by, bz, nb = v[w, 0], v[w, 1], v[w, 2], 1.0
+            Rl = R[m].copy()
+            axis = np.array([
+                z[1] * bz - z[2] * by, z[2] * bx - z[0] * bz, z[0] * by - z[1] * bx
+            ]) / nb  # fmt: skip
+            _rotate(Rl, axis, c[C_BRANCH_ANGLE])
+            q = n_new
+            n_new += 1
+            _new(q, m, Rl, R, parent, length, radius, nutrient, chlorophyll, lignin, apex,
+                 laterals, hormone, c)  # fmt: skip
+            laterals[m] += 1
+    return n_new, gained
+
+
+@njit
+def _new(q, m, Rq, R, parent, length, radius, nutrient, chlorophyll, lignin, apex, laterals,
+         hormone, c):  # fmt: skip
+    """Module ``q``: a child of ``m`` with pose ``Rq``, new length and radius, full
+    chlorophyll, no lignin, its parent's cost of a new module as its nutrient."""
+    parent[q] = m
+    R[q] = Rq
+    length[q] = c[C_NEWLEN]
+    radius[q] = min(c[C_NEWRAD], radius[m])
+    nutrient[m] -= c[C_NEW_COST]
+    nutrient[q] = 0.5 * c[C_NEW_COST]
+    chlorophyll[q] = 1.0
+    lignin[q] = 0.0
+    apex[q] = True
+    laterals[q] = 0
+    hormone[q] = 0.0

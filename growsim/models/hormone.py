@@ -1,0 +1,304 @@
+"""Hormone-module growth (seed 004: Uehara, Akamine and Endo, "Plants that acquire a 3D
+structure by adapting to the environment").
+
+A plant is a set of modules, each a short cylinder with a pose, length, thickness,
+nutrient, chlorophyll and lignin, and ``walls`` light-sensing walls around it (2 in 2D).
+Every step, in the environment (:mod:`growsim.env`):
+
+1. the modules are placed end to end (:func:`growsim.kernels.hormone.place_kernel`);
+2. each wall's light comes from the shadow map (:meth:`growsim.env.Light.point_light`: the
+   wall's point, on the module's surface halfway along it, and its outward normal);
+3. water flows by the modules' pull, in proportion to the light they receive
+   (:meth:`growsim.env.Water.transport`), giving each module's share of demand met;
+4. each wall makes ten hormones from what it senses, and the hormones drive elongation
+   (uneven walls turn the module), thickening, branching (direction ``B = sum v_i H_i``),
+   apical dominance, new apical modules, lignification, greening, drought response,
+   turning and leaf expansion; photosynthesis (saturating in light, limited by water and
+   chlorophyll) pays for growth and upkeep (:func:`growsim.kernels.hormone.step_kernel`);
+5. gravity loads every joint (:meth:`growsim.env.Gravity.loads`, the strength rising with
+   lignin from ``strength_young`` to the environment's wood strength): a joint that
+   breaks stops the individual, as the seed says.
+
+:func:`grow` yields the plant after every step; :func:`develop` returns the last. The
+plant's ``data`` holds per module ``nutrient``, ``chlorophyll``, ``lignin``, ``light``
+(mean over its walls) and ``water_met``; its ``meta`` holds ``steps``, ``stopped``
+(``""``, ``"broken"``, ``"cap"`` when the module cap stopped new modules, ``"nan"``) and
+``total_nutrient`` (the seed's fitness). Every equation and constant:
+``docs/models/hormone.md``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator, Mapping
+
+import numpy as np
+
+from growsim.kernels import hormone as K
+from growsim.models.base import Model, Param, resolve_params
+from growsim.plant import Plant
+
+__all__ = ["CONSTANTS", "MODEL", "PARAMS", "PRESETS", "develop", "genes", "grow"]
+
+NAME = "hormone"
+
+#: settings (not genes): name, low, high, default, kind, doc
+SETTINGS = (
+    Param("dims", 2, 3, 3, kind="int", doc="2: the plant grows in the x-y plane; 3: in space"),
+    Param("walls", 3, 16, 6, kind="int", doc="light-sensing walls per module (2D: always 2)"),
+    Param("steps", 1, 1000, 40, kind="int", doc="growth steps"),
+    Param("max_modules", 1, 100000, 300, kind="int", doc="module cap (no new modules past it)"),
+    Param("strength_young", 1e3, 1e9, 5e6, doc="strength of a module with no lignin", unit="Pa"),
+)
+
+#: constants of the step (name, default, doc), passed to the kernel in this order
+CONSTANTS = (
+    ("elongation", 0.15, "largest elongation of a wall per step (m, hormone 1, water met)"),
+    ("max_length", 0.5, "a module elongates up to this length (m)"),
+    ("turning", 0.3, "turning per unit of relative wall elongation difference (rad)"),
+    ("thickening", 0.003, "largest thickening per step (m)"),
+    ("new_length", 0.2, "length of a new module (m)"),
+    ("new_radius", 0.02, "radius of a new module (m)"),
+    ("branch_angle", math.radians(45.0), "angle of a lateral from its parent's axis (rad)"),
+    ("threshold", 0.5, "hormone level that starts a module or a lateral"),
+    ("inhibitor_transport", 0.5, "share of the children's inhibitor a module receives"),
+    ("photosynthesis", 4.0, "nutrient per m2 of wall per step at light 1"),
+    ("half_saturation", 0.5, "light at which photosynthesis reaches half its maximum"),
+    ("build_cost", 100.0, "nutrient per m3 of new tissue"),
+    ("upkeep", 10.0, "nutrient per m3 of living tissue per step (green tissue; wood 20 %)"),
+    ("new_module_cost", 0.02, "nutrient to start a module (half of it goes to the module)"),
+    ("lignify", 0.1, "largest lignin gain per step"),
+    ("greening", 0.05, "largest chlorophyll gain per step"),
+    ("chlorophyll_loss", 1.0, "chlorophyll lost per unit of lignin gained"),
+    ("drought", 0.5, "share of elongation and photosynthesis the drought hormone can stop"),
+    ("expansion", 1.0, "extra wall area at full expansion hormone"),
+    ("share", 0.5, "share of a parent-child nutrient difference evened out per step"),
+    ("laterals", 2.0, "largest number of laterals per module"),
+)
+
+#: the genes: per hormone k, ``h{k}_bias``, ``h{k}_gain``, ``h{k}_decay`` and one weight
+#: ``h{k}_w{j}`` per stimulus j (:data:`growsim.kernels.hormone.STIMULI`)
+GENES = tuple(
+    p
+    for k in range(len(K.HORMONES))
+    for p in (
+        Param(f"h{k}_bias", -4.0, 4.0, 0.0, doc=f"{K.HORMONES[k]}: synthesis bias"),
+        Param(f"h{k}_gain", 0.0, 1.0, 0.3, doc=f"{K.HORMONES[k]}: synthesis gain"),
+        Param(f"h{k}_decay", 0.0, 1.0, 0.5, doc=f"{K.HORMONES[k]}: decay per step"),
+        *(
+            Param(f"h{k}_w{j}", -4.0, 4.0, 0.0, doc=f"{K.HORMONES[k]}: weight of {s}")
+            for j, s in enumerate(K.STIMULI)
+        ),
+    )
+)
+
+PARAMS: tuple[Param, ...] = (
+    SETTINGS
+    + tuple(Param(n, 0.0, 1e6, d, doc=doc) for n, d, doc in CONSTANTS)
+    + GENES
+)
+
+
+def _genes_demo() -> dict[str, float]:
+    """A hand-set genome that grows a branching plant: elongation and meristem follow
+    light, branching follows nutrient, lignification follows age (low chlorophyll)."""
+    g = {}
+    for k in range(len(K.HORMONES)):
+        g[f"h{k}_gain"] = 1.0
+        g[f"h{k}_decay"] = 0.5
+    g.update({"h0_bias": 1.0, "h0_w0": -2.0})  # elongation: shade (turns to the light)
+    g.update({"h1_bias": 1.0, "h1_w2": 2.0})  # thickening: nutrient
+    g.update({"h2_bias": -2.0, "h2_w2": 3.0})  # branching: nutrient
+    g.update({"h3_bias": -2.0, "h3_w0": 2.0, "h3_gain": 0.3})  # inhibitor: light
+    g.update({"h4_bias": 1.0})  # meristem: always
+    g.update({"h5_bias": -1.0, "h5_w3": -2.0, "h5_gain": 0.5})  # lignification
+    g.update({"h6_bias": -2.0, "h6_w0": 2.0})  # greening: light
+    g.update({"h7_bias": -3.0, "h7_w1": -3.0})  # drought: water
+    g.update({"h8_bias": 0.0})  # turning
+    g.update({"h9_bias": -1.0, "h9_w0": 1.0})  # expansion
+    return g
+
+
+#: presets: a hand-set genome in 2D and in 3D
+PRESETS = {
+    "demo_2d": {"dims": 2, "steps": 30, **_genes_demo()},
+    "demo_3d": {"dims": 3, "steps": 30, **_genes_demo()},
+}
+
+
+def genes(params: Mapping[str, float]) -> np.ndarray:
+    """The ``(10, 3 + 6)`` gene array of ``params`` (bias, gain, decay, weights per hormone).
+
+    Examples
+    --------
+    >>> genes(resolve_params(PARAMS)).shape
+    (10, 9)
+    """
+    H, J = len(K.HORMONES), len(K.STIMULI)
+    out = np.empty((H, 3 + J))
+    for k in range(H):
+        out[k, 0] = params[f"h{k}_bias"]
+        out[k, 1] = params[f"h{k}_gain"]
+        out[k, 2] = params[f"h{k}_decay"]
+        for j in range(J):
+            out[k, 3 + j] = params[f"h{k}_w{j}"]
+    return out
+
+
+def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Plant]:
+    """Grow a plant step by step, yielding it after every step (see the module).
+
+    Examples
+    --------
+    >>> plants = list(grow({**PRESETS["demo_2d"], "steps": 5}))
+    >>> len(plants), plants[-1].n_segments >= plants[0].n_segments
+    (5, True)
+    """
+    from growsim.env import Environment
+
+    p = resolve_params(PARAMS, params, where="hormone.")
+    env = env if env is not None else Environment()
+    dims = int(p["dims"])
+    walls = 2 if dims == 2 else int(p["walls"])
+    cap = int(p["max_modules"])
+    c = np.array([p[name] for name, _, _ in CONSTANTS])
+    g = genes(p)
+    H = g.shape[0]
+    R = np.zeros((cap, 3, 3))
+    # the root module grows up (+y); its walls face +-x (and, in 3D, around)
+    R[0] = np.column_stack([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
+    origin = np.zeros((cap, 3))
+    parent = np.full(cap, -1, np.int64)
+    length = np.zeros(cap)
+    radius = np.zeros(cap)
+    nutrient = np.zeros(cap)
+    chlorophyll = np.zeros(cap)
+    lignin = np.zeros(cap)
+    apex = np.zeros(cap, np.bool_)
+    laterals = np.zeros(cap, np.int64)
+    hormone = np.zeros((cap, walls, H))
+    length[0], radius[0], nutrient[0], chlorophyll[0], apex[0] = c[4], c[5], 0.1, 1.0, True
+    n = 1
+    stopped = ""
+    v = np.empty((walls, 3))
+    for step in range(int(p["steps"])):
+        K.place_kernel(n, parent, R, length, origin)
+        axis = R[:n, :, 2]
+        start = origin[:n]
+        end = start + length[:n, None] * axis
+        skeleton = {"start": start, "end": end, "radius": radius[:n], "parent": parent[:n]}
+        normals = np.empty((n, walls, 3))
+        for m in range(n):
+            normals[m] = K.wall_frame(R[m], walls, dims, v)
+        points = (start + 0.5 * (end - start))[:, None, :] + radius[:n, None, None] * normals
+        wall_light = np.zeros((cap, walls))
+        wall_light[:n] = env.light.point_light(
+            skeleton, points=points.reshape(-1, 3), normals=normals.reshape(-1, 3)
+        ).reshape(n, walls)
+        demand = wall_light[:n].mean(axis=1) * 2.0 * math.pi * radius[:n] * length[:n]
+        met = np.zeros(cap)
+        met[:n] = env.water.transport(skeleton, demand, g=env.gravity.g).met
+        n_new, _ = K.step_kernel(
+            n, cap, dims, walls, parent, R, length, radius, nutrient, chlorophyll, lignin,
+            apex, laterals, hormone, wall_light, met, g, c,
+        )  # fmt: skip
+        finite = all(
+            np.all(np.isfinite(a[:n_new])) for a in (R, length, radius, nutrient, hormone)
+        )
+        if not finite:
+            stopped = "nan"
+            n_new = n
+        elif n_new >= cap and not stopped:
+            stopped = "cap"
+        light = np.zeros(n_new)
+        light[:n] = wall_light[:n].mean(axis=1)
+        water = np.ones(n_new)
+        water[:n] = met[:n]
+        n = n_new
+        K.place_kernel(n, parent, R, length, origin)
+        plant = _plant(p, n, origin, R, length, radius, parent, nutrient, chlorophyll, lignin,
+                       light, water, step + 1, stopped)  # fmt: skip
+        if stopped == "nan":
+            yield plant
+            return
+        strength = p["strength_young"] + (env.gravity.strength - p["strength_young"]) * lignin[:n]
+        if env.gravity.loads(plant, strength=strength).broken:
+            plant.meta["stopped"] = "broken"
+            yield plant
+            return
+        yield plant
+
+
+def _plant(p, n, origin, R, length, radius, parent, nutrient, chlorophyll, lignin, light,
+           water, steps, stopped) -> Plant:  # fmt: skip
+    start = origin[:n].copy()
+    end = start + length[:n, None] * R[:n, :, 2]
+    order = np.zeros(n, np.int32)
+    return Plant(
+        start,
+        end,
+        radius[:n].copy(),
+        parent[:n].copy(),
+        order,
+        np.zeros(n, np.int8),
+        {
+            "nutrient": nutrient[:n].copy(),
+            "chlorophyll": chlorophyll[:n].copy(),
+            "lignin": lignin[:n].copy(),
+            "light": light.copy(),
+            "water_met": water.copy(),
+        },
+        {
+            "model": NAME,
+            "params": dict(p),
+            "steps": steps,
+            "stopped": stopped,
+            "total_nutrient": float(nutrient[:n].sum()),
+        },
+    )
+
+
+def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None) -> Plant:
+    """The plant after its last step (or the step it broke at). ``seed`` is unused: the
+    model is deterministic.
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> env = Environment.model_validate({"light": {"diffuse": 0.5}})  # side walls need sky
+    >>> plant = develop(PRESETS["demo_3d"], env=env)
+    >>> plant.n_segments > 10, plant.meta["stopped"] in ("", "cap", "broken")
+    (True, True)
+    """
+    plant = None
+    for plant in grow(params, env=env):
+        pass
+    return plant
+
+
+class Hormone(Model):
+    """The hormone-module model under the model contract (:func:`grow`, :func:`develop`).
+
+    Examples
+    --------
+    >>> MODEL.stepwise, MODEL.phenotype
+    (True, 'plant')
+    """
+
+    name = NAME
+    phenotype = "plant"
+    params = PARAMS
+    presets = PRESETS
+    stepwise = True
+
+    def develop(self, params=None, *, seed=None, env=None) -> Plant:
+        """See :func:`develop`."""
+        return develop(params, seed=seed, env=env)
+
+    def grow(self, params, *, seed=None, env=None):
+        """See :func:`grow`."""
+        return grow(params, env=env)
+
+
+#: The registered model (``growsim.models.MODELS["hormone"]``).
+MODEL = Hormone()

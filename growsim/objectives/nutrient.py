@@ -1,0 +1,60 @@
+"""Total nutrient held by a plant's modules: the fitness of seed 004 (Uehara, Akamine
+and Endo, "Plants that acquire a 3D structure by adapting to the environment").
+
+``score = sum_m nutrient_m`` over the modules of a plant grown by a model that keeps a
+per-module ``data["nutrient"]`` (the hormone model, :mod:`growsim.models.hormone`; a
+plant of a model that keeps none holds none: 0). A plant that stopped on a NaN (``meta["stopped"] == "nan"``) scores NaN, which the GA counts
+as a failure and scores worst. Terms: ``nutrient`` (the score), ``modules`` (the count).
+"""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar, Literal
+
+from pydantic import Field
+
+from growsim.objectives.base import Objective, ObjectiveOptions
+
+__all__ = ["NutrientObjective", "NutrientOptions"]
+
+
+class NutrientOptions(ObjectiveOptions):
+    """Options of the ``nutrient`` objective (none of its own)."""
+
+    kind: Literal["nutrient"] = Field("nutrient", description="the objective: nutrient")
+
+
+class NutrientObjective(Objective):
+    """Total nutrient held by all modules (maximised).
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> from growsim.models import get_model
+    >>> env = Environment.model_validate({"light": {"diffuse": 0.5}})
+    >>> model = get_model("hormone")
+    >>> plant = model.develop({**model.preset("demo_2d"), "steps": 8}, env=env)
+    >>> obj = NutrientObjective(env=env)
+    >>> bool(obj(plant) == plant.data["nutrient"].sum()), sorted(obj.terms(plant))
+    (True, ['modules', 'nutrient'])
+    """
+
+    name = "nutrient"
+    maximize = True
+    accepts = ("plant",)
+    Options = NutrientOptions
+    example: ClassVar[dict[str, Any]] = {}
+
+    def setup(self) -> None:
+        """Nothing to prepare."""
+
+    def terms(self, plant) -> dict[str, float]:
+        """``{"nutrient": total, "modules": count}``."""
+        if "nutrient" not in plant.data:  # a model that keeps no nutrient holds none
+            return {"nutrient": 0.0, "modules": float(plant.n_segments)}
+        if plant.meta.get("stopped") == "nan":
+            return {"nutrient": float("nan"), "modules": float(plant.n_segments)}
+        return {"nutrient": float(plant.data["nutrient"].sum()), "modules": float(plant.n_segments)}
+
+    def __call__(self, plant) -> float:
+        return self.terms(plant)["nutrient"]

@@ -1,0 +1,144 @@
+"""The hormone-module model (growsim.models.hormone, growsim.kernels.hormone; oracle in
+tests/naive/hormone.py)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from naive import hormone as naive
+
+from growsim.env import Environment
+from growsim.errors import UserInputError
+from growsim.kernels import hormone as K
+from growsim.models import get_model, hormone
+from growsim.objectives.nutrient import NutrientObjective
+
+SKY = Environment.model_validate({"light": {"diffuse": 0.5, "direction": [0.3, -1.0, 0.2]}})
+
+
+def random_state(rng, n, cap, walls, dims):
+    """A random population of modules, parents first, and random inputs of a step."""
+    H, J = len(K.HORMONES), len(K.STIMULI)
+    parent = np.array([-1] + [int(rng.integers(0, m)) for m in range(1, n)] + [-1] * (cap - n))
+    R = np.zeros((cap, 3, 3))
+    for m in range(cap):
+        q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+        if dims == 2:  # axes in the x-y plane, the second across the plane
+            a = rng.uniform(0, 2 * np.pi)
+            q = np.column_stack([[np.cos(a), np.sin(a), 0], [0, 0, -1], [-np.sin(a), np.cos(a), 0]])
+        R[m] = q * np.sign(np.linalg.det(q))
+    c = np.array([d for _, d, _ in hormone.CONSTANTS])
+    state = dict(
+        parent=parent, R=R, length=rng.uniform(0.1, 0.6, cap), radius=rng.uniform(0.01, 0.05, cap),
+        nutrient=rng.uniform(-0.1, 1.0, cap), chlorophyll=rng.uniform(0, 1, cap),
+        lignin=rng.uniform(0, 1, cap), apex=rng.random(cap) < 0.5,
+        laterals=rng.integers(0, 2, cap).astype(np.int64),
+        hormone=rng.uniform(0, 1, (cap, walls, H)),
+    )  # fmt: skip
+    inputs = dict(
+        wall_light=rng.uniform(0, 1, (cap, walls)), met=rng.uniform(0, 1, cap),
+        genes=np.column_stack([rng.uniform(-2, 2, H), rng.uniform(0, 1, H), rng.uniform(0, 1, H),
+                               rng.uniform(-3, 3, (H, J))]), c=c,
+    )  # fmt: skip
+    return state, inputs
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_step_kernel_matches_oracle(seed):
+    rng = np.random.default_rng(seed)
+    dims = 2 if seed % 2 else 3
+    walls = 2 if dims == 2 else int(rng.integers(3, 8))
+    n, cap = int(rng.integers(1, 30)), 60
+    state, inputs = random_state(rng, n, cap, walls, dims)
+    a = {k: v.copy() for k, v in state.items()}
+    b = {k: v.copy() for k, v in state.items()}
+    got = K.step_kernel(n, cap, dims, walls, a["parent"], a["R"], a["length"], a["radius"],
+                        a["nutrient"], a["chlorophyll"], a["lignin"], a["apex"], a["laterals"],
+                        a["hormone"], **inputs)  # fmt: skip
+    want = naive.step_kernel(n, cap, dims, walls, b["parent"], b["R"], b["length"], b["radius"],
+                             b["nutrient"], b["chlorophyll"], b["lignin"], b["apex"],
+                             b["laterals"], b["hormone"], **inputs)  # fmt: skip
+    assert got[0] == want[0]
+    assert got[1] == pytest.approx(want[1], rel=1e-12)
+    for k in a:
+        np.testing.assert_allclose(a[k][: got[0]], b[k][: got[0]], rtol=1e-9, atol=1e-12, err_msg=k)
+
+
+def test_place_kernel_matches_oracle():
+    rng = np.random.default_rng(1)
+    state, _ = random_state(rng, 40, 40, 6, 3)
+    origin = np.zeros((40, 3))
+    got = K.place_kernel(40, state["parent"], state["R"], state["length"], origin.copy())
+    np.testing.assert_allclose(got, naive.place_kernel(40, state["parent"], state["R"],
+                                                       state["length"], origin))  # fmt: skip
+
+
+def test_walls_match_oracle():
+    rng = np.random.default_rng(2)
+    q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    for dims, walls in ((2, 2), (3, 3), (3, 6)):
+        got = K.wall_frame(q, walls, dims, np.empty((walls, 3)))
+        np.testing.assert_allclose(got, naive.wall_frame(q, walls, dims), atol=1e-12)
+
+
+def test_grows_step_by_step_deterministically_and_2d_stays_in_its_plane():
+    params = {**hormone.PRESETS["demo_2d"], "steps": 20}
+    plants = list(get_model("hormone").grow(params, env=SKY))
+    assert len(plants) == 20
+    sizes = [p.n_segments for p in plants]
+    assert sizes == sorted(sizes) and sizes[-1] > 10
+    last = plants[-1]
+    assert np.all(last.start[:, 2] == 0) and np.all(last.end[:, 2] == 0)  # the x-y plane
+    again = hormone.develop(params, env=SKY)
+    np.testing.assert_array_equal(again.end, last.end)
+    np.testing.assert_array_equal(again.data["nutrient"], last.data["nutrient"])
+    assert last.meta["total_nutrient"] == pytest.approx(last.data["nutrient"].sum())
+
+
+def test_environment_changes_the_plant():
+    params = {**hormone.PRESETS["demo_2d"], "steps": 25}
+    full = hormone.develop(params, env=SKY)
+    dark = hormone.develop(params, env=SKY.model_copy(
+        update={"light": SKY.light.model_copy(update={"intensity": 0.5})}))  # fmt: skip
+    dry = hormone.develop(params, env=Environment.model_validate(
+        {"light": SKY.light.model_dump(), "water": {"supply": 0.5}}))  # fmt: skip
+    obj = NutrientObjective(env=SKY)
+    assert obj(dark) < obj(full) and obj(dry) < obj(full)
+    # light from the side: the shaded walls elongate (the demo's genes), so it leans to it
+    side = Environment.model_validate({"light": {"diffuse": 0.3, "direction": [1.0, -0.3, 0.0]}})
+    leaning = hormone.develop(params, env=side)
+    tips = leaning.end[leaning.n_segments // 2:]
+    assert tips[:, 0].mean() < -0.2  # light travels +x: it comes from -x
+
+
+def test_module_cap_break_and_nan_stop_the_plant():
+    capped = hormone.develop({**hormone.PRESETS["demo_3d"], "max_modules": 20}, env=SKY)
+    assert capped.n_segments == 20 and capped.meta["stopped"] == "cap"
+    weak = hormone.develop({**hormone.PRESETS["demo_3d"], "strength_young": 1e3}, env=SKY)
+    assert weak.meta["stopped"] == "broken" and weak.meta["steps"] < 30
+    blown = hormone.develop({**hormone.PRESETS["demo_2d"], "photosynthesis": 1e6,
+                             "elongation": 1e6, "max_length": 1e6}, env=SKY)  # fmt: skip
+    assert blown.meta["stopped"] in ("nan", "broken", "cap", "")
+    obj = NutrientObjective(env=SKY)
+    if blown.meta["stopped"] == "nan":
+        assert np.isnan(obj(blown))
+
+
+def test_bad_parameters_are_named():
+    with pytest.raises(UserInputError, match="hormone.h3_gain"):
+        hormone.develop({"h3_gain": 2.0})
+    with pytest.raises(UserInputError, match="unknown parameter"):
+        hormone.develop({"h99_bias": 0.0})
+
+
+def test_configs_evolve_every_gene_by_a_pattern():
+    from growsim.errors import ConfigError
+    from growsim.experiment import load_config
+    from growsim.experiment.plan import plan_model
+
+    for dims in (2, 3):
+        plan = plan_model(load_config(f"experiments/hormone_{dims}d.toml"))
+        assert len(plan.evolved) == 90 and plan.fixed["dims"] == dims
+        assert all(p.name.startswith("h") for p in plan.evolved)
+    with pytest.raises(ConfigError, match=r"model.evolve.zz\*: the pattern matches no parameter"):
+        plan_model(load_config("experiments/hormone_2d.toml", overrides=['model.evolve.zz*=true']))
