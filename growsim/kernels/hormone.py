@@ -18,7 +18,14 @@ import numpy as np
 
 from growsim.kernels.config import njit
 
-__all__ = ["HORMONES", "STIMULI", "place_kernel", "step_kernel", "wall_frame"]
+__all__ = [
+    "HORMONES",
+    "STIMULI",
+    "place_kernel",
+    "step_kernel",
+    "wall_frame",
+    "wall_normals",
+]
 
 #: the hormones and their roles (index: role)
 HORMONES = (
@@ -68,6 +75,21 @@ def wall_frame(R, walls, dims, out_v):
         for c in range(3):
             out_v[i, c] = ca * R[c, 0] + sa * R[c, 1]
     return out_v
+
+
+@njit
+def wall_normals(n, R, walls, dims, out):
+    """``(n, walls, 3)``: :func:`wall_frame` of modules ``0..n-1``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> wall_normals(1, np.eye(3)[None], 2, 2, np.empty((1, 2, 3)))[0, 1].tolist()
+    [-1.0, 0.0, 0.0]
+    """
+    for m in range(n):
+        wall_frame(R[m], walls, dims, out[m])
+    return out
 
 
 @njit

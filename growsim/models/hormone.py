@@ -180,16 +180,13 @@ def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Pla
     length[0], radius[0], nutrient[0], chlorophyll[0], apex[0] = c[4], c[5], 0.1, 1.0, True
     n = 1
     stopped = ""
-    v = np.empty((walls, 3))
     for step in range(int(p["steps"])):
         K.place_kernel(n, parent, R, length, origin)
         axis = R[:n, :, 2]
         start = origin[:n]
         end = start + length[:n, None] * axis
         skeleton = {"start": start, "end": end, "radius": radius[:n], "parent": parent[:n]}
-        normals = np.empty((n, walls, 3))
-        for m in range(n):
-            normals[m] = K.wall_frame(R[m], walls, dims, v)
+        normals = K.wall_normals(n, R, walls, dims, np.empty((n, walls, 3)))
         points = (start + 0.5 * (end - start))[:, None, :] + radius[:n, None, None] * normals
         wall_light = np.zeros((cap, walls))
         wall_light[:n] = env.light.point_light(
