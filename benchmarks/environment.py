@@ -158,8 +158,8 @@ def crossover(plant_counts=(1, 10, 100), resolutions=(256, 512, 1024)) -> list[d
         for res in resolutions:
             t = {
                 b: best_of(
-                    lambda b=b, r=res: segment_light(
-                        plants, offsets=offsets, resolution=r, backend=b
+                    lambda b=b, r=res, p=plants, o=offsets: segment_light(
+                        p, offsets=o, resolution=r, backend=b
                     ),
                     5,
                 )

@@ -107,7 +107,7 @@ def test_environment_changes_the_plant():
     # light from the side: the shaded walls elongate (the demo's genes), so it leans to it
     side = Environment.model_validate({"light": {"diffuse": 0.3, "direction": [1.0, -0.3, 0.0]}})
     leaning = hormone.develop(params, env=side)
-    tips = leaning.end[leaning.n_segments // 2:]
+    tips = leaning.end[leaning.n_segments // 2 :]
     assert tips[:, 0].mean() < -0.2  # light travels +x: it comes from -x
 
 
@@ -125,7 +125,7 @@ def test_module_cap_break_and_nan_stop_the_plant():
 
 
 def test_bad_parameters_are_named():
-    with pytest.raises(UserInputError, match="hormone.h3_gain"):
+    with pytest.raises(UserInputError, match=r"hormone\.h3_gain"):
         hormone.develop({"h3_gain": 2.0})
     with pytest.raises(UserInputError, match="unknown parameter"):
         hormone.develop({"h99_bias": 0.0})
@@ -141,4 +141,4 @@ def test_configs_evolve_every_gene_by_a_pattern():
         assert len(plan.evolved) == 90 and plan.fixed["dims"] == dims
         assert all(p.name.startswith("h") for p in plan.evolved)
     with pytest.raises(ConfigError, match=r"model.evolve.zz\*: the pattern matches no parameter"):
-        plan_model(load_config("experiments/hormone_2d.toml", overrides=['model.evolve.zz*=true']))
+        plan_model(load_config("experiments/hormone_2d.toml", overrides=["model.evolve.zz*=true"]))

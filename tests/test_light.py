@@ -16,8 +16,9 @@ from growsim.models import honda
 from growsim.plant import LEAF, Plant
 
 
-def random_tree(rng, n, root=(0.0, 0.0, 0.0)):
-    """A random tree stored parents first, growing mostly upwards, thin segments."""
+def random_tree(rng, n, root=(0.0, 0.0, 0.0), radii=(0.02, 0.15)):
+    """A random tree stored parents first, growing mostly upwards, radii drawn uniformly
+    in ``radii``."""
     parent = [-1] + [int(rng.integers(max(0, s - 8), s)) for s in range(1, n)]
     start = np.zeros((n, 3))
     end = np.zeros((n, 3))
@@ -25,7 +26,7 @@ def random_tree(rng, n, root=(0.0, 0.0, 0.0)):
         start[s] = root if parent[s] < 0 else end[parent[s]]
         step = rng.normal(size=3) + np.array([0.0, 1.2, 0.0])
         end[s] = start[s] + step / np.linalg.norm(step) * rng.uniform(0.5, 2.0)
-    radius = rng.uniform(0.02, 0.15, n)
+    radius = rng.uniform(*radii, n)
     return start, end, radius
 
 

@@ -7,6 +7,7 @@ import threading
 
 import numpy as np
 import pytest
+from test_light import random_tree
 
 from growsim.env import shadow_gl
 from growsim.env.light import view_basis
@@ -17,18 +18,6 @@ try:
     RENDERER = shadow_gl.renderer()
 except ResourceError as exc:  # pragma: no cover - depends on the machine
     pytest.skip(str(exc), allow_module_level=True)
-
-
-def random_tree(rng, n, root=(0.0, 0.0, 0.0), radii=(0.02, 0.15)):
-    """A random tree stored parents first, growing mostly upwards (as tests/test_light.py)."""
-    parent = [-1] + [int(rng.integers(max(0, s - 8), s)) for s in range(1, n)]
-    start = np.zeros((n, 3))
-    end = np.zeros((n, 3))
-    for s in range(n):
-        start[s] = root if parent[s] < 0 else end[parent[s]]
-        step = rng.normal(size=3) + np.array([0.0, 1.2, 0.0])
-        end[s] = start[s] + step / np.linalg.norm(step) * rng.uniform(0.5, 2.0)
-    return start, end, rng.uniform(*radii, n)
 
 
 def population(rng, k, n, radii=(0.02, 0.15)):

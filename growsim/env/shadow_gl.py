@@ -69,6 +69,7 @@ import numpy as np
 
 from growsim.errors import ResourceError
 from growsim.kernels.config import njit
+from growsim.kernels.light import project_segment
 
 __all__ = [
     "ATLAS_SIDE",
@@ -382,12 +383,7 @@ def _vertices(start, end, radius, offsets, frames, u, v, d, p0, p1, c0, c1, cols
         tx = float((tile % cols) * res)
         ty = float((tile // cols) * res)
         for k in range(k0, k1):
-            ax = (start[k, 0] * u[0] + start[k, 1] * u[1] + start[k, 2] * u[2] - ox) * inv
-            ay = (start[k, 0] * v[0] + start[k, 1] * v[1] + start[k, 2] * v[2] - oy) * inv
-            bx = (end[k, 0] * u[0] + end[k, 1] * u[1] + end[k, 2] * u[2] - ox) * inv
-            by = (end[k, 0] * v[0] + end[k, 1] * v[1] + end[k, 2] * v[2] - oy) * inv
-            za = start[k, 0] * d[0] + start[k, 1] * d[1] + start[k, 2] * d[2]
-            zb = end[k, 0] * d[0] + end[k, 1] * d[1] + end[k, 2] * d[2]
+            ax, ay, bx, by, za, zb = project_segment(start, end, k, u, v, d, ox, oy, inv)
             rr = max(radius[k] * inv, MIN_RADIUS_PIXELS)
             for c in range(4 * (k - c0), 4 * (k - c0) + 4):
                 out[c, 0] = ax

@@ -61,6 +61,7 @@ __all__ = [
     "map_depth_kernel",
     "plant_frames",
     "point_exposure_kernel",
+    "project_segment",
     "segment_cosines",
     "segment_exposure_kernel",
     "soft_point_exposure_kernel",
@@ -114,6 +115,27 @@ def plant_frames(start, end, radius, offsets, u, v, res):
         out[p, 1] = loy - rmax - pix
         out[p, 2] = pix
     return out
+
+
+@njit(inline="always")
+def project_segment(start, end, k, u, v, d, ox, oy, inv):
+    """Segment ``k`` in a plant's frame: its ends in pixel coordinates ``(ax, ay, bx, by)``
+    (``x = (p . u - ox) * inv``, ``inv = 1 / pix``) and their depths ``(za, zb)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> e = np.eye(3)
+    >>> project_segment(np.zeros((1, 3)), np.ones((1, 3)), 0, e[0], e[2], e[1], 0.0, 0.0, 2.0)
+    (0.0, 0.0, 2.0, 2.0, 0.0, 1.0)
+    """
+    ax = (start[k, 0] * u[0] + start[k, 1] * u[1] + start[k, 2] * u[2] - ox) * inv
+    ay = (start[k, 0] * v[0] + start[k, 1] * v[1] + start[k, 2] * v[2] - oy) * inv
+    bx = (end[k, 0] * u[0] + end[k, 1] * u[1] + end[k, 2] * u[2] - ox) * inv
+    by = (end[k, 0] * v[0] + end[k, 1] * v[1] + end[k, 2] * v[2] - oy) * inv
+    za = start[k, 0] * d[0] + start[k, 1] * d[1] + start[k, 2] * d[2]
+    zb = end[k, 0] * d[0] + end[k, 1] * d[1] + end[k, 2] * d[2]
+    return ax, ay, bx, by, za, zb
 
 
 @njit(inline="always")
@@ -272,12 +294,7 @@ def _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, query
             else:
                 pix[q] = -1  # outside the frame: in the open
         for k in range(offsets[p], offsets[p + 1]):
-            ax = (start[k, 0] * u[0] + start[k, 1] * u[1] + start[k, 2] * u[2] - ox) * inv
-            ay = (start[k, 0] * v[0] + start[k, 1] * v[1] + start[k, 2] * v[2] - oy) * inv
-            bx = (end[k, 0] * u[0] + end[k, 1] * u[1] + end[k, 2] * u[2] - ox) * inv
-            by = (end[k, 0] * v[0] + end[k, 1] * v[1] + end[k, 2] * v[2] - oy) * inv
-            za = start[k, 0] * d[0] + start[k, 1] * d[1] + start[k, 2] * d[2]
-            zb = end[k, 0] * d[0] + end[k, 1] * d[1] + end[k, 2] * d[2]
+            ax, ay, bx, by, za, zb = project_segment(start, end, k, u, v, d, ox, oy, inv)
             _walk(k, ax, ay, bx, by, za, zb, radius[k] * inv, res, head, nxt, qz, own, bias,
                   soft, trans[k] if soft else 1.0, best_z, best_id, expo)  # fmt: skip
         for q in range(q0, q1):

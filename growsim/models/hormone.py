@@ -93,9 +93,7 @@ GENES = tuple(
 )
 
 PARAMS: tuple[Param, ...] = (
-    SETTINGS
-    + tuple(Param(n, 0.0, 1e6, d, doc=doc) for n, d, doc in CONSTANTS)
-    + GENES
+    SETTINGS + tuple(Param(n, 0.0, 1e6, d, doc=doc) for n, d, doc in CONSTANTS) + GENES
 )
 
 
@@ -199,9 +197,7 @@ def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Pla
             n, cap, dims, walls, parent, R, length, radius, nutrient, chlorophyll, lignin,
             apex, laterals, hormone, wall_light, met, g, c,
         )  # fmt: skip
-        finite = all(
-            np.all(np.isfinite(a[:n_new])) for a in (R, length, radius, nutrient, hormone)
-        )
+        finite = all(np.all(np.isfinite(a[:n_new])) for a in (R, length, radius, nutrient, hormone))
         if not finite:
             stopped = "nan"
             n_new = n
@@ -267,10 +263,8 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None) -
     >>> plant.n_segments > 10, plant.meta["stopped"] in ("", "cap", "broken")
     (True, True)
     """
-    plant = None
-    for plant in grow(params, env=env):
-        pass
-    return plant
+    *_, last = grow(params, env=env)
+    return last
 
 
 class Hormone(Model):

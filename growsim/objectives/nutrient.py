@@ -3,8 +3,9 @@ and Endo, "Plants that acquire a 3D structure by adapting to the environment").
 
 ``score = sum_m nutrient_m`` over the modules of a plant grown by a model that keeps a
 per-module ``data["nutrient"]`` (the hormone model, :mod:`growsim.models.hormone`; a
-plant of a model that keeps none holds none: 0). A plant that stopped on a NaN (``meta["stopped"] == "nan"``) scores NaN, which the GA counts
-as a failure and scores worst. Terms: ``nutrient`` (the score), ``modules`` (the count).
+plant of a model that keeps none holds none: 0). A plant that stopped on a NaN
+(``meta["stopped"] == "nan"``) scores NaN, which the GA counts as a failure and scores
+worst. Terms: ``nutrient`` (the score), ``modules`` (the count).
 """
 
 from __future__ import annotations
