@@ -67,7 +67,7 @@ class ModelConfig(Options):
         default_factory=dict,
         description="parameters the GA evolves: name = true (the model's range) or "
         "[low, high] (a range inside the model's range); a name may be a shell-style "
-        "pattern (\"h*_w?\" = true: every parameter it matches); at least one",
+        'pattern ("h*_w?" = true: every parameter it matches); at least one',
     )
     noise: Literal["fixed", "per-evaluation"] = Field(
         "fixed",

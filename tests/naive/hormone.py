@@ -57,7 +57,7 @@ def step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient, chloro
     for m in range(n):
         v = wall_frame(R[m], walls, dims)
         L, r = length[m], radius[m]
-        area = (2 * math.pi * r * L / walls if dims == 3 else r * L)
+        area = 2 * math.pi * r * L / walls if dims == 3 else r * L
         area *= 1 + c[K.C_EXPAND] * mean_h[m, 9]
         li = wall_light[m, :walls]
         photo = np.sum(area * li * (1 + c[K.C_HALF_SAT]) / (li + c[K.C_HALF_SAT]))
