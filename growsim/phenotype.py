@@ -35,7 +35,10 @@ from growsim.registry import Registry
 __all__ = ["PHENOTYPES", "Phenotype", "load_phenotype", "saved_kind"]
 
 #: phenotype kind -> class. One line per kind.
-PHENOTYPES: Registry[type[Phenotype]] = Registry("phenotype", {"plant": "growsim.plant:Plant"})
+PHENOTYPES: Registry[type[Phenotype]] = Registry(
+    "phenotype",
+    {"plant": "growsim.plant:Plant", "trajectory": "growsim.trajectory:Trajectory"},
+)
 
 
 class Phenotype(abc.ABC):

@@ -94,7 +94,7 @@ def test_preset_values_are_used_and_params_override_them():
         ),
         (cfg_with(output__mesh=["stl"]), "output.mesh[0]: Input should be 'vtp', 'ply'"),
         (cfg_with(output__size=[8, 8]), "output.size"),
-        (cfg_with(model__kind="oak"), "model.kind: unknown model 'oak'; available: honda"),
+        (cfg_with(model__kind="oak"), "model.kind: unknown model 'oak'; available: fish, honda"),
         (cfg_with(model__preset="oak"), "model.preset: unknown preset 'oak' of model 'honda'"),
         (
             cfg_with(model__params={"zz": 1.0}),

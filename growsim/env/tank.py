@@ -1,18 +1,40 @@
 """The tank: ``[environment.tank]``, a box with obstacles for agents that swim (the fish).
 
-A tank is an axis-aligned box ``[0, size]`` (x, y up, z) holding spheres and cubes.
+A tank is an axis-aligned box ``[0, size]`` (x across, y up, z deep) holding spheres and
+cubes. :data:`TANKS` holds the three tanks of seed 001 (Okusa, "GA-tuned path control of
+a fish agent": small 300 x 400 x 300, medium 400 x 600 x 300, large 800 x 800 x 800, W x H
+x D) with one obstacle layout, :data:`LAYOUT`, the same in all three as in the seed (which
+does not give its layout; ours is documented in ``docs/models/fish.md``). A preset fills
+``size`` and ``obstacles`` unless they are given. ``margin`` is the distance from every
+wall inside which a fish starts (40 px in the seed): every side must exceed twice it.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Literal
+from typing import Any, Literal
 
+import numpy as np
 from pydantic import Field, field_validator, model_validator
 
 from growsim.options import Options
 
-__all__ = ["Obstacle", "Tank"]
+__all__ = ["LAYOUT", "TANKS", "Obstacle", "Tank"]
+
+#: the obstacle layout of the preset tanks (the same in all three, as in the seed): a
+#: sphere low in one corner and a cube high in the opposite one, placed to fit the small
+#: tank; ``size`` is the radius or half the edge
+LAYOUT: tuple[dict[str, Any], ...] = (
+    {"shape": "sphere", "center": [90.0, 130.0, 90.0], "size": 20.0},
+    {"shape": "cube", "center": [210.0, 270.0, 210.0], "size": 15.0},
+)
+
+#: the seed's three tanks (inner size [x, y up, z] in pixels)
+TANKS: dict[str, list[float]] = {
+    "small": [300.0, 400.0, 300.0],
+    "medium": [400.0, 600.0, 300.0],
+    "large": [800.0, 800.0, 800.0],
+}
 
 
 def _finite(v: list[float], positive: bool = False) -> list[float]:
@@ -44,18 +66,44 @@ class Obstacle(Options):
 
 
 class Tank(Options):
-    """``[environment.tank]``: the box ``[0, size]`` and its obstacles.
+    """``[environment.tank]``: the box ``[0, size]``, its obstacles and the start margin.
 
     Examples
     --------
     >>> Tank(size=[300, 400, 300]).obstacles
     []
+    >>> t = Tank.model_validate({"preset": "medium"})
+    >>> t.size, len(t.obstacles), t.margin
+    ([400.0, 600.0, 300.0], 2, 40.0)
+    >>> size, spheres, cubes = t.arrays()
+    >>> spheres.shape, cubes.shape
+    ((1, 4), (1, 4))
     """
 
+    preset: Literal[tuple(TANKS)] | None = Field(  # type: ignore[valid-type]
+        None,
+        description="one of the seed's tanks (small 300x400x300, medium 400x600x300, large "
+        "800x800x800) with the documented obstacle layout; size and obstacles given "
+        "replace the preset's",
+    )
     size: list[float] = Field(
-        min_length=3, max_length=3, description="inner size [x, y, z] of the tank"
+        min_length=3, max_length=3, description="inner size [x, y, z] of the tank (y is up)"
     )
     obstacles: list[Obstacle] = Field(default_factory=list, description="obstacles in the tank")
+    margin: float = Field(
+        40.0, ge=0.0, description="a fish starts at least this far from every wall (pixels)"
+    )
+
+    @model_validator(mode="before")
+    @classmethod
+    def _preset(cls, data: Any) -> Any:
+        if isinstance(data, dict) and isinstance(data.get("preset"), str):
+            name = data["preset"]
+            if name in TANKS:
+                data = dict(data)
+                data.setdefault("size", list(TANKS[name]))
+                data.setdefault("obstacles", [dict(o) for o in LAYOUT])
+        return data
 
     @field_validator("size")
     @classmethod
@@ -64,9 +112,26 @@ class Tank(Options):
 
     @model_validator(mode="after")
     def _inside(self):
+        if self.margin > 0 and not all(s > 2.0 * self.margin for s in self.size):
+            raise ValueError(
+                f"size: {self.size} is too small for the start margin of {self.margin:g} px "
+                f"(every side must exceed {2.0 * self.margin:g})"
+            )
         for i, ob in enumerate(self.obstacles):
             if not all(0.0 <= c <= s for c, s in zip(ob.center, self.size)):
                 raise ValueError(
                     f"obstacles[{i}]: centre {ob.center} is outside the tank [0, {self.size}]"
                 )
         return self
+
+    def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The tank as the fish kernels take it: ``size (3,)``, spheres ``(k, 4)`` and cubes
+        ``(m, 4)`` (``[cx, cy, cz, radius or half edge]``)."""
+        rows = {"sphere": [], "cube": []}
+        for ob in self.obstacles:
+            rows[ob.shape].append([*ob.center, ob.size])
+        return (
+            np.asarray(self.size, dtype=np.float64),
+            np.asarray(rows["sphere"], dtype=np.float64).reshape(-1, 4),
+            np.asarray(rows["cube"], dtype=np.float64).reshape(-1, 4),
+        )

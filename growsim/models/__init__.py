@@ -17,6 +17,7 @@ MODELS: Registry[Model] = Registry(
     {
         "honda": "growsim.models.honda:MODEL",
         "ifs3d": "growsim.models.ifs3d:MODEL",
+        "fish": "growsim.models.fish:MODEL",
         "hormone": "growsim.models.hormone:MODEL",
     },
 )

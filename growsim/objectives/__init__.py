@@ -18,6 +18,7 @@ OBJECTIVES: Registry[type[Objective]] = Registry(
     {
         "silhouette": "growsim.objectives.silhouette:SilhouetteObjective",
         "light": "growsim.objectives.light:LightObjective",
+        "collisions": "growsim.objectives.collisions:CollisionsObjective",
         "nutrient": "growsim.objectives.nutrient:NutrientObjective",
     },
 )
