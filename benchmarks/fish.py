@@ -34,8 +34,8 @@ SEED = {  # Table 3 (generation bins) and Table 4 (means) of the seed
     "large": {"generations": 5.25, "bins": [12, 4, 4, 0, 0], "scale": 8.12, "view": 78.05,
               "speed": 11.58, "angle": 147.3},
 }  # fmt: skip
-#: the whole tank table is varied: ``environment.tank.preset`` alone would not replace the
-#: size and obstacles a run's resolved config already holds
+#: the whole tank table is varied (``--vary environment.tank.preset=small,medium,large``
+#: gives the same tanks: a tank that is its preset's is saved as the preset alone)
 TANKS_VARY = 'environment.tank=[{preset="small"}, {preset="medium"}, {preset="large"}]'
 BINS = ["0-5", "6-10", "11-15", "16-20", "21+"]
 

@@ -282,3 +282,32 @@ def test_default_tank_is_the_small_preset():
     assert default_tank().size == [300.0, 400.0, 300.0]
     with pytest.raises(ConfigError, match="too small"):
         Tank.parse({"size": [80, 100, 100]}, where="environment.tank.")
+
+
+def test_a_tank_preset_can_be_varied_after_the_config_is_resolved():
+    # a tank that is its preset's is saved as the preset alone, so a sweep's --vary of the
+    # preset on a resolved config changes the size and the obstacles too
+    from growsim.env.tank import TANKS, Tank
+    from growsim.experiment import load_config
+
+    assert Tank.model_validate({"preset": "small"}).model_dump() == {
+        "preset": "small",
+        "margin": 40.0,
+    }
+    own = Tank.model_validate({"preset": "small", "size": [500, 500, 500]}).model_dump()
+    assert own["size"] == [500.0, 500.0, 500.0]  # a size of one's own is kept
+    for name in TANKS:
+        cfg = load_config("experiments/fish_tank.toml", [f'environment.tank.preset="{name}"'])
+        assert cfg.environment.tank.size == list(TANKS[name])
+
+
+def test_grow_renders_and_saves_a_trajectory(tmp_path):
+    from growsim.cli import main
+    from growsim.phenotype import load_phenotype
+
+    png, npz = tmp_path / "fish.png", tmp_path / "fish.npz"
+    assert main(["grow", "fish", "--preset", "calm", "--screenshot", str(png), "--size", "64",
+                 "--save", str(npz)]) == 0  # fmt: skip
+    assert png.stat().st_size > 0 and load_phenotype(npz).phenotype == "trajectory"
+    assert main(["grow", "fish", "--preset", "calm", "--export", str(tmp_path / "x.vtp")]) == 2
+    assert not (tmp_path / "x.vtp").exists()

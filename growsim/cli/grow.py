@@ -188,7 +188,9 @@ def run_grow(args: argparse.Namespace) -> int:
     ):
         raise UserInputError(f"--export {args.export}: use .vtp, .ply, .obj or .glb")
     # models default their own seed (honda: its ``seed`` parameter); pass one only if given
-    plant = model.develop(params, seed=args.seed)
+    plant = model.develop(params, seed=args.seed, env=env)
+    if model.phenotype != "plant":
+        return _report_other(args, plant, params)
 
     from growsim.mesh import mesh_arrays
 
@@ -237,6 +239,36 @@ def run_grow(args: argparse.Namespace) -> int:
             f"height {info['measures']['height']:.3g}"
         )
         for opt, path in (("mesh", args.export), ("image", args.screenshot), ("plant", args.save)):
+            if path is not None:
+                print(f"  {opt}: {path}")
+    return 0
+
+
+def _report_other(args: argparse.Namespace, phenotype, params) -> int:
+    """``grow``'s outputs for a phenotype that is not a plant (a fish's trajectory): its
+    own render, save and measures; meshes and colouring are for plants."""
+    kind = phenotype.phenotype
+    for opt, given in (("--export", args.export), ("--color", args.color)):
+        if given is not None:
+            raise UserInputError(f"{opt}: {args.model} grows a {kind}, not a plant")
+    if args.screenshot is not None:
+        phenotype.screenshot(args.screenshot, view=args.view, size=args.size)
+    if args.save is not None:
+        phenotype.save(args.save)
+    info = {
+        "model": args.model,
+        "preset": args.preset,
+        "phenotype": kind,
+        "params": {k: (int(v) if float(v).is_integer() else v) for k, v in params.items()},
+        "measures": phenotype.measures(),
+    }
+    if args.json:
+        json.dump(info, sys.stdout, indent=2, default=float)
+        sys.stdout.write("\n")
+    else:
+        shown = ", ".join(f"{k} {v:.4g}" for k, v in list(info["measures"].items())[:4])
+        print(f"{args.model}{' ' + args.preset if args.preset else ''}: a {kind}; {shown}")
+        for opt, path in (("image", args.screenshot), (kind, args.save)):
             if path is not None:
                 print(f"  {opt}: {path}")
     return 0

@@ -15,7 +15,7 @@ import math
 from typing import Any, Literal
 
 import numpy as np
-from pydantic import Field, field_validator, model_validator
+from pydantic import Field, field_validator, model_serializer, model_validator
 
 from growsim.options import Options
 
@@ -123,6 +123,21 @@ class Tank(Options):
                     f"obstacles[{i}]: centre {ob.center} is outside the tank [0, {self.size}]"
                 )
         return self
+
+    @model_serializer(mode="wrap")
+    def _as_preset(self, handler):
+        """A tank that is its preset's is written as the preset alone, so a config saved
+        with it (a run's ``config.toml``) still follows a later change of the preset (a
+        sweep's ``--vary environment.tank.preset=...``)."""
+        out = handler(self)
+        if (
+            self.preset is not None
+            and list(self.size) == list(TANKS[self.preset])
+            and [o.model_dump() for o in self.obstacles] == [dict(o) for o in LAYOUT]
+        ):
+            out.pop("size", None)
+            out.pop("obstacles", None)
+        return out
 
     def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The tank as the fish kernels take it: ``size (3,)``, spheres ``(k, 4)`` and cubes
