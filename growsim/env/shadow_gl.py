@@ -5,8 +5,8 @@ Same contract, rules and frames as the numba kernels
 :func:`growsim.kernels.light.point_exposure_kernel` (see :mod:`growsim.kernels.light`):
 every plant gets its own ``res`` x ``res`` map in the frame of
 :func:`growsim.kernels.light.plant_frames`; segment ``k`` covers the pixels whose centre
-lies within ``R = max(radius[k] / pix, MIN_RADIUS_PIXELS)`` pixels of its projected axis
-(:data:`MIN_RADIUS_PIXELS` is 0, the true radius, as in the numba kernels), with the depth
+lies within ``R = radius[k] / pix`` pixels of its projected axis (the true radius, as in
+the numba kernels), with the depth
 of the axis point nearest the pixel centre; each pixel keeps the nearest depth and that
 segment's index; a sample is lit when outside the frame, on an empty pixel, on a pixel
 its own segment holds, or when ``z - depth <= bias_pixels * pix``.
@@ -75,16 +75,12 @@ __all__ = [
     "ATLAS_SIDE",
     "CHUNK_SAMPLES",
     "CHUNK_SEGMENTS",
-    "MIN_RADIUS_PIXELS",
     "PAD_PIXELS",
     "point_exposure_gl",
     "renderer",
     "segment_exposure_gl",
 ]
 
-#: smallest capsule radius, in pixels: must be the numba kernels' rule
-#: (:mod:`growsim.kernels.light`: 0, capsules at their true radius)
-MIN_RADIUS_PIXELS = 0.0
 #: largest side of the tile atlas, in texels (depth + id: 8 bytes a texel, 128 MiB at 4096)
 ATLAS_SIDE = 4096
 #: the capsule's rectangle is grown by this many pixels each way, so that pixel centres on
@@ -384,7 +380,7 @@ def _vertices(start, end, radius, offsets, frames, u, v, d, p0, p1, c0, c1, cols
         ty = float((tile // cols) * res)
         for k in range(k0, k1):
             ax, ay, bx, by, za, zb = project_segment(start, end, k, u, v, d, ox, oy, inv)
-            rr = max(radius[k] * inv, MIN_RADIUS_PIXELS)
+            rr = radius[k] * inv
             for c in range(4 * (k - c0), 4 * (k - c0) + 4):
                 out[c, 0] = ax
                 out[c, 1] = ay
