@@ -11,7 +11,6 @@ the start); :meth:`Trajectory.animation` writes the swim as a GIF.
 
 from __future__ import annotations
 
-import contextlib
 import json
 import os
 from pathlib import Path
@@ -39,23 +38,6 @@ FISH_COLORS = ((0.95, 0.55, 0.05), (0.20, 0.45, 0.85), (0.85, 0.20, 0.55), (0.35
 #: smallest side
 CIRCLING_TURNING = 0.5
 CIRCLING_EXTENT = 0.25
-
-
-@contextlib.contextmanager
-def _offscreen(w: int, h: int):
-    import pyvista as pv
-    from vtkmodules.vtkCommonCore import vtkObject
-
-    shown = vtkObject.GetGlobalWarningDisplay()
-    vtkObject.GlobalWarningDisplayOff()
-    pl = None
-    try:
-        pl = pv.Plotter(off_screen=True, window_size=(w, h))
-        yield pl
-    finally:
-        if pl is not None:
-            pl.close()
-        vtkObject.SetGlobalWarningDisplay(shown)
 
 
 class Trajectory(Phenotype):
@@ -284,10 +266,10 @@ class Trajectory(Phenotype):
         >>> develop({"frames": 200}).render_image(view="top", size=(64, 48)).shape
         (48, 64, 3)
         """
-        from growsim.viz import check_size
+        from growsim.viz import check_size, offscreen_plotter
 
         w, h = check_size(size)
-        with _offscreen(w, h) as pl:
+        with offscreen_plotter(w, h) as pl:
             pl.set_background("white")
             self._static(pl)
             self._path(pl)
@@ -323,7 +305,7 @@ class Trajectory(Phenotype):
         import imageio.v2 as imageio
         import pyvista as pv
 
-        from growsim.viz import check_size
+        from growsim.viz import check_size, offscreen_plotter
 
         path = Path(path)
         if path.suffix.lower() != ".gif":
@@ -337,7 +319,7 @@ class Trajectory(Phenotype):
         colour = FISH_COLORS[int(self.params.get("color", 0)) % len(FISH_COLORS)]
         out = []
         ends = np.linspace(1, len(self.positions), frames).astype(int)
-        with _offscreen(w, h) as pl:
+        with offscreen_plotter(w, h) as pl:
             for end in ends:
                 pl.clear()
                 pl.set_background("white")

@@ -10,7 +10,7 @@ rename). The views (:data:`VIEWS`) and the size limits (:data:`MIN_SIZE`,
 The environment on a plant: :func:`render_image`, :func:`screenshot` and :func:`show` take
 ``color=`` one of :data:`COLORS` (``"light"``, ``"stress"``, ``"water"``) and an
 ``env`` (:class:`growsim.env.Environment`): each segment is painted flat by its value in
-``env.segment_table(plant)`` (:func:`segment_colors`, scales in :func:`color_scale`) with a
+``env.segment_table(plant)`` (:mod:`growsim.colors`: the fields, their scales, the arrow) with a
 labelled scalar bar, and ``light_arrow`` draws the light's direction (an arrow from the
 light's side into the plant; on by default when colouring by light). ``growsim grow
 --color`` and ``growsim show --color`` are these.
@@ -21,11 +21,20 @@ from __future__ import annotations
 import contextlib
 import os
 from collections.abc import Sequence
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from growsim.colors import (
+    ARROW_RGB,
+    COLORS,
+    NAN_RGB,
+    check_color,
+    color_scale,
+    environment_or_default,
+    light_arrow_mesh,
+    segment_colors,
+)
 from growsim.errors import UserInputError
 from growsim.files import atomic_path, atomic_write
 from growsim.plant import Plant
@@ -35,16 +44,13 @@ __all__ = [
     "MAX_SIZE",
     "MIN_SIZE",
     "VIEWS",
-    "ColorScale",
-    "check_color",
     "check_size",
-    "color_scale",
     "growth_animation",
+    "offscreen_plotter",
     "plot_fitness",
     "render_grid",
     "render_image",
     "screenshot",
-    "segment_colors",
     "show",
     "turntable",
 ]
@@ -66,12 +72,6 @@ MAX_SIZE = 4096
 _BARK = (0.43, 0.32, 0.23)
 _LEAF = (0.29, 0.55, 0.23)
 
-#: the fields a view can colour a plant's segments by (``--color``): the light each
-#: receives, the stress ratio at its joint, the share of its water demand met
-COLORS = ("light", "stress", "water")
-
-_NAN_RGB = (0.78, 0.78, 0.78)  # segments a field does not judge: light grey
-_ARROW_RGB = (0.93, 0.55, 0.05)  # the light arrow: orange
 _LEGEND_MARGIN = 0.16  # share of the image height kept free for the scalar bar
 
 
@@ -87,155 +87,6 @@ def _mesh_of(plant_or_mesh, sides=6, segments=1):
     raise UserInputError(f"expected a Plant or a pyvista mesh, got {type(plant_or_mesh).__name__}")
 
 
-@dataclass(frozen=True)
-class ColorScale:
-    """How a field of :data:`COLORS` is painted: the ``column`` of
-    :meth:`growsim.env.Environment.segment_table` it shows, the scalar bar's ``title``, a
-    matplotlib colormap ``cmap`` over ``clim``, the colour of values above the range
-    (``above_color``, ``above_label`` beside the bar; ``None``: clipped to the top colour)
-    and what the grey of a segment without a value means (``nan_label``, beside the bar;
-    ``None``: every segment has one).
-    """
-
-    field: str
-    column: str
-    title: str
-    cmap: str
-    clim: tuple[float, float]
-    above_color: str | None = None
-    above_label: str | None = None
-    nan_label: str | None = None
-
-
-def check_color(color, label: str = "color") -> str | None:
-    """``color`` if it is ``None`` or one of :data:`COLORS`, else :class:`UserInputError`
-    naming ``label`` (the option).
-
-    Examples
-    --------
-    >>> check_color("light"), check_color(None)
-    ('light', None)
-    >>> check_color("heat", "--color")
-    Traceback (most recent call last):
-    ...
-    growsim.errors.UserInputError: --color 'heat': unknown field; choose from light, stress, water
-    """
-    if color is None or (isinstance(color, str) and color in COLORS):
-        return color
-    raise UserInputError(f"{label} {color!r}: unknown field; choose from {', '.join(COLORS)}")
-
-
-def _environment(env):
-    from growsim.env import Environment
-
-    if env is None:
-        return Environment()
-    if not isinstance(env, Environment):
-        raise UserInputError(f"env: expected a growsim Environment, got {type(env).__name__}")
-    return env
-
-
-def color_scale(color: str, env=None) -> ColorScale:
-    """The :class:`ColorScale` of field ``color`` (one of :data:`COLORS`) under ``env``
-    (default ``Environment()``):
-
-    - ``light``: the light received, ``0 .. env.light.intensity``, dark to bright
-      (``inferno``);
-    - ``stress``: the stress ratio at each stem's joint, ``0 .. 1`` (``cividis``); a joint
-      that breaks (ratio ``>= 1``) is red, marked ``>= 1 breaks`` beside the bar; leaves
-      are not judged (grey);
-    - ``water``: the share of each segment's water demand met, ``0 .. 1`` (``viridis``);
-      segments that demand nothing (stems, leaves in full shade) are grey.
-
-    Examples
-    --------
-    >>> from growsim.env import Environment
-    >>> s = color_scale("light", Environment.model_validate({"light": 0.5}))
-    >>> s.column, s.clim, s.cmap
-    ('light', (0.0, 0.5), 'inferno')
-    >>> color_scale("stress").above_label
-    '>= 1 breaks'
-    """
-    color = check_color(color)
-    if color is None:
-        raise UserInputError("color: choose a field from " + ", ".join(COLORS))
-    env = _environment(env)
-    if color == "light":
-        top = float(env.light.intensity) or 1.0
-        return ColorScale("light", "light", "light received", "inferno", (0.0, top))
-    if color == "stress":
-        return ColorScale(
-            "stress",
-            "stress_ratio",
-            "stress ratio (bending stress / strength)",
-            "cividis",
-            (0.0, 1.0),
-            above_color="red",
-            above_label=">= 1 breaks",
-            nan_label="leaf",
-        )
-    return ColorScale(
-        "water", "water_met", "water: share of demand met", "viridis", (0.0, 1.0),
-        nan_label="no demand",
-    )  # fmt: skip
-
-
-def segment_colors(plant, color: str, env=None) -> np.ndarray:
-    """``(n,)`` float64: the value of field ``color`` (one of :data:`COLORS`) each segment
-    of ``plant`` is painted with, from ``env.segment_table(plant)`` (default environment:
-    ``Environment()``); NaN where the field does not judge a segment (painted grey): the
-    leaves for ``stress``, the segments without water demand for ``water``.
-
-    Examples
-    --------
-    >>> from growsim.models import honda
-    >>> tree = honda.develop(honda.PRESETS["zelkova"])
-    >>> stress = segment_colors(tree, "stress")
-    >>> bool(np.isnan(stress[tree.kind == 1]).all()), bool(np.nanmax(stress) < 1)
-    (True, True)
-    """
-    from growsim.plant import LEAF
-
-    scale = color_scale(color, env)
-    if not isinstance(plant, Plant):
-        raise UserInputError(
-            f"color {color!r}: colouring needs a Plant (its segments), got {type(plant).__name__}"
-        )
-    table = _environment(env).segment_table(plant)
-    values = table[scale.column].to_numpy(dtype=np.float64, copy=True)
-    if color == "stress":
-        values[plant.kind == LEAF] = np.nan
-    elif color == "water":
-        no_demand = (table["water"].to_numpy() == 0) & (table["water_met"].to_numpy() == 1)
-        values[no_demand] = np.nan
-    return values
-
-
-def _light_arrow(bounds, direction):
-    """An arrow (pyvista mesh) outside ``bounds`` on the light's side, pointing along the
-    light's ``direction`` into the plant."""
-    import pyvista as pv
-
-    d = np.asarray(direction, float)
-    d = d / np.linalg.norm(d)
-    b = np.asarray(bounds, float).reshape(3, 2)
-    centre, half = b.mean(1), np.maximum((b[:, 1] - b[:, 0]) / 2.0, 0.0)
-    radius = max(float(np.linalg.norm(half)), 1e-6)
-    # distance from the centre to the box's surface, going towards the light
-    with np.errstate(divide="ignore"):
-        exit_at = float(np.min(np.where(np.abs(d) > 1e-12, half / np.abs(d), np.inf)))
-    length = 0.4 * radius
-    tip = centre - d * (exit_at + 0.06 * radius)
-    return pv.Arrow(
-        start=tip - d * length,
-        direction=d,
-        scale=length,
-        tip_length=0.3,
-        tip_radius=0.12,
-        shaft_radius=0.045,
-    )
-
-
 def _union(a, b):
     a, b = np.asarray(a, float).reshape(3, 2), np.asarray(b, float).reshape(3, 2)
     return np.stack([np.minimum(a[:, 0], b[:, 0]), np.maximum(a[:, 1], b[:, 1])], 1).ravel()
@@ -249,7 +100,7 @@ def _scene(pl, plant_or_mesh, color=None, env=None, light_arrow=None, legend=Tru
     color = check_color(color)
     if light_arrow is None:
         light_arrow = color == "light"
-    env = _environment(env) if (color is not None or light_arrow) else None
+    env = environment_or_default(env) if (color is not None or light_arrow) else None
     margin = 0.0
     if color is None:
         mesh = _mesh_of(plant_or_mesh)
@@ -282,7 +133,7 @@ def _scene(pl, plant_or_mesh, color=None, env=None, light_arrow=None, legend=Tru
                 preference="cell",
                 cmap=scale.cmap,
                 clim=scale.clim,
-                nan_color=_NAN_RGB,
+                nan_color=NAN_RGB,
                 above_color=scale.above_color,
                 show_scalar_bar=bool(legend),
                 scalar_bar_args=bar,
@@ -297,8 +148,8 @@ def _scene(pl, plant_or_mesh, color=None, env=None, light_arrow=None, legend=Tru
                     pl.scalar_bar.SetNanAnnotation(scale.nan_label)
     bounds = mesh.bounds if mesh.n_points else None
     if light_arrow and bounds is not None:
-        arrow = _light_arrow(bounds, env.light.direction)
-        pl.add_mesh(arrow, color=_ARROW_RGB, ambient=0.3)
+        arrow = light_arrow_mesh(bounds, env.light.direction)
+        pl.add_mesh(arrow, color=ARROW_RGB, ambient=0.3)
         bounds = _union(bounds, arrow.bounds)
     return bounds, {"bottom": margin, "tight": color is not None or bool(light_arrow)}
 
@@ -330,7 +181,7 @@ def check_size(size, label: str = "size") -> tuple[int, int]:
 
 
 @contextlib.contextmanager
-def _offscreen(w: int, h: int):
+def offscreen_plotter(w: int, h: int):
     """An off-screen pyvista Plotter of ``w x h`` pixels, closed on exit. VTK's warnings are
     off meanwhile (the global switch, restored after): without an X display VTK prints a
     coloured "bad X server connection" warning on every render, which means nothing for an
@@ -439,7 +290,7 @@ def render_image(
     (64, 64, 3)
     """
     w, h = check_size(size)
-    with _offscreen(w, h) as pl:
+    with offscreen_plotter(w, h) as pl:
         pl.set_background(background)
         bounds, framing = _scene(pl, plant_or_mesh, color, env, light_arrow, legend)
         if bounds is not None:
@@ -573,7 +424,7 @@ def turntable(
     w, h = check_size(size)
     mesh = _mesh_of(plant_or_mesh)
     out = []
-    with _offscreen(w, h) as pl:
+    with offscreen_plotter(w, h) as pl:
         pl.set_background("white")
         _add(pl, mesh)
         el = np.radians(elevation)
@@ -617,7 +468,7 @@ def growth_animation(
     bounds = np.stack([b[:, :, 0].min(0), b[:, :, 1].max(0)], axis=1).ravel()
     out = []
     for m in meshes:
-        with _offscreen(w, h) as pl:
+        with offscreen_plotter(w, h) as pl:
             pl.set_background("white")
             _add(pl, m)
             _camera(pl, bounds, view)

@@ -14,7 +14,7 @@ import pandas as pd
 import pytest
 from PIL import Image
 
-from growsim import viz
+from growsim import colors, viz
 from growsim.cli import main
 from growsim.env import Environment
 from growsim.env.environment import SEGMENT_COLUMNS
@@ -122,17 +122,17 @@ def test_fields_ride_on_the_mesh_and_not_judged_segments_are_grey(tree):
     np.testing.assert_array_equal(merged.cell_data["v"], values[seg])
     with pytest.raises(UserInputError, match="one value per segment"):
         plant_mesh(tree, fields={"v": values[:-1]})
-    stress = viz.segment_colors(tree, "stress")
+    stress = colors.segment_colors(tree, "stress")
     assert np.isnan(stress[tree.kind == LEAF]).all()
     assert np.isfinite(stress[tree.kind == STEM]).all()
-    water = viz.segment_colors(tree, "water", FROM_MINUS_X)
+    water = colors.segment_colors(tree, "water", FROM_MINUS_X)
     table = FROM_MINUS_X.segment_table(tree)
     demand = table.light.to_numpy() * (tree.kind == LEAF)
     assert np.isnan(water[demand == 0]).all()
     np.testing.assert_array_equal(water[demand > 0], table.water_met[demand > 0])
-    light = viz.segment_colors(tree, "light", FROM_MINUS_X)
+    light = colors.segment_colors(tree, "light", FROM_MINUS_X)
     np.testing.assert_array_equal(light, table.light)
-    scale = viz.color_scale("light", Environment.model_validate({"light": 0.25}))
+    scale = colors.color_scale("light", Environment.model_validate({"light": 0.25}))
     assert scale.clim == (0.0, 0.25)
     with pytest.raises(UserInputError, match="heat"):
         viz.render_image(tree, color="heat", size=(32, 32))
@@ -197,7 +197,7 @@ def test_unknown_color_is_refused_by_the_parser(tmp_path, capsys):
         assert exc.value.code == 2
         err = capsys.readouterr().err
         assert err.startswith("growsim: error:") and "--color" in err and "heat" in err
-        assert all(name in err for name in viz.COLORS)
+        assert all(name in err for name in colors.COLORS)
     assert os.listdir(tmp_path) == []
 
 
