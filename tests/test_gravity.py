@@ -8,11 +8,12 @@ import numpy as np
 import pytest
 from naive.gravity import first_break_kernel as first_break_oracle
 from naive.gravity import loads_kernel as loads_oracle
+from naive.gravity import radius_end_kernel as radius_end_oracle
 
 from growsim.env import Environment
 from growsim.env.gravity import Gravity
 from growsim.errors import UserInputError
-from growsim.kernels.gravity import first_break_kernel, loads_kernel
+from growsim.kernels.gravity import first_break_kernel, loads_kernel, radius_end_kernel
 from growsim.models import honda
 from growsim.plant import LEAF, STEM, Plant
 
@@ -52,6 +53,18 @@ def test_loads_kernel_matches_oracle(seed):
     assert (
         first_break_kernel(ratio, offsets).tolist() == first_break_oracle(ratio, offsets).tolist()
     )
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_radius_end_kernel_matches_oracle(seed):
+    rng = np.random.default_rng(seed)
+    n = 60
+    parent = np.array([-1] + [int(rng.integers(0, i)) for i in range(1, n)], np.int64)
+    kind = rng.integers(0, 2, n).astype(np.int8)
+    radius = rng.uniform(0.0, 1.0, n)
+    got = radius_end_kernel(parent, kind, radius, np.empty(n))
+    np.testing.assert_array_equal(got, radius_end_oracle(parent, kind, radius))
+    assert np.any(got < radius)  # some segments narrow to a child
 
 
 def test_first_break_kernel_ties_and_empty_plants():

@@ -124,6 +124,49 @@ def test_module_cap_break_and_nan_stop_the_plant():
         assert np.isnan(obj(blown))
 
 
+def _rows(params_list):
+    rows = [hormone.resolve_params(hormone.PARAMS, p) for p in params_list]
+    return np.array([list(r.values()) for r in rows]), list(rows[0])
+
+
+@pytest.mark.parametrize("dims", [2, 3])
+def test_population_path_grows_the_same_plants(dims):
+    # random genomes, a capped one, a weak one that breaks: the one-call population path
+    # gives each plant's total, module count, stop and module-steps as grow() does
+    rng = np.random.default_rng(dims)
+    base = {**hormone.PRESETS[f"demo_{dims}d"], "steps": 14, "max_modules": 5}
+    params = [base, {**base, "strength_young": 3e3}]
+    for _ in range(5):
+        params.append({**base, **{p.name: float(rng.uniform(p.low, p.high))
+                                  for p in hormone.GENES}})  # fmt: skip
+    rows, names = _rows(params)
+    for env in (SKY, SKY.model_copy(update={"light": SKY.light.model_copy(
+            update={"shadows": "soft"})})):  # fmt: skip
+        table = hormone.population(rows, names, env)
+        for i, p in enumerate(params):
+            plants = list(hormone.grow(p, env=env))
+            last = plants[-1]
+            want = last.meta["total_nutrient"]
+            got = table.total_nutrient[i]
+            assert got == want or (np.isnan(got) and np.isnan(want)), i
+            assert table.modules[i] == last.n_segments, i
+            assert table.stopped[i] == last.meta["stopped"], i
+            assert table.module_steps[i] == sum(q.n_segments for q in plants), i
+        assert {"cap", "broken"} <= set(table.stopped)
+    # the objective's population path scores as the plant by plant path
+    obj = NutrientObjective(env=SKY)
+    fast = obj.batch(hormone.MODEL, rows, names)
+    slow = [obj(hormone.develop(p, env=SKY)) for p in params]
+    np.testing.assert_array_equal(fast, slow)
+    # settings that differ between rows: no population path
+    mixed, _ = _rows([base, {**base, "steps": 5}])
+    assert hormone.population(mixed, names, SKY) is None
+    with pytest.raises(UserInputError, match=r"hormone\.h0_gain.*row 1"):
+        bad = rows[:2].copy()
+        bad[1, names.index("h0_gain")] = 2.0
+        hormone.population(bad, names, SKY)
+
+
 def test_bad_parameters_are_named():
     with pytest.raises(UserInputError, match=r"hormone\.h3_gain"):
         hormone.develop({"h3_gain": 2.0})

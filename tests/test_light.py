@@ -143,6 +143,37 @@ def test_point_kernel_matches_oracle(seed):
     assert np.all(np.isclose(soft, soft_want, rtol=1e-12, atol=0) | soft_edge)
 
 
+@pytest.mark.parametrize("soft", [False, True])
+def test_point_light_kernel_sums_its_lights_as_the_oracle(soft):
+    # a sun and its sky in one call: the weighted sum of the single-light exposures
+    rng = np.random.default_rng(7)
+    start, end, radius, offsets = population(rng, 2, 40)
+    light = Light(direction=[0.3, -1.0, 0.2], diffuse=0.5, sky=5, intensity=1.5)
+    d, u, v, w = light.passes()
+    m = 200
+    mids = 0.5 * (start + end)
+    pick = [rng.integers(offsets[k], offsets[k + 1], m) for k in range(2)]
+    pts = np.concatenate([mids[i] for i in pick]) + rng.normal(scale=0.5, size=(2 * m, 3))
+    nrm = rng.normal(size=(2 * m, 3))
+    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+    poff = np.array([0, m, 2 * m])
+    trans = rng.uniform(0.1, 0.9, len(start))
+    args = (start, end, radius, np.asarray(offsets, np.int64), pts, poff, nrm, d, u, v, w, 96,
+            0.1, soft, trans)  # fmt: skip
+    got = kernels.point_light_kernel(*args, np.empty(2 * m))
+    want = naive.point_light_kernel(*args)
+    edge = naive.point_light_kernel(*args, tol_pixels=1.0)
+    assert np.all(np.isclose(got, want, rtol=1e-12, atol=1e-15) | edge)
+    assert np.mean(~edge) > 0.15 and np.ptp(want[~edge]) > 0.5  # enough points judged
+    # the public call is the same kernel: one light per row, or a Light with its sky
+    public = Light(direction=[0.3, -1.0, 0.2], diffuse=0.5, sky=5, intensity=1.5,
+                   resolution=96, shadows="soft" if soft else "hard")  # fmt: skip
+    skeleton = {"start": start, "end": end, "radius": radius, "transmission": trans}
+    both = public.point_light(skeleton, offsets=offsets, points=pts, normals=nrm,
+                              point_offsets=poff)  # fmt: skip
+    np.testing.assert_allclose(both, got, rtol=1e-12)  # its normals normalised again
+
+
 def test_simple_scenes_agree_exactly():
     # a stack of crossing horizontal leaves, a slanted stem and a few in the open
     start = np.array([[0.0, 3, 0], [0.5, 2, -1], [0, 1, 0.3], [6, 0, 0], [-5, 0, 2], [1, 0, 0]])

@@ -190,8 +190,8 @@ class Light(Options):
         point_offsets=None, resolution=None,
     ) -> np.ndarray:  # fmt: skip
         """``(m,)`` light at ``points`` with ``normals`` ``(m, 3)`` in the shadows of
-        ``skeleton``: the weighted sum over :meth:`directions` of :func:`point_light` (same
-        arguments) with this light's settings.
+        ``skeleton``: :func:`point_light` (same arguments) summed over :meth:`directions`
+        (one kernel call for them all), with this light's settings.
 
         Examples
         --------
@@ -201,18 +201,27 @@ class Light(Options):
         array([0.])
         """
         dirs, weights = self.directions()
-        out = None
-        for d, w in zip(dirs, weights):
-            if w == 0.0:
-                continue
-            part = point_light(
-                skeleton, end, radius, offsets, points=points, normals=normals,
-                point_offsets=point_offsets, direction=d, intensity=self.intensity * w,
-                resolution=resolution or self.resolution, bias=self.bias,
-                shadows=self.shadows, transmission=self.transmission, backend=self.backend,
-            )  # fmt: skip
-            out = part if out is None else out + part
-        return out
+        return point_light(
+            skeleton, end, radius, offsets, points=points, normals=normals,
+            point_offsets=point_offsets, direction=dirs, intensity=self.intensity * weights,
+            resolution=resolution or self.resolution, bias=self.bias, shadows=self.shadows,
+            transmission=self.transmission, backend=self.backend,
+        )  # fmt: skip
+
+    def passes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(d, u, v, w)``: this light's unit directions ``(j, 3)`` (:meth:`directions`),
+        their image planes ``u, v`` (:func:`view_basis`) and intensities ``w`` ``(j,)``
+        (intensity times weight): the arrays :func:`growsim.kernels.light.point_light_kernel`
+        takes, for a model that calls it from its own kernel (the hormone model).
+
+        Examples
+        --------
+        >>> d, u, v, w = Light(diffuse=0.5, sky=3, intensity=2.0).passes()
+        >>> d.shape, u.shape, float(w[0])
+        ((4, 3), (4, 3), 1.0)
+        """
+        dirs, weights = self.directions()
+        return _shadow_passes("light", dirs, self.intensity * weights)
 
 
 def sky_directions(count: int) -> tuple[np.ndarray, np.ndarray]:
@@ -363,23 +372,54 @@ def _shadow_resolution(where: str, resolution) -> int:
     return res
 
 
-def _shadow_settings(where, direction, intensity, resolution, bias, shadows, backend):
-    """Checked ``(d, u, v, intensity, resolution, bias)`` of one shadow-map pass."""
-    d = _shadow_direction(where, direction)
-    res = _shadow_resolution(where, resolution)
-    if not (math.isfinite(bias) and bias >= 0):
-        raise UserInputError(f"{where}: bias must be a finite number >= 0, got {bias!r}")
+def _shadow_intensity(where: str, intensity) -> float:
     intensity = float(intensity)
     if not (math.isfinite(intensity) and intensity >= 0):
         raise UserInputError(f"{where}: intensity must be finite and >= 0, got {intensity!r}")
+    return intensity
+
+
+def _shadow_options(where, resolution, bias, shadows, backend) -> tuple[int, float]:
+    """Checked ``(resolution, bias)`` of shadow-map passes (and the shadows and backend)."""
+    res = _shadow_resolution(where, resolution)
+    if not (math.isfinite(bias) and bias >= 0):
+        raise UserInputError(f"{where}: bias must be a finite number >= 0, got {bias!r}")
     if shadows not in ("hard", "soft"):
         raise UserInputError(f"{where}: shadows must be 'hard' or 'soft', got {shadows!r}")
     if backend not in ("numba", "moderngl"):
         raise UserInputError(f"{where}: backend must be 'numba' or 'moderngl', got {backend!r}")
     if backend == "moderngl" and shadows == "soft":
         raise UserInputError(f"{where}: soft shadows need backend 'numba' (moderngl: hard only)")
+    return res, float(bias)
+
+
+def _shadow_settings(where, direction, intensity, resolution, bias, shadows, backend):
+    """Checked ``(d, u, v, intensity, resolution, bias)`` of one shadow-map pass."""
+    d = _shadow_direction(where, direction)
+    intensity = _shadow_intensity(where, intensity)
+    res, bias = _shadow_options(where, resolution, bias, shadows, backend)
     u, v = view_basis(d)
-    return d, u, v, intensity, res, float(bias)
+    return d, u, v, intensity, res, bias
+
+
+def _shadow_passes(where, direction, intensity):
+    """Checked ``(d, u, v, w)`` of one or several lights: ``(j, 3)`` unit directions and
+    their image planes, ``(j,)`` intensities (one ``intensity`` broadcast to them all)."""
+    dirs = np.asarray(direction, dtype=np.float64)
+    dirs = dirs.reshape(1, -1) if dirs.ndim == 1 else dirs
+    if dirs.ndim != 2 or len(dirs) == 0:
+        raise UserInputError(f"{where}: direction must be (3,) or (j, 3), got {direction!r}")
+    d = np.array([_shadow_direction(where, x) for x in dirs])
+    w = np.asarray(intensity, dtype=np.float64).reshape(-1)
+    if len(w) == 1:
+        w = np.repeat(w, len(d))
+    if len(w) != len(d):
+        raise UserInputError(f"{where}: {len(w)} intensities for {len(d)} directions")
+    w = np.array([_shadow_intensity(where, x) for x in w])
+    basis = [view_basis(x) for x in d]
+    u = np.array([b[0] for b in basis])
+    v = np.array([b[1] for b in basis])
+    return d, u, v, w
 
 
 def _transmissions(where: str, data, transmission, n: int) -> np.ndarray:
@@ -508,7 +548,7 @@ def point_light(
     normals,
     point_offsets=None,
     direction=(0.0, -1.0, 0.0),
-    intensity: float = 1.0,
+    intensity=1.0,
     resolution: int = DEFAULT_RESOLUTION,
     bias: float = SHADOW_BIAS_PIXELS,
     shadows: str = "hard",
@@ -523,6 +563,9 @@ def point_light(
     one plant). Returns ``(m,)`` float64 ``intensity x exposure x max(0, -n . d)`` (``n`` the
     unit normal; a surface facing the light has ``n . d < 0``). A point's exposure is
     judged against every segment of its plant (points outside the map are in the open).
+    ``direction`` may also be ``(j, 3)`` with ``intensity`` ``(j,)``: the sum over the
+    ``j`` lights, each with its own maps (a sun and its sky, :meth:`Light.point_light`),
+    in one kernel call on the numba backend.
 
     Examples
     --------
@@ -535,13 +578,15 @@ def point_light(
     [0.707, 0.707]
     >>> point_light(*leaf, points=ground, normals=up, shadows="soft", transmission=0.2).tolist()
     [0.2, 1.0]
+    >>> point_light(*leaf, points=ground, normals=up, direction=[(0, -1, 0), (-1, -1, 0)],
+    ...             intensity=[1.0, 0.5]).round(3).tolist()  # two lights
+    [0.354, 1.354]
     """
     from growsim.kernels import light as kernels
 
     where = "point_light"
-    d, u, v, intensity, res, bias = _shadow_settings(
-        where, direction, intensity, resolution, bias, shadows, backend
-    )
+    d, u, v, w = _shadow_passes(where, direction, intensity)
+    res, bias = _shadow_options(where, resolution, bias, shadows, backend)
     s, e, r, data, _ = _shadow_skeleton(where, start, end, radius)
     off = _shadow_offsets(where, "offsets", offsets, s.shape[0])
     pts = checked_array(where, "points", points, (3,), None)
@@ -561,19 +606,19 @@ def point_light(
             raise UserInputError(
                 f"{where}: point_offsets has {len(poff) - 1} plants, offsets {len(off) - 1}"
             )
-    frames = kernels.plant_frames(s, e, r, off, u, v, res)
-    out = np.empty(m)
-    if shadows == "soft":
-        trans = _transmissions(where, data, transmission, s.shape[0])
-        kernels.soft_point_exposure_kernel(
-            s, e, r, off, frames, pts, poff, u, v, d, res, bias, trans, out
+    if backend == "numba":
+        soft = shadows == "soft"
+        trans = _transmissions(where, data, transmission, s.shape[0]) if soft else np.empty(0)
+        return kernels.point_light_kernel(
+            s, e, r, off, pts, poff, nrm, d, u, v, w, res, bias, soft, trans, np.empty(m)
         )
-    elif backend == "moderngl":
-        from growsim.env.shadow_gl import point_exposure_gl
+    from growsim.env.shadow_gl import point_exposure_gl
 
-        out = point_exposure_gl(s, e, r, off, frames, pts, poff, u, v, d, res, bias)
-    else:
-        kernels.point_exposure_kernel(s, e, r, off, frames, pts, poff, u, v, d, res, bias, out)
-    out *= np.maximum(0.0, -(nrm @ d))
-    out *= intensity
+    out = np.zeros(m)
+    for k in range(len(d)):
+        if w[k] == 0.0:
+            continue
+        frames = kernels.plant_frames(s, e, r, off, u[k], v[k], res)
+        part = point_exposure_gl(s, e, r, off, frames, pts, poff, u[k], v[k], d[k], res, bias)
+        out += part * np.maximum(0.0, -(nrm @ d[k])) * w[k]
     return out

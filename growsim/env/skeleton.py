@@ -74,11 +74,12 @@ def radius_end(parent: np.ndarray, kind: np.ndarray, radius: np.ndarray) -> np.n
     >>> radius_end(np.array([-1, 0]), np.zeros(2, np.int8), np.array([0.2, 0.1])).tolist()
     [0.1, 0.1]
     """
-    out = np.full(len(radius), -1.0)
-    has = parent >= 0
-    same = has & (kind == kind[np.maximum(parent, 0)])
-    np.maximum.at(out, parent[same], radius[same])
-    return np.where(out < 0, radius, np.minimum(out, radius))
+    from growsim.kernels.gravity import radius_end_kernel
+
+    parent = np.ascontiguousarray(parent, dtype=np.int64)
+    kind = np.ascontiguousarray(kind, dtype=np.int8)
+    radius = np.ascontiguousarray(radius, dtype=np.float64)
+    return radius_end_kernel(parent, kind, radius, np.empty(len(radius)))
 
 
 def skeleton_arrays(skeleton: Any, who: str, *, topology: bool = True) -> dict[str, Any]:

@@ -15,7 +15,7 @@ import numpy as np
 
 from growsim.kernels.config import njit
 
-__all__ = ["first_break_kernel", "loads_kernel"]
+__all__ = ["first_break_kernel", "loads_kernel", "radius_end_kernel"]
 
 
 @njit
@@ -123,4 +123,28 @@ def first_break_kernel(ratio, offsets):
             if ratio[s] > best or (ratio[s] == best and out[j] < 0):
                 best = ratio[s]
                 out[j] = s
+    return out
+
+
+@njit
+def radius_end_kernel(parent, kind, radius, out):
+    """``out`` ``(n,)``: each segment's radius at its far end when a model gave none: the
+    largest radius of its children of the same kind, capped by its own radius (a tip does
+    not narrow). Overwritten and returned.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> radius_end_kernel(np.array([-1, 0]), np.zeros(2, np.int8), np.array([0.2, 0.1]),
+    ...                   np.empty(2)).tolist()
+    [0.1, 0.1]
+    """
+    n = parent.shape[0]
+    out[:n] = -1.0
+    for s in range(n):
+        p = parent[s]
+        if p >= 0 and kind[s] == kind[p] and radius[s] > out[p]:
+            out[p] = radius[s]
+    for s in range(n):
+        out[s] = radius[s] if out[s] < 0.0 else min(out[s], radius[s])
     return out

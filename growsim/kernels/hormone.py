@@ -17,12 +17,20 @@ import math
 import numpy as np
 
 from growsim.kernels.config import njit
+from growsim.kernels.gravity import loads_kernel, radius_end_kernel
+from growsim.kernels.light import point_light_kernel
+from growsim.kernels.water import transport_into_kernel
 
 __all__ = [
     "HORMONES",
     "STIMULI",
+    "STOPS",
+    "grow_population",
+    "grow_step",
+    "new_plant",
     "place_kernel",
     "step_kernel",
+    "total",
     "wall_frame",
     "wall_normals",
 ]
@@ -42,6 +50,10 @@ HORMONES = (
 )
 #: the stimuli a wall senses (index: stimulus)
 STIMULI = ("wall light", "water met", "nutrient", "chlorophyll", "wall up", "inhibitor")
+
+#: why a plant stopped (index: code returned by :func:`grow_step`); "cap" does not stop it
+STOPS = ("", "cap", "nan", "broken")
+STOP_NONE, STOP_CAP, STOP_NAN, STOP_BROKEN = range(4)
 
 # indices of the constants array
 (C_ELONG, C_MAXLEN, C_TURN, C_THICK, C_NEWLEN, C_NEWRAD, C_BRANCH_ANGLE, C_THRESHOLD,
@@ -159,6 +171,8 @@ def step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient, chloro
     v = np.empty((walls, 3))
     inh = np.zeros(n)
     mean_h = np.zeros((n, H))
+    e = np.empty(walls)
+    axis = np.empty(3)
     gained = 0.0
     # synthesis per wall: s = gain sigmoid(bias + w . x); h = (1 - decay) h + s
     for m in range(n):
@@ -202,7 +216,6 @@ def step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient, chloro
         nutrient[m] += photo - c[C_UPKEEP] * vol * (0.2 + 0.8 * chlorophyll[m])
         # elongation per wall (turgor: water met), the module by the mean of its walls
         e_mean = 0.0
-        e = np.empty(walls)
         for i in range(walls):
             e[i] = c[C_ELONG] * hormone[m, i, 0] * met[m] * drought
             e_mean += e[i] / walls
@@ -214,7 +227,6 @@ def step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient, chloro
             # turning: wall i's excess elongation turns the axis away from it, about the
             # normal of the triangle (origin, end, wall point): z x v_i
             gain = c[C_TURN] * min(1.0, mean_h[m, 8]) / max(L, 1e-9)
-            axis = np.empty(3)
             for i in range(walls):
                 zx, zy, zz = R[m, 0, 2], R[m, 1, 2], R[m, 2, 2]
                 nx = zy * v[i, 2] - zz * v[i, 1]
@@ -305,3 +317,244 @@ def _new(q, m, Rq, R, parent, length, radius, nutrient, chlorophyll, lignin, ape
     apex[q] = True
     laterals[q] = 0
     hormone[q] = 0.0
+
+
+@njit
+def new_plant(parent, R, origin, length, radius, nutrient, chlorophyll, lignin, apex, laterals,
+              hormone, c):  # fmt: skip
+    """Reset the module arrays to a seedling: one root module at the origin growing up
+    (``+y``; its walls face ``+-x`` and, in 3D, around), of the new length and radius,
+    nutrient 0.1, full chlorophyll, a meristem. Returns the module count, 1.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> cap, walls = 4, 2
+    >>> a = [np.empty(cap, np.int64), np.empty((cap, 3, 3)), np.empty((cap, 3))]
+    >>> a += [np.empty(cap) for _ in range(5)]
+    >>> a += [np.empty(cap, np.bool_), np.empty(cap, np.int64), np.empty((cap, walls, 10))]
+    >>> c = np.full(N_CONSTANTS, 0.1)
+    >>> new_plant(*a, c), a[1][0, :, 2].tolist()
+    (1, [0.0, 1.0, 0.0])
+    """
+    parent[:] = -1
+    R[:] = 0.0
+    R[0, 0, 0] = 1.0
+    R[0, 2, 1] = -1.0
+    R[0, 1, 2] = 1.0
+    origin[:] = 0.0
+    length[:] = 0.0
+    radius[:] = 0.0
+    nutrient[:] = 0.0
+    chlorophyll[:] = 0.0
+    lignin[:] = 0.0
+    apex[:] = False
+    laterals[:] = 0
+    hormone[:] = 0.0
+    length[0] = c[C_NEWLEN]
+    radius[0] = c[C_NEWRAD]
+    nutrient[0] = 0.1
+    chlorophyll[0] = 1.0
+    apex[0] = True
+    return 1
+
+
+@njit
+def _ends(n, origin, length, R, end):
+    """``end[m] = origin[m] + length[m] R[m][:, 2]`` for modules ``0..n-1``."""
+    for m in range(n):
+        for k in range(3):
+            end[m, k] = origin[m, k] + length[m] * R[m, k, 2]
+    return end
+
+
+@njit
+def grow_step(n, cap, dims, walls, parent, R, origin, length, radius, nutrient, chlorophyll,
+              lignin, apex, laterals, hormone, wall_light, met, light, genes, c,
+              light_dirs, light_u, light_v, light_w, resolution, bias, soft, transmission,
+              supply, resistance, lift, g, density, leaf_mass_per_area, strength,
+              strength_young):  # fmt: skip
+    """One step of a plant in its environment, all in one call; returns ``(n_new, stop)``,
+    ``stop`` an index into :data:`STOPS` (``STOP_CAP`` when the cap held back new modules,
+    which does not stop the plant; ``STOP_NAN``, ``STOP_BROKEN`` stop it).
+
+    1. place the modules end to end (:func:`place_kernel`);
+    2. each wall's light at its point (on the surface, halfway along the module) with its
+       outward normal, through the shadow maps of every light ``light_dirs`` ``(j, 3)``
+       with image planes ``light_u, light_v`` and intensities ``light_w``
+       (:func:`growsim.kernels.light.point_light_kernel`; ``resolution``, ``bias`` in
+       pixels, ``soft`` shadows with one ``transmission``) into ``wall_light``;
+    3. water (:func:`growsim.kernels.water.transport_into_kernel`): demand = mean wall
+       light x side area; ``supply``, ``resistance``, ``lift`` (already scaled by g) give
+       ``met``;
+    4. :func:`step_kernel`; a NaN or infinity in the modules stops the plant (``n``
+       modules kept);
+    5. ``light`` the mean wall light of the old modules (0 for new ones), ``met`` 1 for new
+       ones; modules placed again;
+    6. gravity (:func:`growsim.kernels.gravity.loads_kernel`): strength
+       ``strength_young + (strength - strength_young) x lignin``; a joint whose stress
+       reaches it stops the plant.
+
+    The arrays are as :func:`step_kernel`'s plus ``origin`` ``(cap, 3)`` and ``light``
+    ``(cap,)``, all updated in place. :func:`growsim.models.hormone.grow` calls this once
+    per step; :func:`grow_population` runs whole populations through it.
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> from growsim.models.hormone import grow
+    >>> env = Environment.model_validate({"light": {"diffuse": 0.5}})
+    >>> [p.n_segments for p in grow({"dims": 2, "steps": 3}, env=env)]
+    [1, 1, 1]
+    """
+    place_kernel(n, parent, R, length, origin)
+    start = origin[:n]
+    end = _ends(n, origin, length, R, np.empty((n, 3)))
+    m = n * walls
+    normals = wall_normals(n, R, walls, dims, np.empty((n, walls, 3)))
+    points = np.empty((m, 3))
+    unit = np.empty((m, 3))
+    for q in range(n):
+        for i in range(walls):
+            nx, ny, nz = normals[q, i, 0], normals[q, i, 1], normals[q, i, 2]
+            norm = math.sqrt(nx * nx + ny * ny + nz * nz)
+            for k in range(3):
+                mid = start[q, k] + 0.5 * (end[q, k] - start[q, k])
+                points[q * walls + i, k] = mid + radius[q] * normals[q, i, k]
+                unit[q * walls + i, k] = normals[q, i, k] / norm
+    offsets = np.array([0, n], np.int64)
+    point_offsets = np.array([0, m], np.int64)
+    trans = np.full(n, transmission) if soft else np.empty(0)
+    lit = point_light_kernel(start, end, radius[:n], offsets, points, point_offsets, unit,
+                             light_dirs, light_u, light_v, light_w, resolution, bias, soft,
+                             trans, np.empty(m))  # fmt: skip
+    demand = np.empty(n)
+    for q in range(n):
+        acc = 0.0
+        for i in range(walls):
+            wall_light[q, i] = lit[q * walls + i]
+            acc += lit[q * walls + i]
+        light[q] = acc / walls
+        demand[q] = light[q] * 2.0 * math.pi * radius[q] * length[q]
+    transport_into_kernel(start, end, radius[:n], parent[:n], demand, supply, resistance, lift,
+                          np.empty(n), met[:n])  # fmt: skip
+    n_new, _ = step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient,
+                           chlorophyll, lignin, apex, laterals, hormone, wall_light, met,
+                           genes, c)  # fmt: skip
+    if not _finite(n_new, R, length, radius, nutrient, hormone):
+        return n, STOP_NAN
+    for q in range(n, n_new):
+        light[q] = 0.0
+        met[q] = 1.0
+    place_kernel(n_new, parent, R, length, origin)
+    end = _ends(n_new, origin, length, R, np.empty((n_new, 3)))
+    kind = np.zeros(n_new, np.int8)
+    r_end = radius_end_kernel(parent[:n_new], kind, radius[:n_new], np.empty(n_new))
+    wood = np.empty(n_new)
+    for q in range(n_new):
+        wood[q] = strength_young + (strength - strength_young) * lignin[q]
+    loads = loads_kernel(origin[:n_new], end, radius[:n_new], r_end, parent[:n_new], kind, wood,
+                         density, leaf_mass_per_area, g, np.empty((4, n_new)))  # fmt: skip
+    for q in range(n_new):
+        if loads[3, q] >= 1.0:
+            return n_new, STOP_BROKEN
+    return n_new, STOP_CAP if n_new >= cap else STOP_NONE
+
+
+@njit
+def _finite(n, R, length, radius, nutrient, hormone):
+    """Whether modules ``0..n-1`` hold only finite numbers."""
+    for q in range(n):
+        if not (math.isfinite(length[q]) and math.isfinite(radius[q])
+                and math.isfinite(nutrient[q])):  # fmt: skip
+            return False
+        for a in range(3):
+            for b in range(3):
+                if not math.isfinite(R[q, a, b]):
+                    return False
+        for i in range(hormone.shape[1]):
+            for k in range(hormone.shape[2]):
+                if not math.isfinite(hormone[q, i, k]):
+                    return False
+    return True
+
+
+@njit
+def total(values, n):
+    """``values[0] + ... + values[n - 1]`` in order: a plant's total nutrient (the one sum
+    the model's meta and the population path report).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> total(np.array([1.0, 2.0, 4.0]), 2)
+    3.0
+    """
+    acc = 0.0
+    for q in range(n):
+        acc += values[q]
+    return acc
+
+
+@njit
+def grow_population(genes, c, dims, walls, steps, cap, strength_young, light_dirs, light_u,
+                    light_v, light_w, resolution, bias, soft, transmission, supply, resistance,
+                    lift, g, density, leaf_mass_per_area, strength):  # fmt: skip
+    """Grow ``P`` plants (genes ``(P, H, 3 + J)``, constants ``c`` ``(P, N_CONSTANTS)``,
+    ``strength_young`` ``(P,)``; the settings and the environment shared) for ``steps``
+    steps each, as :func:`growsim.models.hormone.grow` does one at a time, keeping no
+    plant. Returns ``(total, modules, stop, module_steps)``, each ``(P,)``: the nutrient
+    held at the end (NaN for a plant stopped by a NaN), the module count, the stop code
+    (:data:`STOPS`: the last of cap, nan, broken) and the modules alive summed over the
+    steps.
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> from growsim.models.hormone import PARAMS, PRESETS, population, resolve_params
+    >>> env = Environment.model_validate({"light": {"diffuse": 0.5}})
+    >>> row = resolve_params(PARAMS, PRESETS["demo_2d"])
+    >>> population(np.array([list(row.values())] * 2), list(row), env).modules.tolist()
+    [42, 42]
+    """
+    P = genes.shape[0]
+    H = genes.shape[1]
+    parent = np.empty(cap, np.int64)
+    R = np.empty((cap, 3, 3))
+    origin = np.empty((cap, 3))
+    length = np.empty(cap)
+    radius = np.empty(cap)
+    nutrient = np.empty(cap)
+    chlorophyll = np.empty(cap)
+    lignin = np.empty(cap)
+    apex = np.empty(cap, np.bool_)
+    laterals = np.empty(cap, np.int64)
+    hormone = np.empty((cap, walls, H))
+    wall_light = np.zeros((cap, walls))
+    met = np.zeros(cap)
+    light = np.zeros(cap)
+    out_total = np.empty(P)
+    out_modules = np.empty(P, np.int64)
+    out_stop = np.zeros(P, np.int64)
+    out_steps = np.zeros(P, np.int64)
+    for p in range(P):
+        cp = c[p]
+        n = new_plant(parent, R, origin, length, radius, nutrient, chlorophyll, lignin, apex,
+                      laterals, hormone, cp)  # fmt: skip
+        stop = STOP_NONE
+        for _ in range(steps):
+            n, code = grow_step(n, cap, dims, walls, parent, R, origin, length, radius,
+                                nutrient, chlorophyll, lignin, apex, laterals, hormone,
+                                wall_light, met, light, genes[p], cp, light_dirs, light_u,
+                                light_v, light_w, resolution, bias, soft, transmission, supply,
+                                resistance, lift, g, density, leaf_mass_per_area, strength,
+                                strength_young[p])  # fmt: skip
+            out_steps[p] += n
+            if code != STOP_NONE:
+                stop = code
+            if code == STOP_NAN or code == STOP_BROKEN:
+                break
+        out_total[p] = np.nan if stop == STOP_NAN else total(nutrient, n)
+        out_modules[p] = n
+        out_stop[p] = stop
+    return out_total, out_modules, out_stop, out_steps

@@ -61,6 +61,7 @@ __all__ = [
     "map_depth_kernel",
     "plant_frames",
     "point_exposure_kernel",
+    "point_light_kernel",
     "project_segment",
     "segment_cosines",
     "segment_exposure_kernel",
@@ -427,6 +428,46 @@ def soft_point_exposure_kernel(start, end, radius, offsets, frames, points, poin
     own = np.full(points.shape[0], -1, np.int64)
     return _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, points,
                   point_offsets, own, trans, True, out)[0]  # fmt: skip
+
+
+@njit
+def point_light_kernel(start, end, radius, offsets, points, point_offsets, normals, dirs, us,
+                       vs, weights, res, bias_pixels, soft, trans, out):  # fmt: skip
+    """Light at points from several parallel lights: ``out[m] = sum_k weights[k] x
+    exposure_k[m] x max(0, -normals[m] . dirs[k])``, each direction ``k`` (unit ``dirs[k]``,
+    image plane ``us[k], vs[k]``) with its own shadow maps (hard, or soft with the
+    per-segment ``trans`` when ``soft``); a direction of weight 0 is skipped. ``normals``
+    unit ``(m, 3)``; other arguments as :func:`point_exposure_kernel`. ``out`` ``(m,)`` is
+    overwritten and returned. One call for a sun and its sky
+    (:meth:`growsim.env.Light.point_light`).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = np.array([[0.0, 1, 0]]); e = np.array([[1.0, 1, 0]]); r = np.array([0.2])
+    >>> d = np.array([[0.0, -1, 0], [-1.0, 0, 0]])  # from above, from the right
+    >>> u = np.array([[1.0, 0, 0], [0.0, 0, -1]]); v = np.array([[0.0, 0, -1], [0.0, 1, 0]])
+    >>> pts, nrm = np.array([[0.5, 0, 0]]), np.array([[0.6, 0.8, 0]])
+    >>> point_light_kernel(s, e, r, np.array([0, 1]), pts, np.array([0, 1]), nrm, d, u, v,
+    ...     np.array([1.0, 0.5]), 64, 0.1, False, np.empty(0), np.empty(1)).round(3).tolist()
+    [0.3]
+    """
+    m = points.shape[0]
+    out[:] = 0.0
+    own = np.full(m, -1, np.int64)
+    expo = np.empty(m)
+    for k in range(dirs.shape[0]):
+        w = weights[k]
+        if w == 0.0:
+            continue
+        d, u, v = dirs[k], us[k], vs[k]
+        frames = plant_frames(start, end, radius, offsets, u, v, res)
+        _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, points,
+               point_offsets, own, trans, soft, expo)  # fmt: skip
+        for q in range(m):
+            cos = -(normals[q, 0] * d[0] + normals[q, 1] * d[1] + normals[q, 2] * d[2])
+            out[q] += expo[q] * max(0.0, cos) * w
+    return out
 
 
 @njit

@@ -30,7 +30,8 @@ plant's ``data`` holds per module ``nutrient``, ``chlorophyll``, ``lignin``, ``l
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, Mapping, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -38,7 +39,20 @@ from growsim.kernels import hormone as K
 from growsim.models.base import Model, Param, resolve_params
 from growsim.plant import Plant
 
-__all__ = ["CONSTANTS", "MODEL", "PARAMS", "PRESETS", "develop", "genes", "grow"]
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = [
+    "CONSTANTS",
+    "MODEL",
+    "PARAMS",
+    "PRESETS",
+    "develop",
+    "environment_args",
+    "genes",
+    "grow",
+    "population",
+]
 
 NAME = "hormone"
 
@@ -143,8 +157,41 @@ def genes(params: Mapping[str, float]) -> np.ndarray:
     return out
 
 
+def environment_args(env) -> tuple:
+    """The environment's settings as :func:`growsim.kernels.hormone.grow_step` takes them:
+    the light's passes (:meth:`growsim.env.Light.passes`), resolution, bias, soft shadows
+    and transmission; the water's supply, resistance and lift (scaled by ``g / 9.81``); the
+    gravity's ``g``, wood density, leaf mass per area and wood strength.
+
+    Raises :class:`growsim.errors.UserInputError` for the moderngl light backend (the
+    model's step is one numba kernel, light included).
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> len(environment_args(Environment()))
+    15
+    """
+    from growsim.errors import UserInputError
+
+    light, water, gravity = env.light, env.water, env.gravity
+    if light.backend != "numba":
+        raise UserInputError(
+            f"hormone: environment.light.backend = {light.backend!r} is not supported: the "
+            "model's step runs in one numba kernel, light included; use 'numba'"
+        )
+    d, u, v, w = light.passes()
+    return (
+        d, u, v, w, int(light.resolution), float(light.bias), light.shadows == "soft",
+        float(light.transmission), float(water.supply), float(water.resistance),
+        float(water.lift) * float(gravity.g) / 9.81, float(gravity.g), float(gravity.density),
+        float(gravity.leaf_mass_per_area), float(gravity.strength),
+    )  # fmt: skip
+
+
 def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Plant]:
-    """Grow a plant step by step, yielding it after every step (see the module).
+    """Grow a plant step by step, yielding it after every step (see the module): one
+    :func:`growsim.kernels.hormone.grow_step` per step.
 
     Examples
     --------
@@ -156,70 +203,37 @@ def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Pla
 
     p = resolve_params(PARAMS, params, where="hormone.")
     env = env if env is not None else Environment()
+    args = environment_args(env)
     dims = int(p["dims"])
     walls = 2 if dims == 2 else int(p["walls"])
     cap = int(p["max_modules"])
     c = np.array([p[name] for name, _, _ in CONSTANTS])
     g = genes(p)
-    H = g.shape[0]
-    R = np.zeros((cap, 3, 3))
-    # the root module grows up (+y); its walls face +-x (and, in 3D, around)
-    R[0] = np.column_stack([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
-    origin = np.zeros((cap, 3))
-    parent = np.full(cap, -1, np.int64)
-    length = np.zeros(cap)
-    radius = np.zeros(cap)
-    nutrient = np.zeros(cap)
-    chlorophyll = np.zeros(cap)
-    lignin = np.zeros(cap)
-    apex = np.zeros(cap, np.bool_)
-    laterals = np.zeros(cap, np.int64)
-    hormone = np.zeros((cap, walls, H))
-    length[0], radius[0], nutrient[0], chlorophyll[0], apex[0] = c[4], c[5], 0.1, 1.0, True
-    n = 1
+    parent = np.empty(cap, np.int64)
+    R = np.empty((cap, 3, 3))
+    origin = np.empty((cap, 3))
+    length, radius, nutrient, chlorophyll, lignin = (np.empty(cap) for _ in range(5))
+    apex = np.empty(cap, np.bool_)
+    laterals = np.empty(cap, np.int64)
+    hormone = np.empty((cap, walls, g.shape[0]))
+    wall_light = np.zeros((cap, walls))
+    met = np.zeros(cap)
+    light = np.zeros(cap)
+    n = K.new_plant(parent, R, origin, length, radius, nutrient, chlorophyll, lignin, apex,
+                    laterals, hormone, c)  # fmt: skip
     stopped = ""
     for step in range(int(p["steps"])):
-        K.place_kernel(n, parent, R, length, origin)
-        axis = R[:n, :, 2]
-        start = origin[:n]
-        end = start + length[:n, None] * axis
-        skeleton = {"start": start, "end": end, "radius": radius[:n], "parent": parent[:n]}
-        normals = K.wall_normals(n, R, walls, dims, np.empty((n, walls, 3)))
-        points = (start + 0.5 * (end - start))[:, None, :] + radius[:n, None, None] * normals
-        wall_light = np.zeros((cap, walls))
-        wall_light[:n] = env.light.point_light(
-            skeleton, points=points.reshape(-1, 3), normals=normals.reshape(-1, 3)
-        ).reshape(n, walls)
-        demand = wall_light[:n].mean(axis=1) * 2.0 * math.pi * radius[:n] * length[:n]
-        met = np.zeros(cap)
-        met[:n] = env.water.transport(skeleton, demand, g=env.gravity.g).met
-        n_new, _ = K.step_kernel(
-            n, cap, dims, walls, parent, R, length, radius, nutrient, chlorophyll, lignin,
-            apex, laterals, hormone, wall_light, met, g, c,
+        n, code = K.grow_step(
+            n, cap, dims, walls, parent, R, origin, length, radius, nutrient, chlorophyll,
+            lignin, apex, laterals, hormone, wall_light, met, light, g, c, *args,
+            float(p["strength_young"]),
         )  # fmt: skip
-        finite = all(np.all(np.isfinite(a[:n_new])) for a in (R, length, radius, nutrient, hormone))
-        if not finite:
-            stopped = "nan"
-            n_new = n
-        elif n_new >= cap and not stopped:
-            stopped = "cap"
-        light = np.zeros(n_new)
-        light[:n] = wall_light[:n].mean(axis=1)
-        water = np.ones(n_new)
-        water[:n] = met[:n]
-        n = n_new
-        K.place_kernel(n, parent, R, length, origin)
-        plant = _plant(p, n, origin, R, length, radius, parent, nutrient, chlorophyll, lignin,
-                       light, water, step + 1, stopped)  # fmt: skip
-        if stopped == "nan":
-            yield plant
+        if code != K.STOP_NONE:
+            stopped = K.STOPS[code]
+        yield _plant(p, n, origin, R, length, radius, parent, nutrient, chlorophyll, lignin,
+                     light, met, step + 1, stopped)  # fmt: skip
+        if code in (K.STOP_NAN, K.STOP_BROKEN):
             return
-        strength = p["strength_young"] + (env.gravity.strength - p["strength_young"]) * lignin[:n]
-        if env.gravity.loads(plant, strength=strength).broken:
-            plant.meta["stopped"] = "broken"
-            yield plant
-            return
-        yield plant
 
 
 def _plant(p, n, origin, R, length, radius, parent, nutrient, chlorophyll, lignin, light,
@@ -238,16 +252,81 @@ def _plant(p, n, origin, R, length, radius, parent, nutrient, chlorophyll, ligni
             "nutrient": nutrient[:n].copy(),
             "chlorophyll": chlorophyll[:n].copy(),
             "lignin": lignin[:n].copy(),
-            "light": light.copy(),
-            "water_met": water.copy(),
+            "light": light[:n].copy(),
+            "water_met": water[:n].copy(),
         },
         {
             "model": NAME,
             "params": dict(p),
             "steps": steps,
             "stopped": stopped,
-            "total_nutrient": float(nutrient[:n].sum()),
+            "total_nutrient": float(K.total(nutrient, n)),
         },
+    )
+
+
+def population(params, names: Sequence[str], env=None) -> pd.DataFrame | None:
+    """Grow every row of full parameters ``params`` ``(P, p)`` (columns ``names``, every
+    parameter of :data:`PARAMS`) in ``env`` in one kernel call
+    (:func:`growsim.kernels.hormone.grow_population`), keeping no plant: the population
+    path of the ``nutrient`` objective. Returns a DataFrame with one row per plant:
+    ``total_nutrient`` (as :func:`develop`'s ``meta``; NaN for a plant stopped by a NaN),
+    ``modules``, ``stopped`` (``""``, ``"cap"``, ``"nan"``, ``"broken"``) and
+    ``module_steps`` (modules alive summed over the steps), or ``None`` when the rows'
+    settings (``dims``, ``walls``, ``steps``, ``max_modules``) differ.
+
+    Raises :class:`growsim.errors.UserInputError` for a missing column or a value out of
+    its range (naming the parameter and row).
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> env = Environment.model_validate({"light": {"diffuse": 0.5}})
+    >>> row = resolve_params(PARAMS, {**PRESETS["demo_2d"], "steps": 10})
+    >>> table = population(np.array([list(row.values())] * 2), list(row), env)
+    >>> table.columns.tolist()
+    ['total_nutrient', 'modules', 'stopped', 'module_steps']
+    >>> bool(table.total_nutrient[0] == develop(row, env=env).meta["total_nutrient"])
+    True
+    """
+    import pandas as pd
+
+    from growsim.env import Environment
+    from growsim.errors import UserInputError
+
+    env = env if env is not None else Environment()
+    x = np.atleast_2d(np.asarray(params, dtype=np.float64))
+    col = {n: i for i, n in enumerate(names)}
+    for q in PARAMS:
+        if q.name not in col:
+            raise UserInputError(f"hormone.population: no column {q.name!r}")
+        v = x[:, col[q.name]]
+        bad = ~((v >= q.low) & (v <= q.high))
+        if bad.any():
+            i = int(np.flatnonzero(bad)[0])
+            raise UserInputError(
+                f"hormone.{q.name}: {v[i]!r} (row {i}) is out of range [{q.low:g}, {q.high:g}]"
+            )
+    settings = x[:, [col[q.name] for q in SETTINGS[:4]]]
+    if len(x) and not (settings == settings[0]).all():
+        return None
+    dims, walls, steps, cap = (round(float(v)) for v in (settings[0] if len(x) else [2, 2, 0, 1]))
+    walls = 2 if dims == 2 else walls
+    H, J = len(K.HORMONES), len(K.STIMULI)
+    gene_cols = [col[q.name] for q in GENES]
+    g = np.ascontiguousarray(x[:, gene_cols].reshape(len(x), H, 3 + J))
+    c = np.ascontiguousarray(x[:, [col[name] for name, _, _ in CONSTANTS]])
+    young = np.ascontiguousarray(x[:, col["strength_young"]])
+    total, modules, stop, module_steps = K.grow_population(
+        g, c, dims, walls, steps, cap, young, *environment_args(env)
+    )
+    return pd.DataFrame(
+        {
+            "total_nutrient": total,
+            "modules": modules,
+            "stopped": np.array(K.STOPS, dtype=object)[stop],
+            "module_steps": module_steps,
+        }
     )
 
 
@@ -289,6 +368,10 @@ class Hormone(Model):
     def grow(self, params, *, seed=None, env=None):
         """See :func:`grow`."""
         return grow(params, env=env)
+
+    def population(self, params, names, seeds=None, env=None):
+        """See :func:`population` (``seeds`` unused: the model is deterministic)."""
+        return population(params, names, env)
 
 
 #: The registered model (``growsim.models.MODELS["hormone"]``).

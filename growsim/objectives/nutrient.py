@@ -6,12 +6,17 @@ per-module ``data["nutrient"]`` (the hormone model, :mod:`growsim.models.hormone
 plant of a model that keeps none holds none: 0). A plant that stopped on a NaN
 (``meta["stopped"] == "nan"``) scores NaN, which the GA counts as a failure and scores
 worst. Terms: ``nutrient`` (the score), ``modules`` (the count).
+
+Population fast path (:meth:`NutrientObjective.batch`): a model with a ``population``
+capability (the hormone model, :func:`growsim.models.hormone.population`) grows the whole
+population in one kernel call, keeping no plant, and gives the same numbers.
 """
 
 from __future__ import annotations
 
 from typing import Any, ClassVar, Literal
 
+import numpy as np
 from pydantic import Field
 
 from growsim.objectives.base import Objective, ObjectiveOptions
@@ -55,7 +60,20 @@ class NutrientObjective(Objective):
             return {"nutrient": 0.0, "modules": float(plant.n_segments)}
         if plant.meta.get("stopped") == "nan":
             return {"nutrient": float("nan"), "modules": float(plant.n_segments)}
-        return {"nutrient": float(plant.data["nutrient"].sum()), "modules": float(plant.n_segments)}
+        from growsim.kernels.hormone import total
+
+        nutrient = np.ascontiguousarray(plant.data["nutrient"], dtype=np.float64)
+        held = float(total(nutrient, len(nutrient)))
+        return {"nutrient": held, "modules": float(plant.n_segments)}
 
     def __call__(self, plant) -> float:
         return self.terms(plant)["nutrient"]
+
+    def batch(self, model, params, names, seeds=None):
+        """The model's ``population`` capability over the whole population (its
+        ``total_nutrient`` column), or None."""
+        fast = getattr(model, "population", None)
+        if fast is None:
+            return None
+        table = fast(params, names, seeds, env=self.env)
+        return None if table is None else table["total_nutrient"].to_numpy(np.float64)

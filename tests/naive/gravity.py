@@ -90,3 +90,14 @@ def first_break_kernel(ratio, offsets):
         else:
             out.append(-1)
     return np.array(out, np.int64)
+
+
+def radius_end_kernel(parent, kind, radius):
+    """Mirror of :func:`growsim.kernels.gravity.radius_end_kernel` (without ``out``): for
+    each segment, its children of its own kind, their largest radius, capped by its own."""
+    out = np.array(radius, dtype=np.float64)
+    for s in range(len(parent)):
+        kids = [c for c in range(len(parent)) if parent[c] == s and kind[c] == kind[s]]
+        if kids:
+            out[s] = min(max(radius[c] for c in kids), radius[s])
+    return out

@@ -212,3 +212,23 @@ def point_exposure_kernel(
                     strict = transmitted(q, -1, S, E, R, u, v, d, bias, trans[lo:hi], -g, -g)
                 edge[i] = loose != strict
     return edge if tol_pixels > 0 else out
+
+
+def point_light_kernel(start, end, radius, offsets, points, point_offsets, normals, dirs, us,
+                       vs, weights, res, bias_pixels, soft, trans, tol_pixels=0.0):  # fmt: skip
+    """Mirror of :func:`growsim.kernels.light.point_light_kernel` (without ``out``): the
+    sum over directions of :func:`point_exposure_kernel` times the clipped cosine times
+    the weight; with ``tol_pixels > 0``, the boolean ``(m,)`` of points near an edge in
+    some direction of non-zero weight."""
+    out = np.zeros(len(points))
+    edge = np.zeros(len(points), bool)
+    for d, u, v, w in zip(dirs, us, vs, weights):
+        if w == 0.0:
+            continue
+        frames = plant_frames(start, end, radius, offsets, u, v, res)
+        args = (start, end, radius, offsets, frames, points, point_offsets, u, v, d, res,
+                bias_pixels, trans if soft else None)  # fmt: skip
+        out += point_exposure_kernel(*args) * np.maximum(0.0, -(normals @ d)) * w
+        if tol_pixels > 0:
+            edge |= point_exposure_kernel(*args, tol_pixels=tol_pixels)
+    return edge if tol_pixels > 0 else out
