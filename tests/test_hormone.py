@@ -3,7 +3,11 @@ tests/naive/hormone.py)."""
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import numpy as np
+import pandas as pd
 import pytest
 from naive import hormone as naive
 
@@ -185,3 +189,50 @@ def test_configs_evolve_every_gene_by_a_pattern():
         assert all(p.name.startswith("h") for p in plan.evolved)
     with pytest.raises(ConfigError, match=r"model.evolve.zz\*: the pattern matches no parameter"):
         plan_model(load_config("experiments/hormone_2d.toml", overrides=["model.evolve.zz*=true"]))
+
+
+def test_sweep_variants_and_the_common_garden(tmp_path):
+    # the config's three environments as a sweep, then compare --garden: every best genome
+    # grown in every environment, tests between origins and between gardens
+    from growsim.experiment import sweep
+    from growsim.report import compare
+
+    tiny = ["ga.population=6", "ga.generations=2", "model.params.steps=6",
+            "model.params.max_modules=20"]  # fmt: skip
+    df = sweep("experiments/hormone_2d.toml", repeats=2, out=tmp_path / "sw", overrides=tiny,
+               progress=False)  # fmt: skip
+    assert sorted(df["sweep_variant"].unique()) == ["ample", "half_light", "half_water"]
+    assert {Path(p).parent.name for p in df["out"]} == {"ample", "half_light", "half_water"}
+    c = compare([tmp_path / "sw"], tmp_path / "cmp", renders=False, garden=True)
+    grown = pd.read_csv(c.files["garden"])
+    assert len(grown) == 6 * 3  # 6 runs x 3 gardens
+    # grown in its own garden, a genome scores what its run found
+    own = grown[grown.origin == grown.garden]
+    for row in own.itertuples():
+        best = json.loads((Path(row.path) / "best.json").read_text())
+        assert row.fitness == pytest.approx(best["fitness"], rel=1e-12)
+    # half the light grows less in every garden than the full light, for the same genomes
+    name = {o: Path(p).parent.name for o, p in zip(grown.origin, grown.path)}  # label: variant
+    lit = grown.assign(garden=grown.garden.map(name)).pivot_table(
+        index=["origin", "seed"], columns="garden", values="fitness"
+    )
+    assert (lit["half_light"] <= lit["ample"]).all()
+    stats = pd.read_csv(c.files["garden_stats"])
+    assert set(stats.contrast) == {"genetic", "plastic"}
+    assert (stats.welch_t_p_holm >= stats.welch_t_p - 1e-15).all()
+    shares = pd.read_csv(c.files["garden_variance"])
+    total = shares[["origin", "garden", "interaction", "residual"]].sum(axis=1)
+    assert np.allclose(total, 1.0, atol=1e-9) or (total <= 1.0 + 1e-9).all()
+    assert "Common garden" in c.files["html"].read_text()
+
+
+def test_sweep_variants_are_checked():
+    from growsim.errors import ConfigError
+    from growsim.experiment import load_config
+
+    base = {"model": {"kind": "hormone", "evolve": {"h0_bias": True}},
+            "objective": [{"kind": "nutrient"}]}  # fmt: skip
+    with pytest.raises(ConfigError, match="given twice"):
+        load_config({**base, "sweep": {"variants": [{"name": "a"}, {"name": "a"}]}})
+    with pytest.raises(ConfigError, match=r"sweep\.variants\[0\]\.name: required"):
+        load_config({**base, "sweep": {"variants": [{"nme": "a"}]}})

@@ -41,6 +41,13 @@ def register(subparsers) -> None:
         "are all under one directory, else runs/compare-<time>)",
     )
     p.add_argument("--no-renders", action="store_true", help="skip rendering the best plants")
+    p.add_argument(
+        "--garden",
+        action="store_true",
+        help="common garden: grow every run's best genome in the environment of every group "
+        "of its family; test origins within a garden (genetic) and gardens within an origin "
+        "(plastic); write garden.csv, garden_stats.csv, garden_variance.csv",
+    )
     p.add_argument("--quiet", "-q", action="store_true", help="print nothing")
     p.set_defaults(func=main)
 
@@ -112,7 +119,7 @@ def main(args: argparse.Namespace) -> int:
     """Compare and print, per family, the groups and the tests; then where the report is."""
     from growsim.report import compare
 
-    c = compare(args.dirs, args.out, renders=not args.no_renders)
+    c = compare(args.dirs, args.out, renders=not args.no_renders, garden=args.garden)
     if args.quiet:
         return 0
     for family, rows in c.table.groupby("family", sort=False):
@@ -127,6 +134,14 @@ def main(args: argparse.Namespace) -> int:
         elif len(rows) > 1:
             print("  no tests: no two groups with at least 2 runs of distinct seeds")
         print()
+    if "garden_variance" in c.files:
+        import pandas as pd
+
+        shares = pd.read_csv(c.files["garden_variance"])
+        if len(shares):
+            print("common garden: shares of each quantity's variation (garden_variance.csv)")
+            print(shares.round(3).to_string(index=False))
+            print()
     for note in c.notes:
         print(f"note: {note}")
     out = c.files["table"].parent

@@ -31,6 +31,8 @@ __all__ = [
     "ModelConfig",
     "ObjectiveConfig",
     "OutputConfig",
+    "SweepConfig",
+    "SweepVariant",
 ]
 
 
@@ -216,6 +218,55 @@ class OutputConfig(Options):
         return v
 
 
+class SweepVariant(Options):
+    """One named variant of ``[[sweep.variants]]``: its name and the config keys it sets.
+
+    Examples
+    --------
+    >>> SweepVariant(name="half_water", set={"environment.water.supply": 0.5}).name
+    'half_water'
+    """
+
+    name: str = Field(
+        pattern=r"^[A-Za-z0-9_.+-]{1,60}$",
+        description="the variant's name (its directory in a sweep): letters, digits, _ . + -",
+    )
+    set: dict[str, Any] = Field(
+        default_factory=dict,
+        description="config keys (dotted paths, as --set) and their values in this variant",
+    )
+
+
+class SweepConfig(Options):
+    """``[sweep]``: named variants for ``growsim sweep`` (e.g. the environments compared).
+
+    ``growsim sweep`` runs each variant (crossed with ``--vary``) for every repeat; a
+    variant's name is its directory.
+
+    Examples
+    --------
+    >>> s = SweepConfig(variants=[{"name": "ample"}, {"name": "dark",
+    ...                           "set": {"environment.light.intensity": 0.5}}])
+    >>> [v.name for v in s.variants]
+    ['ample', 'dark']
+    """
+
+    variants: list[SweepVariant] = Field(
+        default_factory=list,
+        description="named variants (`[[sweep.variants]]` with `name` and `set`) that "
+        "`growsim sweep` runs, each for every --vary value and repeat",
+    )
+
+    @field_validator("variants")
+    @classmethod
+    def _unique(cls, v):
+        names = [x.name for x in v]
+        twice = sorted({n for n in names if names.count(n) > 1})
+        if twice:
+            raise ValueError(f"variant names must differ: {', '.join(twice)} given twice")
+        return v
+
+
 class Config(Options):
     """A whole, validated experiment config (the TOML file as objects).
 
@@ -233,6 +284,7 @@ class Config(Options):
     objective: list[ObjectiveConfig] = Field(min_length=1, max_length=64)
     ga: GAConfig = Field(default_factory=GAConfig)
     output: OutputConfig = Field(default_factory=OutputConfig)
+    sweep: SweepConfig = Field(default_factory=SweepConfig)
 
     def to_dict(self) -> dict[str, Any]:
         """The config as plain TOML-able data (``None`` values left out: TOML has no null).
@@ -273,4 +325,5 @@ SECTIONS: dict[str, Any] = {
     "objective": ObjectiveConfig,
     "ga": GAConfig,
     "output": OutputConfig,
+    "sweep": SweepConfig,
 }

@@ -106,7 +106,9 @@ def sweep(
     ``vary`` maps key paths to value lists (or ``"path=v1,v2"`` strings). Every variant
     runs ``repeats`` seeds (``experiment.seed + r``, the same seeds for every variant, so
     variants are compared on common random numbers) into
-    ``out/<variant label>/seed-<seed>/``. A finished run found there is reused and a
+    ``out/<variant label>/seed-<seed>/``. The config's named ``[[sweep.variants]]`` (each a
+    ``name`` and the keys it sets, e.g. the environments an experiment compares) are
+    crossed with ``vary``; their names lead the labels. A finished run found there is reused and a
     killed one resumed, so re-running a sweep completes it; but only when its saved
     ``config.toml`` equals the config this sweep would run there: a run made with other
     settings (another ``--set``, another base config) is refused before anything runs or
@@ -137,15 +139,21 @@ def sweep(
     if not isinstance(n_rep, int) or n_rep < 1:
         raise UserInputError(f"--repeats: expected an integer >= 1, got {n_rep!r}")
     # validate every variant before running any, so a typo fails at once
-    variants = []
+    variants, labels = [], []
     keys = list(grid)
-    for combo in itertools.product(*(grid[k] for k in keys)):
+    named = [(v.name, v.set, f"sweep.variants[{i}].set") for i, v in enumerate(base.sweep.variants)]
+    for (name, sets, where), combo in itertools.product(
+        named or [(None, {}, "")], itertools.product(*(grid[k] for k in keys))
+    ):
         assign = dict(zip(keys, combo))
         data = base.to_dict()
+        for k, v in sets.items():
+            set_path(data, parse_path(k), v, f"{where}.{k}")
         for k, v in assign.items():
             set_path(data, parse_path(k), v, f"--vary {k}")
-        variants.append((assign, load_plan(data)))
-    labels = [_label(a) for a, _ in variants]
+        variants.append((({"sweep_variant": name} if name else {}) | assign, load_plan(data)))
+        parts = [name] if name else []
+        labels.append("_".join(parts + ([_label(assign)] if assign or not name else [])))
     if len(set(labels)) != len(labels):
         labels = [f"v{i}-{lab}" for i, lab in enumerate(labels)]
     root = Path(out) if out is not None else default_out(base, kind="sweep")

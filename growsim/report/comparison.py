@@ -81,9 +81,12 @@ def compare(
     *,
     renders: bool = True,
     html_report: bool = True,
+    garden: bool = False,
 ) -> Comparison:
     """Compare runs: write ``compare.csv``, ``stats.csv``, ``runs.csv``, ``curves.png``,
-    ``renders.png`` and ``report.html`` to ``out`` (default: :func:`default_out`).
+    ``renders.png`` and ``report.html`` to ``out`` (default: :func:`default_out`); with
+    ``garden``, also the common garden (:mod:`growsim.report.garden`): ``garden.csv``,
+    ``garden_stats.csv`` and ``garden_variance.csv``, and its section of the report.
 
     Examples
     --------
@@ -184,8 +187,27 @@ def compare(
                             imgs["renders"] = save_png(renders_figure([("", c)]))
             except Exception as exc:  # a picture must not lose the tables
                 log.warning("renders.png failed: %s", exc)
+    extra = ""
+    if garden:
+        from growsim.report.garden import (
+            garden_html,
+            garden_stats,
+            grow_in_gardens,
+            variance_shares,
+        )
+
+        grown = grow_in_gardens(families, notes)
+        g_stats, shares = garden_stats(grown), variance_shares(grown)
+        files["garden"] = atomic_write(out / "garden.csv", grown.to_csv(index=False))
+        files["garden_stats"] = atomic_write(out / "garden_stats.csv", g_stats.to_csv(index=False))
+        files["garden_variance"] = atomic_write(
+            out / "garden_variance.csv", shares.to_csv(index=False)
+        )
+        extra = garden_html(g_stats, shares)
     if html_report:
         title = "growsim compare: " + "; ".join(f.label for f in families)
         text = report_html(families, fam_stats, fam_rows, fam_images, runs_df, notes, title)
+        if extra:
+            text = text.replace("<h2>Runs</h2>", extra + "\n<h2>Runs</h2>", 1)
         files["html"] = atomic_write(out / "report.html", text)
     return Comparison(table=table, stats=stats_df, runs=runs_df, files=files, notes=notes)
