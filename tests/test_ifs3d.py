@@ -145,14 +145,14 @@ def test_develop_table1_plant():
 
 def test_param_spec_and_defaults():
     names = [p.name for p in ifs3d.PARAMS]
-    assert names[:2] == ["n_maps", "depth"] and len(names) == 22
+    assert names[:2] == ["n_maps", "depth"] and len(names) == 22 + len(ifs3d.LEAF_PARAMS)
     by = {p.name: p for p in ifs3d.PARAMS}
     # the seed's ranges
     assert (by["y_1"].low, by["y_1"].high) == (0.3, 0.6)
     assert (by["theta_y_3"].low, by["theta_y_3"].high) == (90.0, 180.0)
     assert (by["theta_y_1"].low, by["theta_y_1"].high) == (0.0, 360.0)
     spec3 = ifs3d.param_spec({"n_maps": 3})
-    assert len(spec3) == 2 + 12
+    assert len(spec3) == 2 + 12 + len(ifs3d.LEAF_PARAMS)
     assert {p.name: p for p in spec3}["theta_y_3"].low == 180.0
     tree = ifs3d.develop({"n_maps": 3, "depth": 2})
     assert tree.n_segments == 13
@@ -164,6 +164,7 @@ def test_map_groups():
     names = [p.name for p in ifs3d.PARAMS]
     rng = np.random.default_rng(2)
     rows = np.array([[rng.uniform(p.low, p.high) for p in ifs3d.PARAMS] for _ in range(5)])
+    rows[:, names.index("leaves")] = 0  # bare trees (leafy rows are not grouped)
     rows[:, 0] = 5
     rows[:, 1] = [4, 5, 4.2, 3, 5]  # depths rounded: groups 3, 4, 5
     groups = list(ifs3d.map_groups(rows, names))
@@ -185,7 +186,8 @@ def test_map_groups():
     ((_, maps3, _),) = ifs3d.map_groups([row3], [p.name for p in spec3])
     assert maps3.shape == (1, 3, 4)
     with pytest.raises(UserInputError, match="theta_y_5"):
-        list(ifs3d.map_groups(rows[:, :-1], names[:-1]))
+        i = names.index("theta_y_5")
+        list(ifs3d.map_groups(np.delete(rows, i, axis=1), names[:i] + names[i + 1 :]))
     big = rows[:1].copy()
     big[0, :2] = [5, 10]
     with pytest.raises(ResourceError, match="segments"):

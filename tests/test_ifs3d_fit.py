@@ -11,7 +11,7 @@ from growsim.ga import GA, genome_from_params
 from growsim.models import ifs3d
 from growsim.objectives.silhouette import SilhouetteObjective
 
-EVOLVED = [p for p in ifs3d.PARAMS if p.name not in ("n_maps", "depth")]
+EVOLVED = [p for p in ifs3d.PARAMS[2:] if p not in ifs3d.LEAF_PARAMS]
 NAMES = ["n_maps", "depth"] + [p.name for p in EVOLVED]
 
 

@@ -198,7 +198,8 @@ def test_thin_framing_inverts_the_thin_renderer(scale):
     rng = np.random.default_rng(scale)
     trees = [ifs3d.develop(ifs3d.PRESETS["table1"]), honda.develop(honda.PRESETS["ginkgo"])]
     while len(trees) < 5:
-        tree = ifs3d.develop({p.name: rng.uniform(p.low, p.high) for p in ifs3d.PARAMS[2:]})
+        bare = [p for p in ifs3d.PARAMS[2:] if p not in ifs3d.LEAF_PARAMS]
+        tree = ifs3d.develop({p.name: rng.uniform(p.low, p.high) for p in bare})
         # a picture's trunk base is found in its lowest rows: trees standing on their base
         if min(tree.start[:, 1].min(), tree.end[:, 1].min()) >= 0.0:
             trees.append(tree)

@@ -41,6 +41,7 @@ def test_batch_equals_call_for_ifs3d(table1_obj):
         + [_row(ifs3d.PRESETS[k]) for k in ifs3d.PRESETS]
     )
     rows[:, 0], rows[:, 1] = 5, 5
+    rows[:, NAMES.index("leaves")] = np.round(rows[:, NAMES.index("leaves")])  # some leafy
     got = table1_obj.batch(ifs3d, rows, NAMES, np.zeros(len(rows), np.uint64))
     want = [table1_obj(ifs3d.develop(dict(zip(NAMES, r)))) for r in rows]
     np.testing.assert_allclose(got, want, atol=1e-12)
@@ -59,6 +60,7 @@ def test_blur_option_batch_equals_call_and_exact_is_binary(table1_obj):
     obj = SilhouetteObjective(target_model="ifs3d", target_preset="table1", blur=1.5)
     rng = np.random.default_rng(3)
     rows = np.array([[rng.uniform(p.low, p.high) for p in ifs3d.PARAMS] for _ in range(4)])
+    rows[:, NAMES.index("leaves")] = np.round(rows[:, NAMES.index("leaves")])
     rows = np.vstack([rows, _row(ifs3d.PRESETS["table1"]), _row(ifs3d.PRESETS["seed_ga"])])
     rows[:, 0], rows[:, 1] = 5, 5
     got = obj.batch(ifs3d, rows, NAMES)

@@ -1,30 +1,57 @@
-"""``growsim fit-image FRONT SIDE``: fit a tree to a front and a side picture.
+"""``growsim fit-image PICTURE [SIDE]``: fit a tree model to one picture, or to a front and
+a side picture.
 
-Builds the experiment config in memory (see :func:`fit_config`): for ifs3d the best setup,
-read from the package's ``growsim/data/ifs_tree_best.toml`` (:func:`best_setup`; the file
-``experiments/ifs_tree_best.toml`` links to, so the command and the experiment are one
-setup) with the pictures as the target; compiles and runs it
-(:func:`growsim.experiment.run`), then writes into ``--out``: the run's results,
-``tree.glb`` (the fitted tree's mesh) and ``silhouettes.png`` (target and fitted
-silhouettes, front and side, side by side).
+The pictures become silhouettes (:mod:`growsim.images`: by default the photo segmentation,
+the tree apart from sky and ground; ``--segmentation threshold`` for clean drawings); a
+bad segmentation is refused with a message naming the picture. The model is fitted coarse
+to fine: the setup's GA (and polish) at the first of ``--sizes`` (64 px), then a local
+refinement of the best at each finer size (128, 256 px), so branch structure counts. Every
+model is one :class:`FitSetup` in :data:`FIT_SETUPS` (its tables, the parameters of its
+leaves, the views it has): adding a model is adding an entry. With one picture a 3D
+model's front view is fitted and its side is left free (the silhouette objective's
+``views = "front"``).
+
+Writes into ``--out``: the first stage's run results (``config.toml``, ``history.parquet``,
+``best.json``, ...), ``fit.json`` (every stage: size, evaluations, seconds, NCC; the final
+parameters), ``tree.glb`` (the fitted tree), ``silhouette_<view>.png`` (the silhouette
+used, at the picture's size) and ``segmentation_<view>.png`` (it over the picture), and
+``silhouettes.png`` (target and fit, framed, at the final size).
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
 from pathlib import Path
 
-from growsim.errors import UserInputError
+import numpy as np
 
-__all__ = ["BEST_SETUP", "HONDA_EVOLVE", "best_setup", "fit_config", "register"]
+from growsim.errors import UserInputError
+from growsim.registry import Registry
+
+__all__ = [
+    "BEST_SETUP",
+    "FIT_SETUPS",
+    "HONDA_EVOLVE",
+    "SIZES",
+    "FitSetup",
+    "best_setup",
+    "fit_config",
+    "refine",
+    "register",
+]
 
 #: The package data file holding the best ifs3d setup (see docs/models/ifs3d.md for how it
 #: was chosen): its ``[model]``, ``[ga]`` and ``[output]`` tables are what ``fit-image
 #: --model ifs3d`` runs; ``experiments/ifs_tree_best.toml`` is a link to it.
 BEST_SETUP = "ifs_tree_best.toml"
 
-#: Honda parameters fitted to pictures (the rest come from the ``cherry`` preset).
+#: Honda parameters fitted to pictures (the rest come from the ``cherry`` preset; the
+#: leaves are added by the setup, :data:`FIT_SETUPS`).
 HONDA_EVOLVE: dict = {
     "f": [0.5, 1.0],
     "theta0": True,
@@ -34,13 +61,27 @@ HONDA_EVOLVE: dict = {
     "bd": [5.0, 40.0],
     "b0": [1.0, 12.0],
     "b_max": [0.0, 6.0],
+    # how thick the branches are drawn (photos show them at their width)
+    "radius": [0.3, 3.0],
+    "taper": [0.6, 0.95],
 }
 
 #: Honda's GA: 60 generations of 100, then 1,500 evaluations of polish (7,500 in all).
-HONDA_GA: dict = {"population": 100, "generations": 60, "polish": {"evaluations": 1500}}
+HONDA_GA: dict = {
+    "population": 100,
+    "generations": 60,
+    # the real-coded GA as it was before issue 15 changed the defaults (results kept)
+    "model": "generational",
+    "selection": "tournament",
+    "selection_options": {"size": 4},
+    "crossover": "sbx",
+    "mutation": "polynomial",
+    "polish": {"evaluations": 1500},
+}
 
-#: The line width each model's fit draws its trees with, unless ``--line-width`` says.
-LINE_WIDTH = {"ifs3d": "thin", "honda": "radius"}
+#: The raster sizes of the coarse-to-fine fit: the GA at the first, a refinement at each
+#: next (``--sizes``).
+SIZES = (64, 128, 256)
 
 
 def best_setup() -> dict:
@@ -67,9 +108,66 @@ def __getattr__(name: str):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
+@dataclass(frozen=True)
+class FitSetup:
+    """How ``fit-image`` fits one registered model.
+
+    ``tables()``: fresh ``[model]``, ``[ga]`` and ``[output]`` tables (a dict with those
+    keys) of the first, coarse stage; ``leaves``: the ``[model.evolve]`` entries of the
+    model's leaves (count, size), added to the fit unless ``leaves=False``, so a bare
+    tree is fitted by a bare tree; ``line_width``: how the fitted tree is drawn by default
+    (``"radius"``: the branches at their thickness, as photos show them); ``views``: the
+    views the model has (``("front", "side")`` for a 3D tree; a 2D model has only
+    ``("front",)`` and takes one picture); ``refine``: evaluations of the local
+    refinement at each finer size, and its step (``sigma``, unit box).
+
+    Examples
+    --------
+    >>> setup = FIT_SETUPS["honda"]
+    >>> setup.tables()["model"]["preset"], setup.line_width, setup.views
+    ('cherry', 'radius', ('front', 'side'))
+    """
+
+    tables: Callable[[], dict]
+    leaves: dict = field(default_factory=dict)
+    line_width: str = "radius"
+    views: tuple[str, ...] = ("front", "side")
+    refine: int = 1000
+    refine_sigma: float = 0.03
+
+
+def _ifs3d_tables() -> dict:
+    setup = best_setup()
+    return {"model": setup["model"], "ga": setup["ga"], "output": setup["output"]}
+
+
+def _honda_tables() -> dict:
+    return {
+        "model": {"kind": "honda", "preset": "cherry", "evolve": dict(HONDA_EVOLVE)},
+        "ga": {**HONDA_GA, "polish": dict(HONDA_GA["polish"])},
+        "output": {"mesh": ["vtp"], "screenshots": ["front", "side"]},
+    }
+
+
+#: model name -> its :class:`FitSetup`. ifs3d: the best setup of
+#: ``experiments/ifs_tree_best.toml`` (its GA at 64 px: 50,000 evaluations, 70 % CMA-ES);
+#: honda: the ``cherry`` preset's fixed values with :data:`HONDA_EVOLVE` evolved,
+#: :data:`HONDA_GA`. Both also fit their leaves: how many per leaf-bearing branch (0: a
+#: bare tree) and their size.
+FIT_SETUPS: Registry[FitSetup] = Registry(
+    "fit setup",
+    {
+        "ifs3d": FitSetup(
+            _ifs3d_tables, leaves={"leaves": True, "leaf_radius": [0.005, 0.1]}, refine=600
+        ),
+        "honda": FitSetup(_honda_tables, leaves={"leaves": True, "leaf_radius": [0.3, 4.0]}),
+    },
+)
+
+
 def fit_config(
     front,
-    side,
+    side=None,
     *,
     model: str = "ifs3d",
     size: int = 64,
@@ -80,15 +178,19 @@ def fit_config(
     line_width: str | None = None,
     evaluations: int | None = None,
     seed: int = 0,
+    segmentation: str = "photo",
+    leaves: bool = True,
 ) -> dict:
-    """The experiment config (a dict for :func:`growsim.experiment.load_config`) of a fit.
+    """The experiment config (a dict for :func:`growsim.experiment.load_config`) of a fit's
+    first stage (at ``size`` pixels).
 
-    ifs3d: the ``[model]``, ``[ga]`` and ``[output]`` tables of :func:`best_setup`, as they
-    are; honda: the ``cherry`` preset with :data:`HONDA_EVOLVE` evolved, :data:`HONDA_GA`.
-    ``evaluations`` replaces the budget and keeps the polish's share of it (ifs3d: 70 %,
-    honda: 20 %), with enough generations for the GA's share. ``line_width``: ``"thin"`` or
-    ``"radius"``; ``None``, the model's :data:`LINE_WIDTH`. Picture paths are made absolute,
-    so the config runs from any directory.
+    The model's :class:`FitSetup` (:data:`FIT_SETUPS`) gives the tables, with its leaves'
+    parameters evolved too (``leaves=False``: not). ``side = None``: one picture, the
+    front view alone (the objective's ``views = "front"``). ``evaluations`` replaces the
+    budget and keeps the polish's share of it (ifs3d: 70 %, honda: 20 %), with enough
+    generations for the GA's share. ``line_width``: ``"thin"`` or ``"radius"``; ``None``,
+    the setup's. ``segmentation``: ``"photo"`` or ``"threshold"`` (with ``threshold`` and
+    ``polarity``). Picture paths are made absolute, so the config runs from any directory.
 
     Examples
     --------
@@ -98,37 +200,42 @@ def fit_config(
     >>> ga = fit_config("front.png", "side.png", evaluations=10_000)["ga"]
     >>> ga["evaluations"], ga["polish"]["evaluations"]
     (10000, 7000)
+    >>> fit_config("tree.jpg", model="honda")["objective"][0]["views"]
+    'front'
     """
-    if model not in LINE_WIDTH:
-        raise UserInputError(f"--model: expected ifs3d or honda, got {model!r}")
+    setup = FIT_SETUPS.get(model)
     if line_width is None:
-        # photos show trunks and leaves with their thickness: the Honda tree's tubes are
-        # drawn at their radius (measured on a rendered zelkova photographed front and
-        # side: NCC 0.926 against 0.848 with thin lines). ifs3d keeps thin lines, its fast
-        # path (docs/models/ifs3d.md: when to choose "radius").
-        line_width = LINE_WIDTH[model]
+        line_width = setup.line_width
     if line_width not in ("thin", "radius"):
         raise UserInputError(f"--line-width: expected thin or radius, got {line_width!r}")
+    if side is not None and "side" not in setup.views:
+        raise UserInputError(f"{side}: the {model} model has one view: give one picture")
     objective = {
         "kind": "silhouette",
         "front": str(Path(front).absolute()),
-        "side": str(Path(side).absolute()),
+        "views": "both" if side is not None else "front",
         "size": int(size),
-        "threshold": threshold,
-        "polarity": polarity,
+        "segmentation": segmentation,
         "line_width": line_width,
     }
+    if side is not None:
+        objective["side"] = str(Path(side).absolute())
+    if segmentation == "threshold":
+        objective.update(threshold=threshold, polarity=polarity)
+    elif threshold != "otsu" or polarity != "auto":
+        raise UserInputError(
+            "--threshold/--polarity: they apply to --segmentation threshold, not photo"
+        )
     if mask_front is not None:
         objective["mask_front"] = str(Path(mask_front).absolute())
     if mask_side is not None:
+        if side is None:
+            raise UserInputError("--mask-side: there is no side picture")
         objective["mask_side"] = str(Path(mask_side).absolute())
-    if model == "ifs3d":
-        setup = best_setup()
-        model_cfg, ga, output = setup["model"], setup["ga"], setup["output"]
-    else:
-        model_cfg = {"kind": "honda", "preset": "cherry", "evolve": dict(HONDA_EVOLVE)}
-        ga = {**HONDA_GA, "polish": dict(HONDA_GA["polish"])}
-        output = {"mesh": ["vtp"], "screenshots": ["front", "side"]}
+    tables = setup.tables()
+    model_cfg, ga, output = tables["model"], tables["ga"], tables["output"]
+    if leaves and setup.leaves:
+        model_cfg = dict(model_cfg, evolve={**model_cfg.get("evolve", {}), **setup.leaves})
     if evaluations is not None:
         evaluations = int(evaluations)
         pol = ga.get("polish")
@@ -171,6 +278,60 @@ def _threshold(text: str):
     return value
 
 
+def refine(plan, x0, *, evaluations: int, sigma: float = 0.03, seed: int = 0):
+    """Refine evolved parameters ``x0`` ``(p,)`` on ``plan`` (a compiled fit at a finer
+    size): an elitist (1+lambda)-ES (:func:`growsim.ga.polish.polish_steps`) from ``x0``
+    for ``evaluations`` fitness evaluations, step ``sigma`` in the unit box. Never ends
+    worse than it starts. Returns ``(x, fitness, start_fitness)``.
+
+    Examples
+    --------
+    >>> from growsim.experiment import load_plan
+    >>> cfg = {"model": {"kind": "honda", "preset": "cherry", "evolve": {"f": [0.5, 1.0]}},
+    ...        "objective": [{"kind": "silhouette", "target_model": "honda",
+    ...                       "target_preset": "zelkova", "size": 32}]}
+    >>> x, score, start = refine(load_plan(cfg), np.array([0.6]), evaluations=40)
+    >>> score >= start
+    True
+    """
+    from growsim.ga.polish import PolishOptions, polish_steps
+
+    fitness = plan.fitness()
+    genome = plan.genome
+    x0 = np.asarray(x0, dtype=np.float64)
+    start = float(fitness(x0[None, :])[0])
+    options = PolishOptions(evaluations=max(1, int(evaluations)), sigma=float(sigma))
+    rng = np.random.default_rng(seed)
+    steps = polish_steps(
+        x0, start, genome.param_low, genome.param_high, genome.discrete, rng, options
+    )
+    best_x, best = x0, start
+    try:
+        step = next(steps)
+        while True:
+            scores = np.asarray(fitness(step.candidates), dtype=np.float64)
+            scores = np.where(np.isfinite(scores), scores, -np.inf)
+            j = int(np.argmax(scores))
+            if scores[j] > best:
+                best_x, best = step.candidates[j].copy(), float(scores[j])
+            step = steps.send(scores)
+    except StopIteration:
+        pass
+    return best_x, best, start
+
+
+def _sizes(text: str) -> tuple[int, ...]:
+    try:
+        sizes = tuple(int(v) for v in text.replace(",", " ").split())
+    except ValueError:
+        sizes = ()
+    if not sizes or any(not 8 <= v <= 1024 for v in sizes) or list(sizes) != sorted(set(sizes)):
+        raise argparse.ArgumentTypeError(
+            f"expected increasing raster sizes in 8..1024, e.g. '64,128,256', got {text!r}"
+        )
+    return sizes
+
+
 def register(subparsers) -> None:
     """Add the ``fit-image`` subcommand.
 
@@ -178,61 +339,84 @@ def register(subparsers) -> None:
     --------
     >>> from growsim.cli import build_parser
     >>> args = build_parser().parse_args(["fit-image", "f.png", "s.png", "--out", "o",
-    ...                                   "--line-width", "radius", "--threshold", "0.4"])
-    >>> args.line_width, args.threshold
-    ('radius', 0.4)
+    ...                                   "--line-width", "radius", "--sizes", "64,128"])
+    >>> args.line_width, args.sizes, args.side
+    ('radius', (64, 128), 's.png')
+    >>> build_parser().parse_args(["fit-image", "tree.jpg", "--out", "o"]).side is None
+    True
     """
     p = subparsers.add_parser(
         "fit-image",
-        help="fit a tree to front and side pictures (PNG/JPEG)",
-        description="Fit a tree model to a front and a side picture of a tree: the pictures "
-        "become silhouettes (Otsu threshold, dark-on-light or light-on-dark detected), a GA "
-        "fits the model's front/side projections to them, and the fitted tree's mesh and a "
-        "target-vs-fitted silhouette image are written to --out. ifs3d runs the best setup "
-        "of experiments/ifs_tree_best.toml (50,000 evaluations: 30 % GA, 70 % CMA-ES). "
-        "Pictures whose silhouette is too small, too noisy or fills the frame are refused "
-        "(growsim/images.py).",
+        help="fit a tree to one picture, or to a front and a side picture (PNG/JPEG)",
+        description="Fit a tree model to a picture of a tree (the front view; its side is "
+        "left free), or to a front and a side picture. Each picture becomes a silhouette: "
+        "by default the photo segmentation separates the tree from the sky and the ground "
+        "(colour and connectivity), refusing pictures it cannot read (no plain sky, the tree "
+        "cut off, no contrast, other objects); --segmentation threshold reads clean "
+        "drawings by a grey threshold. The model is fitted coarse to fine (--sizes, default "
+        "64,128,256: the GA at the first, a refinement at each next), with its leaves (a "
+        "bare tree is fitted by a bare tree). Writes the run's results, fit.json (NCC and "
+        "seconds per stage), tree.glb, the silhouettes used (silhouette_<view>.png, "
+        "segmentation_<view>.png) and silhouettes.png (target against fit) into --out.",
     )
-    p.add_argument("front", help="front picture (PNG, JPEG, ...; any size)")
-    p.add_argument("side", help="side picture (the tree seen from its right)")
+    p.add_argument("front", help="the picture (PNG, JPEG, ...; any size): the tree's front")
+    p.add_argument("side", nargs="?", default=None, help="optional side picture (from the right)")
     p.add_argument(
         "--model",
-        choices=("ifs3d", "honda"),
         default="ifs3d",
-        help="tree model to fit: ifs3d (3D fractal tree, default) or honda (branching tree "
-        "from the cherry preset)",
+        help="model to fit: " + ", ".join(FIT_SETUPS) + " (default ifs3d)",
     )
     p.add_argument("--out", required=True, help="results directory (must not hold a run)")
     p.add_argument(
+        "--sizes",
+        type=_sizes,
+        default=SIZES,
+        metavar="PX,PX,..",
+        help="raster sizes, coarse to fine (default 64,128,256): the GA at the first, a "
+        "local refinement at each next",
+    )
+    p.add_argument(
         "--size",
         type=int,
-        default=64,
+        default=None,
         metavar="PX",
-        help="silhouette raster size in pixels, 8..1024 (default 64; larger pictures need "
-        "more --evaluations)",
+        help="one raster size only, 8..1024 (no refinement; same as --sizes PX)",
+    )
+    p.add_argument(
+        "--segmentation",
+        choices=("photo", "threshold"),
+        default="photo",
+        help="photo (default): the tree apart from sky and ground, in colour; threshold: "
+        "grey levels (--threshold, --polarity), for clean drawings and silhouettes",
     )
     p.add_argument(
         "--threshold",
         type=_threshold,
         default="otsu",
         metavar="otsu|LEVEL",
-        help="'otsu' (default: Otsu's threshold of each picture) or a grey level strictly "
+        help="with --segmentation threshold: 'otsu' (default) or a grey level strictly "
         "between 0 (black) and 1 (white), e.g. 0.4",
     )
     p.add_argument(
         "--polarity",
         choices=("auto", "dark", "light"),
         default="auto",
-        help="dark: a dark tree on a light background; light: the reverse; auto (default): "
-        "the class covering less of the picture's border is the tree",
+        help="with --segmentation threshold: dark tree on light, light on dark, or auto "
+        "(the class covering less of the picture's border is the tree)",
     )
     p.add_argument(
         "--line-width",
         choices=("thin", "radius"),
         default=None,
-        help="how the fitted tree is drawn: thin (1-pixel lines, the paper's drawing; "
-        "ifs3d's default and fast path) or radius (tubes as wide as the branches: pictures "
-        "with thick trunks and branches, e.g. renders or photos; honda's default)",
+        help="how the fitted tree is drawn: radius (default: branches as wide as their "
+        "tubes, as photos show them) or thin (1-pixel lines: line drawings such as the "
+        "paper's 64x64 silhouettes; ifs3d's fast path)",
+    )
+    p.add_argument(
+        "--no-leaves",
+        dest="leaves",
+        action="store_false",
+        help="keep the setup's leaves fixed instead of fitting them",
     )
     for view in ("front", "side"):
         p.add_argument(
@@ -240,15 +424,23 @@ def register(subparsers) -> None:
             default=None,
             metavar="PICTURE",
             help=f"mask picture for the {view} view (the picture's size; only its white part "
-            "is looked at)",
+            "may be tree): for hard pictures",
         )
     p.add_argument(
         "--evaluations",
         type=int,
         default=None,
         metavar="N",
-        help="fitness evaluations budget, >= 100 (default: ifs3d 50,000, honda 7,500); the "
-        "setup's share for the final polish is kept (ifs3d 70 %%, honda 20 %%)",
+        help="fitness evaluations of the first stage, >= 100 (default: ifs3d 50,000, honda "
+        "7,500); the setup's share for its polish is kept (ifs3d 70 %%, honda 20 %%)",
+    )
+    p.add_argument(
+        "--refine",
+        type=int,
+        default=None,
+        metavar="N",
+        help="evaluations of the refinement at each finer size (default: the model's, "
+        "honda 1,000, ifs3d 600)",
     )
     p.add_argument(
         "--seed", type=int, default=0, metavar="N", help="random seed of the run (default 0)"
@@ -260,30 +452,126 @@ def register(subparsers) -> None:
     p.set_defaults(func=_main)
 
 
+def _write_masks(objective, out: Path, pictures: dict) -> list[str]:
+    """The silhouettes used, at the pictures' size: ``silhouette_<view>.png`` (black tree
+    on white) and ``segmentation_<view>.png`` (the picture, the tree tinted red)."""
+    from PIL import Image
+
+    from growsim.files import atomic_write
+    from growsim.images import load_rgb
+
+    written = []
+    for view, mask in objective.pictures.items():
+        sil = Image.fromarray(np.where(mask, 0, 255).astype(np.uint8))
+        path = out / f"silhouette_{view}.png"
+        atomic_write(path, lambda fh, im=sil: im.save(fh, format="PNG"))
+        rgb = load_rgb(pictures[view])
+        over = 0.35 * rgb + 0.65  # washed out, the tree in red over it
+        over[mask] = 0.4 * rgb[mask] + 0.6 * np.array([1.0, 0.0, 0.0])
+        im = Image.fromarray(np.round(255 * over).astype(np.uint8))
+        path2 = out / f"segmentation_{view}.png"
+        atomic_write(path2, lambda fh, im=im: im.save(fh, format="PNG"))
+        written += [str(path), str(path2)]
+    return written
+
+
 def _main(args) -> int:
     from growsim.experiment import load_plan, run
+    from growsim.files import atomic_write, jsonable
     from growsim.images import silhouette_image
     from growsim.mesh import export
     from growsim.objectives.silhouette import plant_views
 
     if args.evaluations is not None and args.evaluations < 100:
         raise UserInputError(f"--evaluations: at least 100, got {args.evaluations}")
+    if args.refine is not None and args.refine < 0:
+        raise UserInputError(f"--refine: at least 0, got {args.refine}")
+    if args.size is not None and not 8 <= args.size <= 1024:
+        raise UserInputError(f"--size: expected 8..1024, got {args.size}")
+    setup = FIT_SETUPS.get(args.model)
+    sizes = (args.size,) if args.size is not None else tuple(args.sizes)
+    refine_evaluations = setup.refine if args.refine is None else args.refine
+    options = ("model", "threshold", "polarity", "mask_front", "mask_side", "line_width")
+    options += ("evaluations", "seed", "segmentation", "leaves")
+    kw = {k: getattr(args, k) for k in options}
+
+    def config(size):
+        return fit_config(args.front, args.side, size=size, **kw)
+
     # compiling builds the objective once: bad pictures fail here, before any evolution
-    options = ("model", "size", "threshold", "polarity", "mask_front", "mask_side")
-    options += ("line_width", "evaluations", "seed")
-    plan = load_plan(fit_config(args.front, args.side, **{k: getattr(args, k) for k in options}))
+    t0 = time.perf_counter()
+    plan = load_plan(config(sizes[0]))
     objective = plan.objectives[0]
+    out_dir = Path(args.out)
     result = run(plan, out=args.out, workers=args.workers, progress=not args.quiet)
     out = Path(result.out)
-    plant = result.best_plant
+    fitness = plan.fitness()
+    x = np.array([result.best_params[n] for n in fitness.evolved], dtype=np.float64)
+    stages = [
+        {
+            "size": sizes[0],
+            "stage": "ga",
+            "evaluations": int(result.summary["evaluations"]),
+            "seconds": round(time.perf_counter() - t0, 3),
+            "ncc": float(result.best_fitness),
+        }
+    ]
+    for k, size in enumerate(sizes[1:], start=1):
+        t = time.perf_counter()
+        fine = load_plan(config(size))
+        x, score, start = refine(
+            fine, x, evaluations=refine_evaluations, sigma=setup.refine_sigma,
+            seed=args.seed * 1000 + k,
+        )  # fmt: skip
+        stages.append(
+            {
+                "size": size,
+                "stage": "refine",
+                "evaluations": refine_evaluations,
+                "seconds": round(time.perf_counter() - t, 3),
+                "ncc_start": start,
+                "ncc": score,
+            }
+        )
+        plan, objective = fine, fine.objectives[0]
+    fitness = plan.fitness()
+    row = fitness.full_params(x[None, :])[0]
+    params = fitness.param_dict(row)
+    for n in plan.int_names:
+        params[n] = round(params[n])
+    plant = fitness.develop(row, int(fitness.model_seeds(row[None, :], None)[0]))
+    views = objective.view_scores(plant)
     export(plant, out / "tree.glb")
-    fitted = plant_views(plant, objective.size, objective.line_width)
-    silhouette_image(
-        [objective.target[0], fitted[0], objective.target[1], fitted[1]],
-        out / "silhouettes.png",
-        titles=["front target", "front fit", "side target", "side fit"],
+    fitted = plant_views(plant, objective.size, objective.line_width, views=objective.n_views)
+    titles = [
+        f"{v} target" if i % 2 == 0 else f"{v} fit" for v in ("front", "side") for i in (0, 1)
+    ]
+    panels = [a for i in range(objective.n_views) for a in (objective.target[i], fitted[i])]
+    silhouette_image(panels, out / "silhouettes.png", titles=titles[: len(panels)], scale=2)
+    pictures = {"front": args.front, "side": args.side}
+    written = _write_masks(objective, out, pictures)
+    summary = {
+        "model": args.model,
+        "pictures": {k: str(v) for k, v in pictures.items() if v is not None},
+        "views": ["front", "side"][: objective.n_views],
+        "ncc": float(np.mean(views)),
+        "ncc_views": dict(zip(("front", "side"), views)),
+        "size": objective.size,
+        "seconds": round(time.perf_counter() - t0, 3),
+        "stages": stages,
+        "params": params,
+        "files": ["tree.glb", "silhouettes.png", *[Path(w).name for w in written]],
+    }
+    text = json.dumps(jsonable(summary), indent=1)
+    atomic_write(out / "fit.json", lambda fh: fh.write(text.encode()))
+    shown = ", ".join(f"{k} {v:.4f}" for k, v in summary["ncc_views"].items())
+    print(
+        f"fitted {args.model}: mean NCC {summary['ncc']:.4f} ({shown}) at {objective.size} px "
+        f"in {summary['seconds']:.1f} s"
     )
-    print(f"fitted {args.model}: mean NCC {objective(plant):.4f}")
+    for st in stages:
+        print(f"  {st['size']:4d} px {st['stage']:6s} {st['evaluations']:6d} evaluations "
+              f"{st['seconds']:7.1f} s  NCC {st['ncc']:.4f}")  # fmt: skip
     print(f"  mesh: {out / 'tree.glb'}")
-    print(f"  silhouettes: {out / 'silhouettes.png'}")
+    print(f"  silhouettes: {out / 'silhouettes.png'} (used: {out_dir / 'silhouette_front.png'})")
     return 0

@@ -18,6 +18,11 @@ Parameters per map ``n = 1..N`` (named ``s_n``, ``y_n``, ``theta_z_n``, ``theta_
 These are the seed's ranges (its appendix code), generalised to any ``N``. Two integer
 parameters complete the spec: ``n_maps`` (``N``, default 5) and ``depth`` (default 5: 3,906
 segments). Fix them in a config; the GA evolves the map parameters.
+
+Leaves (beyond the seed, for fitting leafy trees in pictures): ``leaves`` per leaf-bearing
+branch (the tips and the branches whose children are all tips, as Honda's tree; default
+0: the seed's bare tree) and ``leaf_radius`` (their size, in trunk lengths), drawn as
+Honda's leaves (:func:`growsim.kernels.honda.leaves_kernel`, cut angle :data:`LEAF_CUT`).
 """
 
 from __future__ import annotations
@@ -27,13 +32,16 @@ from collections.abc import Iterator, Mapping
 import numpy as np
 
 from growsim.errors import ResourceError, UserInputError
+from growsim.kernels.honda import leaves_kernel
 from growsim.kernels.ifs3d import compose_tree, n_segments
 from growsim.models.base import Model, Param, resolve_params
-from growsim.plant import STEM, Plant
+from growsim.plant import LEAF, STEM, Plant
 
 __all__ = [
     "DEFAULT_DEPTH",
     "DEFAULT_N_MAPS",
+    "LEAF_CUT",
+    "LEAF_PARAMS",
     "MAX_SEGMENTS",
     "MODEL",
     "NAME",
@@ -55,6 +63,15 @@ DEFAULT_DEPTH = 5
 MAX_SEGMENTS = 2_000_000
 #: Segment radius as a fraction of the segment's length (a slender branch).
 RADIUS_RATIO = 0.04
+#: Cut angle of the leaves' hexagonal prism (Honda's ``leaf_cut`` default, degrees).
+LEAF_CUT = 40.0
+
+#: The leaves' parameters, after the maps in :func:`param_spec`: none by default (the
+#: seed's bare tree), so a config that does not name them grows the seed's tree.
+LEAF_PARAMS: tuple[Param, ...] = (
+    Param("leaves", 0, 8, 0, kind="int", doc="leaves per leaf-bearing branch (0: bare)"),
+    Param("leaf_radius", 0.0, 0.2, 0.02, doc="leaf hexagon radius, in trunk lengths"),
+)
 
 _FIELDS = ("s", "y", "theta_z", "theta_y")
 
@@ -82,14 +99,14 @@ def param_spec(fixed: Mapping[str, float] | None = None) -> tuple[Param, ...]:
     """The parameter spec for ``fixed["n_maps"]`` maps (default 5).
 
     Returns ``n_maps``, ``depth`` (int params), then ``s_k, y_k, theta_z_k, theta_y_k`` for
-    ``k = 1..n_maps``.
+    ``k = 1..n_maps``, then :data:`LEAF_PARAMS` (``leaves``, ``leaf_radius``).
 
     Examples
     --------
     >>> [p.name for p in param_spec({"n_maps": 2})][:6]
     ['n_maps', 'depth', 's_1', 'y_1', 'theta_z_1', 'theta_y_1']
-    >>> len(param_spec())
-    22
+    >>> len(param_spec()), param_spec()[-1].name
+    (24, 'leaf_radius')
     """
     fixed = dict(fixed or {})
     head = (
@@ -97,7 +114,7 @@ def param_spec(fixed: Mapping[str, float] | None = None) -> tuple[Param, ...]:
         Param("depth", 0, 10, DEFAULT_DEPTH, kind="int", doc="levels of composition"),
     )
     n_maps = int(head[0].check(fixed.get("n_maps", DEFAULT_N_MAPS), "ifs3d."))
-    return (*head, *_map_params(n_maps))
+    return (*head, *_map_params(n_maps), *LEAF_PARAMS)
 
 
 #: The spec for the default ``N = 5``.
@@ -109,6 +126,8 @@ def _preset(rows, depth=DEFAULT_DEPTH) -> dict[str, float]:
     for k, row in enumerate(rows, start=1):
         for f, v in zip(_FIELDS, row):
             out[f"{f}_{k}"] = float(v)
+    # the seed's trees are bare
+    out.update({p.name: float(p.default) for p in LEAF_PARAMS})
     return out
 
 
@@ -190,7 +209,9 @@ def map_groups(params, names) -> Iterator[tuple[np.ndarray, np.ndarray, int]]:
     (rounded; :data:`DEFAULT_N_MAPS`, :data:`DEFAULT_DEPTH` when absent). Yields, for each
     ``(n_maps, depth)`` in increasing order, ``(rows, maps, depth)``: the row indices
     ``(k,)``, their map tables ``(k, N, 4)`` (fields ordered as :func:`maps_from_params`)
-    and the depth, ready for :func:`growsim.kernels.ifs3d.score_population`. Raises
+    and the depth, ready for :func:`growsim.kernels.ifs3d.score_population`. Rows of
+    leafy trees (``leaves`` and ``leaf_radius`` columns both positive) are not yielded: the
+    population kernel draws bare trees only, so those are developed one by one. Raises
     :class:`ResourceError` for a tree above :data:`MAX_SEGMENTS` (:func:`check_size`) and
     :class:`UserInputError` for a missing map column.
 
@@ -212,8 +233,12 @@ def map_groups(params, names) -> Iterator[tuple[np.ndarray, np.ndarray, int]]:
         depth = np.round(params[:, col["depth"]]).astype(np.int64)
     else:
         depth = np.full(n, DEFAULT_DEPTH)
-    for N, d in sorted(set(zip(n_maps.tolist(), depth.tolist()))):
-        rows = np.flatnonzero((n_maps == N) & (depth == d))
+    bare = np.ones(n, dtype=bool)
+    if "leaves" in col and "leaf_radius" in col:
+        leafy = np.round(params[:, col["leaves"]]) > 0
+        bare = ~(leafy & (params[:, col["leaf_radius"]] > 0.0))
+    for N, d in sorted(set(zip(n_maps[bare].tolist(), depth[bare].tolist()))):
+        rows = np.flatnonzero((n_maps == N) & (depth == d) & bare)
         check_size(N, d)
         maps = np.empty((rows.size, N, 4))
         for k in range(1, N + 1):
@@ -228,17 +253,21 @@ def map_groups(params, names) -> Iterator[tuple[np.ndarray, np.ndarray, int]]:
 def develop(params: Mapping[str, float] | None = None, *, seed: int = 0, env=None):
     """Build the IFS tree as a :class:`growsim.plant.Plant`.
 
-    ``params``: any subset of :func:`param_spec` (for ``params["n_maps"]``); the rest take
-    their defaults. The model is deterministic: ``seed`` is only recorded, ``env`` unused.
-    Segment ``i`` is one composition of maps (order: level by level, see
-    :mod:`growsim.kernels.ifs3d`); ``order`` is its level, ``radius`` is
-    :data:`RADIUS_RATIO` times its length, ``data["scale"]`` its length ratio to the trunk.
+        ``params``: any subset of :func:`param_spec` (for ``params["n_maps"]``); the rest take
+        their defaults. The model is deterministic: ``seed`` is only recorded, ``env`` unused.
+        Segment ``i`` is one composition of maps (order: level by level, see
+        :mod:`growsim.kernels.ifs3d`); ``order`` is its level, ``radius`` is
+        :data:`RADIUS_RATIO` times its length, ``data["scale"]`` its length ratio to the trunk.
+    With ``leaves > 0`` the leaves follow the stems (``kind == LEAF``; ``parent`` their
+    branch, ``order`` and ``data["scale"]`` its own).
 
-    Examples
-    --------
-    >>> tree = develop(PRESETS["table1"])
-    >>> tree.n_segments, round(tree.height(), 3)
-    (3906, 1.0)
+        Examples
+        --------
+        >>> tree = develop(PRESETS["table1"])
+        >>> tree.n_segments, round(tree.height(), 3)
+        (3906, 1.0)
+        >>> develop({**PRESETS["table1"], "leaves": 2}).n_leaves  # 2 on each of 3,750 branches
+        7500
     """
     params = dict(params or {})
     spec = param_spec(params)
@@ -261,13 +290,25 @@ def develop(params: Mapping[str, float] | None = None, *, seed: int = 0, env=Non
         parent[sl] = prev_off + (idx[sl] - off) // n_maps
         off += size
     length = np.linalg.norm(end - start, axis=1)
+    radius = RADIUS_RATIO * length
+    kind = np.full(m, STEM, dtype=np.int8)
+    if int(p["leaves"]) > 0 and p["leaf_radius"] > 0.0:
+        la, lb, lr, lpar = leaves_kernel(
+            start, end, parent, int(p["leaves"]), p["leaf_radius"], np.radians(LEAF_CUT)
+        )
+        start, end = np.concatenate([start, la]), np.concatenate([end, lb])
+        radius = np.concatenate([radius, lr])
+        parent = np.concatenate([parent, lpar])
+        level = np.concatenate([level, level[lpar]])
+        kind = np.concatenate([kind, np.full(la.shape[0], LEAF, dtype=np.int8)])
+        length = np.concatenate([length, length[lpar]])  # a leaf's scale: its branch's
     return Plant(
         start=start,
         end=end,
-        radius=RADIUS_RATIO * length,
+        radius=radius,
         parent=parent,
         order=level,
-        kind=np.full(m, STEM, dtype=np.int8),
+        kind=kind,
         data={"scale": length},
         meta={"model": NAME, "params": p, "seed": int(seed)},
     )
@@ -334,7 +375,7 @@ class IFS3D(Model):
     Examples
     --------
     >>> len(MODEL.param_spec({"n_maps": 3}))
-    14
+    16
     """
 
     name = NAME

@@ -44,11 +44,11 @@ from growsim.objectives.base import Objective, ObjectiveOptions
 # imported where they are used: the config schema imports every objective's options, and a
 # run that does not score silhouettes should not pay for loading them.
 
-__all__ = ["SilhouetteObjective", "SilhouetteOptions", "plant_views"]
+__all__ = ["SilhouetteObjective", "SilhouetteOptions", "phenotype_views", "plant_views"]
 
 
 def plant_views(
-    plant, size: int = 64, line_width: str = "thin", antialias: bool = False
+    plant, size: int = 64, line_width: str = "thin", antialias: bool = False, views: int = 2
 ) -> np.ndarray:
     """Front and side silhouettes ``(2, size, size)`` uint8 of any Plant, framed.
 
@@ -56,6 +56,8 @@ def plant_views(
     segment is drawn (stems and leaves). ``line_width``: ``"thin"`` (1-pixel lines) or
     ``"radius"`` (lines ``2 * radius`` wide, at least thin). ``antialias`` (thin lines
     only): float64 coverage in [0, 1] instead (see ``blur`` of :class:`SilhouetteObjective`).
+    ``views = 1``: the front view alone ``(1, size, size)``, framed by the front's own
+    extent (the side's width does not shrink it), as a single picture is framed.
 
     Examples
     --------
@@ -63,26 +65,59 @@ def plant_views(
     >>> v = plant_views(ifs3d.develop(ifs3d.PRESETS["table1"]), 64)
     >>> v.shape, int(v[0, 63, 32]), int(v[0, 0, 32])  # trunk base and top of the trunk
     ((2, 64, 64), 1, 1)
+    >>> plant_views(ifs3d.develop(ifs3d.PRESETS["table1"]), 64, views=1).shape
+    (1, 64, 64)
     """
     size = int(size)
+    if views not in (1, 2):
+        raise UserInputError(f"plant_views: views must be 1 or 2, got {views!r}")
     aa = antialias and line_width == "thin"
     if plant.n_segments == 0:
-        return np.zeros((2, size, size), dtype=np.float64 if aa else np.uint8)
+        return np.zeros((views, size, size), dtype=np.float64 if aa else np.uint8)
     from growsim.kernels.raster import draw_segments
     from growsim.kernels.views import frame_points, render_antialiased, render_thin
 
     roots = np.flatnonzero(plant.parent < 0)
     base = plant.start[roots[0] if roots.size else 0]
-    coords, k = frame_points(plant.start, plant.end, base, size)
+    start, end = plant.start, plant.end
+    if views == 1:
+        # the framing's half-width is the larger of the two views': flatten the depth so
+        # only the front's counts (the front view itself ignores z)
+        start, end = start.copy(), end.copy()
+        start[:, 2] = base[2]
+        end[:, 2] = base[2]
+    coords, k = frame_points(start, end, base, size)
+    coords = coords[:views]
     if aa:
         return render_antialiased(coords, size)
     if line_width == "thin":
         return render_thin(coords, size)
-    img = np.zeros((2, size, size), dtype=np.uint8)
+    img = np.zeros((views, size, size), dtype=np.uint8)
     width = 2.0 * k * plant.radius
-    for v in range(2):
+    for v in range(views):
         draw_segments(coords[v, 0], coords[v, 1], width, img[v])
     return img
+
+
+def phenotype_views(
+    phenotype, size: int = 64, line_width: str = "thin", antialias: bool = False, views: int = 2
+) -> np.ndarray:
+    """The views of any phenotype this objective scores: a plant's (:func:`plant_views`),
+    or, for a 2D phenotype (one with ``front_view(size)``, e.g. an IFS attractor,
+    :class:`growsim.attractor.Attractor`), its one view ``(1, size, size)`` whatever
+    ``views`` is (float64 when ``antialias``), framed as plants are.
+
+    Examples
+    --------
+    >>> from growsim.models import ifs2d
+    >>> phenotype_views(ifs2d.develop(ifs2d.PRESETS["fern"]), 32).shape
+    (1, 32, 32)
+    """
+    front = getattr(phenotype, "front_view", None)
+    if callable(front):
+        img = np.asarray(front(int(size)))[None]
+        return img.astype(np.float64) if antialias else img.astype(np.uint8)
+    return plant_views(phenotype, size, line_width, antialias=antialias, views=views)
 
 
 class SilhouetteOptions(ObjectiveOptions):
@@ -92,6 +127,14 @@ class SilhouetteOptions(ObjectiveOptions):
     kind: Literal["silhouette"] = Field("silhouette", description="the objective: silhouette")
     front: str | None = Field(None, description="front picture (path; with side)")
     side: str | None = Field(None, description="side picture (path; with front)")
+    views: Literal["both", "front"] = Field(
+        "both", description="'both': front and side views; 'front': the front alone (side free)"
+    )
+    segmentation: Literal["threshold", "photo"] = Field(
+        "threshold",
+        description="pictures to silhouettes: 'threshold' (grey levels) or 'photo' "
+        "(colour: tree apart from sky and ground)",
+    )
     mask_front: str | None = Field(None, description="mask picture of the front view")
     mask_side: str | None = Field(None, description="mask picture of the side view")
     threshold: Literal["otsu"] | float = Field(
@@ -142,12 +185,21 @@ class SilhouetteOptions(ObjectiveOptions):
         ):
             raise ValueError("target_preset/target_params/target_seed need target_model")
         if pictures:
-            for label in ("front", "side"):
+            labels = ("front", "side") if self.views == "both" else ("front",)
+            for label in labels:
                 if getattr(self, label) is None:
                     raise ValueError(
                         f"{label}: the {label} view is missing (both front and side pictures "
-                        "are needed)"
+                        "are needed; views = 'front' fits the front picture alone)"
                     )
+            if self.views == "front" and (self.side is not None or self.mask_side is not None):
+                raise ValueError("side/mask_side: views = 'front' fits the front picture alone")
+            if self.segmentation == "photo" and (
+                self.threshold != "otsu" or self.polarity != "auto"
+            ):
+                raise ValueError(
+                    "threshold/polarity: they apply to segmentation = 'threshold', not 'photo'"
+                )
         return self
 
 
@@ -168,6 +220,11 @@ class SilhouetteObjective(Objective):
     ``size`` : raster size in pixels, 8..1024 (default 64, the seed's);
     ``area_rejection`` : the seed's 0.5x-2x area rule (default false);
     ``line_width`` : ``"thin"`` (default) or ``"radius"``;
+    ``views`` : ``"both"`` (default: front and side) or ``"front"`` (one picture, or the
+    rendered target's front: the side is left free, see :func:`plant_views`);
+    ``segmentation`` : ``"threshold"`` (default: grey levels, ``threshold`` and
+    ``polarity``) or ``"photo"`` (:func:`growsim.images.segment_photo`: the tree apart from
+    sky and ground, in colour);
     ``blur`` : search on anti-aliased, Gaussian-blurred views, ``sigma`` in pixels
     (default 0: the binary NCC; see the module doc). :meth:`exact` is always binary.
 
@@ -186,7 +243,7 @@ class SilhouetteObjective(Objective):
 
     name = "silhouette"
     maximize = True
-    accepts = ("plant",)
+    accepts = ("plant", "points2d")
     Options = SilhouetteOptions
     example: ClassVar[dict[str, Any]] = {
         "target_model": "ifs3d",
@@ -200,17 +257,26 @@ class SilhouetteObjective(Objective):
         self.area_rejection = o.area_rejection
         self.line_width = o.line_width
         self.blur = o.blur
+        self.n_views = 2 if o.views == "both" else 1
+        #: the pictures' full-size silhouettes (view name -> (H, W) bool), as segmented
+        self.pictures: dict[str, np.ndarray] = {}
         if o.target_model is None:
-            self.source = {"front": str(Path(o.front)), "side": str(Path(o.side))}
-            from growsim.images import read_silhouettes
+            self.source = {"front": str(Path(o.front))}
+            if o.side is not None:
+                self.source["side"] = str(Path(o.side))
+            from growsim.images import frame_silhouettes, picture_silhouettes
 
             pictures = ("front", "side", "threshold", "polarity", "mask_front", "mask_side")
-            pictures += ("line_width",)  # framed as the plant will be drawn
-            self.target = read_silhouettes(size=self.size, **o.model_dump(include=set(pictures)))
+            pictures += ("segmentation",)
+            masks = picture_silhouettes(**o.model_dump(include=set(pictures)))
+            self.pictures = dict(zip(("front", "side"), masks))
+            # framed as the plant will be drawn
+            side = masks[1] if len(masks) > 1 else None
+            self.target = frame_silhouettes(masks[0], side, self.size, self.line_width)
         else:
             self.source = {"target_model": o.target_model, "target_preset": o.target_preset}
             self.target = self._render_target()
-        areas = self.target.reshape(2, -1).sum(axis=1)
+        areas = self.target.reshape(self.n_views, -1).sum(axis=1)
         for label, a in zip(("front", "side"), areas):
             if a == 0:
                 raise UserInputError(f"silhouette: the {label} target silhouette is empty")
@@ -236,27 +302,46 @@ class SilhouetteObjective(Objective):
             plant = model.develop(values, seed=o.target_seed, env=self.env)
         except GrowsimError as exc:
             raise ConfigError(f"silhouette.target_params: {exc}") from None
-        return plant_views(plant, self.size, self.line_width)
+        target = phenotype_views(plant, self.size, self.line_width, views=self.n_views)
+        if target.shape[0] < self.n_views:
+            raise ConfigError(
+                f"silhouette.views: target_model {o.target_model!r} grows a 2D picture (one "
+                "view): set views = 'front'"
+            )
+        return target
 
     # ------------------------------------------------------------------ scoring
     def views(self, plant) -> np.ndarray:
-        """The plant's framed silhouettes ``(2, size, size)`` uint8, as scored."""
-        return plant_views(plant, self.size, self.line_width)
+        """The plant's framed silhouettes ``(V, size, size)`` uint8, as scored (``V = 2``,
+        front and side, or 1 with ``views = "front"``)."""
+        return phenotype_views(plant, self.size, self.line_width, views=self.n_views)
+
+    def view_scores(self, plant) -> list[float]:
+        """The binary NCC of each scored view (front, then side), in [0, 1]."""
+        from growsim.kernels.views import ncc
+
+        v = self.views(plant)
+        return [ncc(v[i : i + 1], self.target[i : i + 1]) for i in range(len(v))]
 
     def __call__(self, plant) -> float:
-        """Mean NCC over the front and side views, in [0, 1] (blurred if ``blur > 0``)."""
+        """Mean NCC over the scored views, in [0, 1] (blurred if ``blur > 0``)."""
         from growsim.kernels.views import blurred_ncc, ncc
 
         if self.blur > 0.0:
-            aa = plant_views(plant, self.size, self.line_width, antialias=True)
-            return blurred_ncc(aa, self.target, self.blur, self.area_rejection)
-        return ncc(self.views(plant), self.target, self.area_rejection)
+            aa = phenotype_views(
+                plant, self.size, self.line_width, antialias=True, views=self.n_views
+            )
+            # a 2D phenotype has one view: it meets the target's front
+            return blurred_ncc(aa, self.target[: len(aa)], self.blur, self.area_rejection)
+        v = self.views(plant)
+        return ncc(v, self.target[: len(v)], self.area_rejection)
 
     def exact(self, plant) -> float:
         """The binary mean NCC (the seed's eq. 3 on silhouettes), whatever ``blur`` is."""
         from growsim.kernels.views import ncc
 
-        return ncc(self.views(plant), self.target, self.area_rejection)
+        v = self.views(plant)
+        return ncc(v, self.target[: len(v)], self.area_rejection)
 
     def batch(self, model, params, names, seeds=None) -> np.ndarray | None:
         """Fast path: score a whole ``(n, p)`` parameter matrix of an IFS model in one kernel.
@@ -264,16 +349,24 @@ class SilhouetteObjective(Objective):
         ``names`` label the columns of ``params`` (every model parameter). Applies to a
         model with the capability ``map_groups(params, names)`` (yielding ``(rows, maps
         (k, N, 4), depth)`` groups, see :func:`growsim.models.ifs3d.map_groups`), drawn
-        thin. Returns ``(n,)`` float64, or ``None`` otherwise (other models, or
-        ``line_width = "radius"``): those are then developed and scored one by one.
+        thin. Returns ``(n,)`` float64, or ``None`` otherwise (other models,
+        ``line_width = "radius"``, or one view): those are then developed and scored one by
+        one. Rows ``map_groups`` does not yield (leafy trees) are developed and scored here.
         """
         map_groups = getattr(model, "map_groups", None)
-        if map_groups is None or self.line_width != "thin":
+        if map_groups is None or self.line_width != "thin" or self.n_views != 2:
             return None
         from growsim.kernels.ifs3d import score_population
 
         params = np.atleast_2d(np.asarray(params, dtype=np.float64))
-        out = np.zeros(params.shape[0])
+        out = np.full(params.shape[0], np.nan)
         for rows, maps, depth in map_groups(params, names):
             out[rows] = score_population(maps, depth, self.target, self.area_rejection, self.blur)
+        for i in np.flatnonzero(np.isnan(out)):
+            values = dict(zip(names, params[i].tolist()))
+            for p in model.param_spec(values):
+                if p.kind == "int" and p.name in values:
+                    values[p.name] = round(values[p.name])
+            seed = {} if seeds is None else {"seed": int(seeds[i])}
+            out[i] = self(model.develop(values, env=self.env, **seed))
         return out

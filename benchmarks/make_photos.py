@@ -1,0 +1,200 @@
+"""Test pictures for fitting trees to photos: growsim trees rendered as a camera sees them.
+
+Each picture is a pyvista render of a growsim tree standing on a ground plane under a sky
+(a colour gradient), lit and shaded by pyvista's light kit, seen through a perspective
+camera a little above the ground, anti-aliased (rendered at twice the size and averaged
+over 2 x 2 pixels), with a little sensor noise, then JPEG-compressed: what a user's photo
+of a tree against the sky looks like, with the ground strip along the bottom. The same
+camera renders the tree alone (black, unlit, on white, no ground) for the true silhouette:
+the pixels at least half covered by the tree.
+
+    python benchmarks/make_photos.py --out runs/photos   # writes the set of PICTURES
+
+:data:`PICTURES` is the benchmark's set (``benchmarks/photo_fit.py``): several species and
+parameter sets of Honda's model and of the IFS tree, bare and leafy, pale bark on a pale
+sky (the hard case of issue 16) and darker ones.
+"""
+
+from __future__ import annotations
+
+import argparse
+import io
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["PICTURES", "Picture", "make_photo", "plant_of", "write_set"]
+
+
+@dataclass(frozen=True)
+class Picture:
+    """One test picture: the tree (``model``, ``preset``, ``params`` over the preset), the
+    scene's colours (RGB in ``[0, 1]``), the camera's height above the ground (share of
+    the tree's height) and the JPEG quality."""
+
+    name: str
+    model: str
+    preset: str
+    params: dict = field(default_factory=dict)
+    sky_top: tuple = (0.80, 0.87, 0.97)
+    sky_bottom: tuple = (0.96, 0.97, 0.98)
+    ground: tuple = (0.36, 0.55, 0.25)
+    bark: tuple = (0.78, 0.74, 0.68)
+    leaf: tuple = (0.25, 0.45, 0.18)
+    eye: float = 0.15
+    quality: int = 85
+
+
+#: The benchmark's pictures: four Honda species of the seed's Table 2 and two IFS trees,
+#: bare (``leaves = 0``) and leafy, pale bark (the hard case) and dark bark.
+PICTURES: tuple[Picture, ...] = (
+    Picture("zelkova_bare", "honda", "zelkova", {"leaves": 0}),
+    Picture("cherry_leafy", "honda", "cherry", {"leaves": 3, "leaf_radius": 1.5},
+            bark=(0.45, 0.35, 0.27)),
+    Picture("ginkgo_bare", "honda", "ginkgo", {"leaves": 0, "radius": 0.6},
+            sky_top=(0.93, 0.94, 0.95), sky_bottom=(0.99, 0.99, 0.99), eye=0.1),
+    Picture("plane_leafy", "honda", "plane", {"leaves": 4, "leaf_radius": 1.2},
+            ground=(0.45, 0.50, 0.30), eye=0.25, quality=75),
+    Picture("g_tall_trunk_bare", "honda", "g_tall_trunk", {"leaves": 0},
+            bark=(0.30, 0.25, 0.22), sky_top=(0.55, 0.70, 0.92), sky_bottom=(0.85, 0.90, 0.96)),
+    Picture("f_dome_leafy", "honda", "f_dome", {"leaves": 2, "leaf_radius": 1.0},
+            bark=(0.50, 0.40, 0.30), ground=(0.50, 0.45, 0.35)),
+    Picture("ifs_table1_bare", "ifs3d", "table1", {}, bark=(0.70, 0.66, 0.60)),
+    Picture("ifs_gradient_leafy", "ifs3d", "seed_gradient", {"leaves": 3, "leaf_radius": 0.03},
+            bark=(0.40, 0.32, 0.25)),
+)  # fmt: skip
+
+
+def plant_of(picture: Picture):
+    """The tree of a :class:`Picture` (its model's preset with ``params`` over it).
+
+    Examples
+    --------
+    >>> plant_of(PICTURES[0]).n_leaves
+    0
+    """
+    from growsim.models import get_model
+
+    model = get_model(picture.model)
+    return model.develop({**model.preset(picture.preset), **picture.params})
+
+
+def _camera(pl, bounds, size_px: int, eye: float) -> None:
+    (x0, x1), (_, y1), (z0, z1) = np.asarray(bounds, float).reshape(3, 2)
+    height = max(y1, 1e-6)
+    half_w = max(abs(x0), abs(x1), abs(z0), abs(z1), 0.05 * height)
+    fov = 25.0
+    t = math.tan(math.radians(fov / 2))
+    # far enough that the crown (with a margin) and the ground below the base fit
+    dist = max(0.62 * height / t, 1.15 * half_w / t) + half_w
+    cy = 0.46 * height
+    pl.camera.position = (0.0, eye * height, dist)
+    pl.camera.focal_point = (0.0, cy, 0.0)
+    pl.camera.up = (0.0, 1.0, 0.0)
+    pl.camera.view_angle = fov
+    pl.camera.clipping_range = (0.01 * dist, 200.0 * height)
+
+
+def make_photo(picture: Picture, plant=None, *, size: int = 512):
+    """Render ``picture`` (its tree, or ``plant``) as a JPEG-compressed ``size x size``
+    photo; returns ``(rgb (size, size, 3) uint8, truth (size, size) bool, jpeg bytes)``.
+
+    Examples
+    --------
+    >>> rgb, truth, jpeg = make_photo(PICTURES[0], size=64)  # doctest: +SKIP
+    >>> rgb.shape, truth.dtype  # doctest: +SKIP
+    ((64, 64, 3), dtype('bool'))
+    """
+    import pyvista as pv
+    from PIL import Image
+
+    from growsim.mesh import plant_mesh
+    from growsim.viz import offscreen_plotter
+
+    plant = plant_of(picture) if plant is None else plant
+    mesh = plant_mesh(plant, sides=8)
+    kind = np.asarray(mesh.point_data["kind"])
+    tris = mesh.regular_faces
+    parts = []
+    for value, colour in ((0, picture.bark), (1, picture.leaf)):
+        sel = tris[kind[tris[:, 0]] == value]
+        if sel.shape[0]:
+            parts.append((pv.PolyData.from_regular_faces(mesh.points, sel), colour))
+    big = 2 * size
+    height = float(mesh.bounds[3])
+    ground = pv.Plane(center=(0, 0, 0), direction=(0, 1, 0), i_size=80 * height, j_size=80 * height)
+    with offscreen_plotter(big, big) as pl:
+        pl.disable_anti_aliasing()
+        pl.set_background(picture.sky_bottom, top=picture.sky_top)
+        pl.add_mesh(ground, color=picture.ground, ambient=0.25, diffuse=0.75, specular=0.0)
+        for part, colour in parts:
+            pl.add_mesh(part, color=colour, ambient=0.2, diffuse=0.8, specular=0.15,
+                        smooth_shading=True)  # fmt: skip
+        _camera(pl, mesh.bounds, big, picture.eye)
+        colour = np.asarray(pl.screenshot(return_img=True))[..., :3].astype(np.float64)
+    with offscreen_plotter(big, big) as pl:
+        pl.disable_anti_aliasing()
+        pl.set_background("white")
+        pl.add_mesh(mesh, color="black", lighting=False)
+        _camera(pl, mesh.bounds, big, picture.eye)
+        cover = np.asarray(pl.screenshot(return_img=True))[..., 0] < 128
+    # 2 x 2 box filter: anti-aliased colour, coverage of the tree
+    rgb = colour.reshape(size, 2, size, 2, 3).mean(axis=(1, 3))
+    # a camera's sensor noise (sigma 1.5 of 255), seeded by the picture's name
+    rng = np.random.default_rng(sum(picture.name.encode()))
+    rgb = np.clip(rgb + rng.normal(0.0, 1.5, rgb.shape), 0, 255)
+    truth = cover.reshape(size, 2, size, 2).mean(axis=(1, 3)) >= 0.5
+    buf = io.BytesIO()
+    Image.fromarray(np.round(rgb).astype(np.uint8)).save(
+        buf, format="JPEG", quality=picture.quality
+    )
+    jpeg = buf.getvalue()
+    rgb8 = np.asarray(Image.open(io.BytesIO(jpeg)).convert("RGB"))
+    return rgb8, truth, jpeg
+
+
+def write_set(out, pictures=PICTURES, size: int = 512) -> list[dict]:
+    """Write each picture as ``<name>.jpg`` and its true silhouette as ``<name>_truth.png``
+    into ``out``; returns one dict per picture (name, paths, model, preset, params).
+
+    Examples
+    --------
+    >>> rows = write_set("runs/photos", PICTURES[:1], size=64)  # doctest: +SKIP
+    """
+    from PIL import Image
+
+    from growsim.files import atomic_write
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    rows = []
+    for pic in pictures:
+        _, truth, jpeg = make_photo(pic, size=size)
+        photo = out / f"{pic.name}.jpg"
+        atomic_write(photo, lambda fh, b=jpeg: fh.write(b))
+        mask = out / f"{pic.name}_truth.png"
+        im = Image.fromarray(np.where(truth, 0, 255).astype(np.uint8))
+        atomic_write(mask, lambda fh, im=im: im.save(fh, format="PNG"))
+        rows.append(
+            {"name": pic.name, "photo": str(photo), "truth": str(mask), "model": pic.model,
+             "preset": pic.preset, "params": pic.params}
+        )  # fmt: skip
+    return rows
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--out", default="runs/photos")
+    ap.add_argument("--size", type=int, default=512)
+    ap.add_argument("--only", nargs="*", default=None, help="picture names")
+    a = ap.parse_args(argv)
+    pics = [p for p in PICTURES if a.only is None or p.name in a.only]
+    print(json.dumps(write_set(a.out, pics, a.size), indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,96 @@
+"""Fit trees to photos of trees: segmentation and fit quality, and their time.
+
+For each test picture of ``benchmarks/make_photos.py`` (JPEG renders of growsim trees on
+a ground plane under a sky, bare and leafy): the photo segmentation's IoU against the
+true silhouette known from the render, then ``growsim fit-image PICTURE --model M`` from
+that one picture (the picture's own model; coarse to fine, 64 -> 128 -> 256 px), and the
+fit's NCC against the segmented silhouette at every stage, with seconds. Prints JSON.
+
+    python benchmarks/photo_fit.py --out runs/photo-bench
+    python benchmarks/photo_fit.py --only zelkova_bare --ifs-evaluations 5000
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from make_photos import PICTURES, write_set
+
+
+def iou(a: np.ndarray, b: np.ndarray) -> float:
+    """Intersection over union of two boolean masks."""
+    return float((a & b).sum() / max((a | b).sum(), 1))
+
+
+def main(argv=None) -> int:
+    from PIL import Image
+
+    from growsim.cli import main as cli
+    from growsim.images import segment_photo
+
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--out", default="runs/photo-bench")
+    ap.add_argument("--only", nargs="*", default=None, help="picture names")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument(
+        "--ifs-evaluations",
+        type=int,
+        default=10_000,
+        help="first-stage budget of the ifs3d fits (drawn at their radius)",
+    )
+    ap.add_argument("--honda-evaluations", type=int, default=None)
+    ap.add_argument("--sizes", default="64,128,256")
+    a = ap.parse_args(argv)  # fmt: skip
+    out = Path(a.out)
+    pics = [p for p in PICTURES if a.only is None or p.name in a.only]
+    rows = write_set(out / "photos", pics)
+    results = []
+    for row in rows:
+        truth = np.asarray(Image.open(row["truth"])) < 128
+        t = time.perf_counter()
+        seg = segment_photo(row["photo"])
+        seg_seconds = time.perf_counter() - t
+        fit_dir = out / "fits" / row["name"]
+        args = ["fit-image", row["photo"], "--model", row["model"], "--out", str(fit_dir)]
+        args += ["--quiet", "--seed", str(a.seed), "--sizes", a.sizes]
+        budget = a.ifs_evaluations if row["model"] == "ifs3d" else a.honda_evaluations
+        if budget is not None:
+            args += ["--evaluations", str(budget)]
+        code = cli(args)
+        fit = json.loads((fit_dir / "fit.json").read_text()) if code == 0 else {}
+        results.append(
+            {
+                "picture": row["name"],
+                "model": row["model"],
+                "iou": round(iou(seg.tree, truth), 4),
+                "segmentation_seconds": round(seg_seconds, 3),
+                "ncc": fit.get("ncc"),
+                "ncc_by_size": {str(s["size"]): round(s["ncc"], 4) for s in fit.get("stages", [])},
+                "seconds": fit.get("seconds"),
+                "leaves": fit.get("params", {}).get("leaves"),
+            }
+        )
+        print(json.dumps(results[-1]), file=sys.stderr)
+    summary = {
+        "pictures": results,
+        "mean_iou": round(float(np.mean([r["iou"] for r in results])), 4),
+        "mean_ncc_final": round(float(np.mean([r["ncc"] for r in results])), 4),
+        "mean_ncc_64": round(float(np.mean([r["ncc_by_size"]["64"] for r in results])), 4),
+        "mean_seconds": round(float(np.mean([r["seconds"] for r in results])), 1),
+        "load_average": os.getloadavg(),
+    }
+    print(json.dumps(summary, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,203 @@
+"""Fitting trees to photos (issue 16): the photo segmentation and its refusals, one-picture
+fits, leaves in the fitted spec, coarse-to-fine ``fit-image``."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from growsim.cli import main
+from growsim.cli.fit_image import FIT_SETUPS, fit_config
+from growsim.errors import UserInputError
+from growsim.experiment import load_config
+from growsim.images import segment_photo
+from growsim.models import honda, ifs3d
+from growsim.objectives.silhouette import SilhouetteObjective, plant_views
+from growsim.plant import LEAF
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+from make_photos import PICTURES, make_photo
+
+SKY, GROUND, BARK = (0.8, 0.87, 0.97), (0.36, 0.55, 0.25), (0.45, 0.35, 0.27)
+
+
+def _scene(h=120, w=100, ground=100):
+    rgb = np.ones((h, w, 3)) * SKY
+    rgb[ground:] = GROUND
+    return rgb
+
+
+def _tree(rgb, top=20, bottom=108, col=50):
+    rgb[top:bottom, col - 2 : col + 2] = BARK
+    rgb[top + 15, col - 25 : col + 25] = BARK
+    rgb[top + 30 : top + 32, col - 18 : col + 18] = BARK
+    return rgb
+
+
+@pytest.fixture(scope="module")
+def photo(tmp_path_factory):
+    """A 256 px JPEG render of a bare zelkova on a ground plane, and its true silhouette."""
+    d = tmp_path_factory.mktemp("photo")
+    _, truth, jpeg = make_photo(PICTURES[0], size=256)
+    path = d / "zelkova.jpg"
+    path.write_bytes(jpeg)
+    return path, truth
+
+
+def test_segmentation_of_a_render_matches_its_true_silhouette(photo):
+    path, truth = photo
+    seg = segment_photo(path)
+    iou = (seg.tree & truth).sum() / (seg.tree | truth).sum()
+    assert iou >= 0.9, iou  # 512 px: 0.96 (benchmarks/photo_fit.py)
+    assert seg.horizon is not None and 0.6 * 256 < seg.horizon < 256
+    assert not seg.ground[: seg.horizon - 5].any()  # no ground in the sky
+    assert "ground from row" in seg.describe()
+
+
+def test_synthetic_scene_ground_is_not_tree():
+    seg = segment_photo(_tree(_scene()))
+    assert seg.horizon == 100
+    assert seg.tree[100:108, 48:52].all()  # the trunk's foot, in the ground band
+    assert not seg.tree[100:, :40].any() and not seg.tree[:, :20].any()
+    # a clean drawing (no ground): the same silhouette as the grey threshold
+    from growsim.images import silhouette
+
+    g = np.ones((60, 50))
+    g[10:58, 24:26] = 0.1
+    g[20, 10:40] = 0.1
+    assert np.array_equal(segment_photo(g).tree, silhouette(g))
+
+
+@pytest.mark.parametrize(
+    "case, message",
+    [
+        ("clutter", "not a plain sky"),
+        ("cut", "touches the picture's top edge"),
+        ("floating", "no tree stands on the ground"),
+        ("two", "other objects beside the tree"),
+        ("faint", "hardly differs from its background"),
+        ("blank", "uniform"),
+    ],
+)
+def test_bad_segmentations_are_refused(case, message):
+    rgb = _scene()
+    if case == "clutter":
+        rgb = _tree(rgb)
+        rgb[:100] += np.random.default_rng(0).normal(0, 0.08, rgb[:100].shape)
+        rgb = np.clip(rgb, 0, 1)
+    elif case == "cut":
+        rgb = _tree(rgb, top=0)
+    elif case == "floating":
+        rgb[30:60, 40:60] = BARK
+    elif case == "two":
+        rgb = _tree(rgb, col=30)
+        rgb[40:100, 75:95] = (0.6, 0.2, 0.2)  # a big red box, apart from the tree
+    elif case == "faint":  # no ground; the tree 12.9 Delta E darker than the sky
+        rgb = np.ones((120, 100, 3)) * SKY
+        rgb[20:120, 48:52] = np.array(SKY) - 0.14
+        rgb[35, 25:75] = np.array(SKY) - 0.14
+    elif case == "blank":
+        rgb = np.ones((50, 50, 3))
+    with pytest.raises(UserInputError, match=message):
+        segment_photo(rgb, name="pic.jpg")
+
+
+def test_mask_restricts_the_tree():
+    rgb = _tree(_scene(), col=30)
+    rgb[40:100, 75:95] = (0.6, 0.2, 0.2)
+    mask = np.zeros(rgb.shape[:2])
+    mask[:, :65] = 1.0
+    seg = segment_photo(rgb, mask=mask)
+    assert not seg.tree[:, 65:].any() and seg.tree[50, 30]
+
+
+def test_one_picture_objective_frames_and_scores_the_front_alone(photo):
+    path, _ = photo
+    obj = SilhouetteObjective(front=str(path), views="front", segmentation="photo",
+                              line_width="radius", size=32)  # fmt: skip
+    assert obj.target.shape == (1, 32, 32) and set(obj.pictures) == {"front"}
+    tree = honda.develop(honda.PRESETS["zelkova"])
+    assert 0.5 < obj(tree) == obj.view_scores(tree)[0] <= 1.0
+    # the front view's framing ignores the depth (the side is free)
+    deep = tree.subset(np.ones(tree.n_segments, bool))
+    deep.end[:, 2] *= 5.0
+    deep.start[:, 2] *= 5.0
+    assert np.array_equal(plant_views(deep, 32, "radius", views=1), obj.views(tree))
+    with pytest.raises(Exception, match="views = 'front' fits the front picture alone"):
+        SilhouetteObjective(front=str(path), side=str(path), views="front")
+    with pytest.raises(Exception, match="apply to segmentation = 'threshold'"):
+        SilhouetteObjective(front=str(path), side=str(path), segmentation="photo",
+                            threshold=0.4)  # fmt: skip
+
+
+def test_ifs3d_leaves_default_bare_and_fitted():
+    bare = ifs3d.develop(ifs3d.PRESETS["table1"])
+    assert bare.n_leaves == 0 and bare.n_segments == 3906
+    leafy = ifs3d.develop({**ifs3d.PRESETS["table1"], "leaves": 2, "leaf_radius": 0.03})
+    assert leafy.n_stems == 3906 and leafy.n_leaves == 2 * (5**5 + 5**4)
+    assert (leafy.kind[3906:] == LEAF).all()
+    np.testing.assert_array_equal(leafy.start[:3906], bare.start)
+    # the population fast path leaves leafy rows out; the objective scores them one by one
+    names = [p.name for p in ifs3d.PARAMS]
+    rows = np.array(
+        [[leafy.meta["params"][n] for n in names], [bare.meta["params"][n] for n in names]]
+    )
+    assert [r.tolist() for r, _, _ in ifs3d.map_groups(rows, names)] == [[1]]
+    obj = SilhouetteObjective(target_model="ifs3d", target_preset="table1", size=32)
+    np.testing.assert_allclose(obj.batch(ifs3d.MODEL, rows, names), [obj(leafy), obj(bare)])
+
+
+def test_fit_config_fits_leaves_and_one_picture(photo):
+    path, _ = photo
+    for model, setup in FIT_SETUPS.items():
+        cfg = load_config(fit_config(path, model=model, evaluations=500))
+        assert set(setup.leaves) <= set(cfg.model.evolve)
+        assert cfg.objective[0].views == "front" and cfg.objective[0].segmentation == "photo"
+        assert cfg.objective[0].line_width == "radius"
+        bare = load_config(fit_config(path, model=model, leaves=False))
+        assert "leaves" not in bare.model.evolve
+    with pytest.raises(UserInputError, match="fit setup"):
+        fit_config("tree.jpg", model="nope")
+    with pytest.raises(UserInputError, match="--segmentation threshold"):
+        fit_config("tree.jpg", threshold=0.4)
+
+
+def test_fit_image_one_photo_coarse_to_fine(photo, tmp_path, capsys):
+    path, _ = photo
+    out = tmp_path / "fit"
+    args = ["fit-image", str(path), "--model", "honda", "--out", str(out), "--quiet"]
+    args += ["--evaluations", "200", "--sizes", "32,64", "--refine", "40"]
+    assert main(args) == 0
+    fit = json.loads((out / "fit.json").read_text())
+    assert [s["size"] for s in fit["stages"]] == [32, 64] and fit["size"] == 64
+    assert fit["stages"][1]["ncc"] >= fit["stages"][1]["ncc_start"]
+    assert 0.3 < fit["ncc"] <= 1.0 and fit["views"] == ["front"]
+    for name in ("tree.glb", "silhouettes.png", "silhouette_front.png", "segmentation_front.png",
+                 "best.json", "history.parquet"):  # fmt: skip
+        assert (out / name).is_file(), name
+    used = np.asarray(Image.open(out / "silhouette_front.png")) < 128
+    assert np.array_equal(used, segment_photo(path).tree)  # the silhouette used, as is
+    text = capsys.readouterr().out
+    assert "mean NCC" in text and "64 px refine" in text
+
+
+def test_fit_image_refuses_a_bad_photo_before_evolving(tmp_path, capsys):
+    rgb = _tree(_scene(), top=0)
+    bad = tmp_path / "cut.png"
+    Image.fromarray(np.round(255 * rgb).astype(np.uint8)).save(bad)
+    out = tmp_path / "never"
+    assert main(["fit-image", str(bad), "--model", "honda", "--out", str(out)]) == 2
+    assert "cut.png: the tree touches the picture's top edge" in capsys.readouterr().err
+    assert not (out / "history.parquet").exists()
+    # --mask keeps working: masking the top rows out lets it through to the checks
+    mask = np.full(rgb.shape[:2], 255, np.uint8)
+    mask[:5] = 0
+    mpath = tmp_path / "mask.png"
+    Image.fromarray(mask).save(mpath)
+    cfg = fit_config(bad, model="honda", mask_front=mpath)
+    assert cfg["objective"][0]["mask_front"] == str(mpath.absolute())
