@@ -1,12 +1,19 @@
 """Speed of the hormone-module model (JSON).
 
-    NUMBA_NUM_THREADS=1 python benchmarks/hormone.py [--repeats 3]
+    NUMBA_NUM_THREADS=1 python benchmarks/hormone.py [--repeats 3] [--population 10000]
 
-Grows the demo genomes (``demo_2d``, ``demo_3d``) in the configs' environment (sun a little
-off the vertical, half the light from the sky) and reports module-steps per second (the
-sum over steps of the modules alive, over the wall time of the whole growth: light,
-water, hormones, growth, gravity), best of ``--repeats``; and the share of the time in
-the step kernel.
+- ``module_steps``: one process, the population path (one kernel call grows a whole
+  population: light from the shadow maps of the sun and its sky, water, hormones, growth,
+  gravity; :func:`growsim.models.hormone.population`) in the configs' environment (sun a
+  little off the vertical, half the light from the sky): module-steps per second (the sum
+  over plants and steps of the modules alive, over the wall time), best of
+  ``--repeats``, for populations of the demo genomes (2D, 3D) and of genomes drawn at
+  random (what a first generation grows); also ``step_wise``, the same plants grown one
+  :func:`growsim.models.hormone.grow` at a time (a Plant built after every step).
+- ``generation``: one generation of ``--population`` individuals in 3D at the model's
+  default number of steps (40), scored by the ``nutrient`` objective through the
+  experiment's fitness, serially and on a process pool of 2: random genomes (generation
+  0) and the 3D demo genome with Gaussian noise (grown plants, as later generations).
 """
 
 from __future__ import annotations
@@ -16,46 +23,124 @@ import json
 import os
 import time
 
+import numpy as np
+
+
+def _rows(params_list):
+    from growsim.models import hormone
+
+    rows = [hormone.resolve_params(hormone.PARAMS, p) for p in params_list]
+    return np.array([list(r.values()) for r in rows]), list(rows[0])
+
+
+def _random_genes(rng, n, base):
+    from growsim.models import hormone
+
+    return [
+        {**base, **{p.name: float(rng.uniform(p.low, p.high)) for p in hormone.GENES}}
+        for _ in range(n)
+    ]
+
+
+def _noisy_genes(rng, n, base, sigma=0.1):
+    from growsim.models import hormone
+
+    out = []
+    for _ in range(n):
+        p = dict(base)
+        for q in hormone.GENES:
+            v = base.get(q.name, q.default) + sigma * (q.high - q.low) * rng.normal()
+            p[q.name] = float(min(q.high, max(q.low, v)))
+        out.append(p)
+    return out
+
+
+def module_steps(env, repeats: int) -> dict:
+    from growsim.models import hormone
+
+    rng = np.random.default_rng(0)
+    out = {}
+    cases = {
+        "demo_2d": [hormone.PRESETS["demo_2d"]] * 20,
+        "demo_3d": [hormone.PRESETS["demo_3d"]] * 10,
+        "random_3d": _random_genes(rng, 200, {"dims": 3, "steps": 30}),
+    }
+    for name, params in cases.items():
+        rows, names = _rows(params)
+        hormone.population(rows[:1], names, env)  # compile
+        best = None
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            table = hormone.population(rows, names, env)
+            wall = time.perf_counter() - t0
+            best = wall if best is None else min(best, wall)
+        ms = int(table["module_steps"].sum())
+        t0 = time.perf_counter()
+        stepwise = sum(sum(p.n_segments for p in hormone.grow(q, env=env)) for q in params[:5])
+        t_step = time.perf_counter() - t0
+        out[name] = {
+            "plants": len(rows),
+            "mean_modules": round(float(table["modules"].mean()), 1),
+            "module_steps": ms,
+            "seconds": round(best, 4),
+            "module_steps_per_s": round(ms / best),
+            "step_wise_module_steps_per_s": round(stepwise / t_step),
+        }
+    return out
+
+
+def generation(population: int) -> dict:
+    from concurrent.futures import ProcessPoolExecutor
+
+    from growsim.experiment import load_plan
+    from growsim.models import hormone
+
+    plan = load_plan("experiments/hormone_3d.toml", ["model.params.steps=40"])
+    f = plan.fitness()
+    rng = np.random.default_rng(1)
+    out = {"population": population, "steps": 40}
+    demo = hormone.PRESETS["demo_3d"]
+    for name, params in (
+        ("random", _random_genes(rng, population, {})),
+        ("grown", _noisy_genes(rng, population, demo)),
+    ):
+        x = np.array([[p.get(n, demo.get(n)) for n in f.evolved] for p in params])
+        f(x[:2])  # compile
+        t0 = time.perf_counter()
+        serial = f(x)
+        t_serial = time.perf_counter() - t0
+        with ProcessPoolExecutor(2) as pool:
+            list(pool.map(f, [x[:2], x[2:4]]))  # start and compile the workers
+            t0 = time.perf_counter()
+            parts = list(pool.map(f, np.array_split(x, 8)))
+            t_pool = time.perf_counter() - t0
+        assert np.array_equal(np.concatenate(parts), serial, equal_nan=True)
+        table = hormone.population(f.full_params(x[:200]), f.names, None, env=f.env)
+        out[name] = {
+            "serial_s": round(t_serial, 2),
+            "pool2_s": round(t_pool, 2),
+            "pool2_speedup": round(t_serial / t_pool, 2),
+            "mean_modules_first_200": round(float(table["modules"].mean()), 1),
+        }
+    return out
+
 
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--population", type=int, default=10000)
+    ap.add_argument("--only", choices=["module_steps", "generation"])
     args = ap.parse_args()
     from growsim.env import Environment
-    from growsim.kernels import hormone as K
-    from growsim.models import hormone
 
     env = Environment.model_validate({"light": {"diffuse": 0.5, "direction": [0.3, -1, 0.2]}})
     out = {"numba_threads": os.environ.get("NUMBA_NUM_THREADS", "default")}
-    for name in ("demo_2d", "demo_3d"):
-        params = hormone.PRESETS[name]
-        list(hormone.grow(params, env=env))  # compile
-        best = None
-        for _ in range(args.repeats):
-            kernel = [0.0]
-            step = K.step_kernel
-
-            def timed(*a, step=step, kernel=kernel):
-                t0 = time.perf_counter()
-                r = step(*a)
-                kernel[0] += time.perf_counter() - t0
-                return r
-
-            K.step_kernel = timed
-            t0 = time.perf_counter()
-            module_steps = sum(p.n_segments for p in hormone.grow(params, env=env))
-            wall = time.perf_counter() - t0
-            K.step_kernel = step
-            if best is None or wall < best[0]:
-                best = (wall, module_steps, kernel[0])
-        wall, module_steps, kernel = best
-        out[name] = {
-            "module_steps": module_steps,
-            "seconds": round(wall, 3),
-            "module_steps_per_s": round(module_steps / wall),
-            "kernel_share": round(kernel / wall, 3),
-        }
-    out["load_1min"] = round(os.getloadavg()[0], 2)
+    load = os.getloadavg()[0]
+    if args.only in (None, "module_steps"):
+        out["module_steps"] = module_steps(env, args.repeats)
+    if args.only in (None, "generation"):
+        out["generation"] = generation(args.population)
+    out["load_1min"] = [round(load, 2), round(os.getloadavg()[0], 2)]
     print(json.dumps(out, indent=1))
 
 

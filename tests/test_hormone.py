@@ -203,6 +203,10 @@ def test_sweep_variants_and_the_common_garden(tmp_path):
                progress=False)  # fmt: skip
     assert sorted(df["sweep_variant"].unique()) == ["ample", "half_light", "half_water"]
     assert {Path(p).parent.name for p in df["out"]} == {"ample", "half_light", "half_water"}
+    # the summary counts why the final population stopped growing (cap, broken, nan)
+    summary = json.loads((Path(df["out"][0]) / "summary.json").read_text())
+    assert summary["stops"]["population"] == 6 and sum(summary["stops"].values()) == 12
+    assert summary["failures"] >= 0
     c = compare([tmp_path / "sw"], tmp_path / "cmp", renders=False, garden=True)
     grown = pd.read_csv(c.files["garden"])
     assert len(grown) == 6 * 3  # 6 runs x 3 gardens

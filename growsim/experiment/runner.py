@@ -332,6 +332,25 @@ def _build(plan: ExperimentPlan, executor):
     return fitness, plan.build_ga(fitness, batch_size=batch)
 
 
+def _census(fitness, result, warnings: list[str]) -> dict[str, int]:
+    """Why the final population's individuals stopped growing, for a model with a
+    population path that reports it (the hormone model: ``cap``, ``broken``, ``nan``;
+    ``growing`` for the rest): ``{"population": n, reason: count}``, else ``{}``."""
+    fast = getattr(fitness.model, "population", None)
+    population = getattr(result, "population", None)
+    if fast is None or population is None or not len(population):
+        return {}
+    try:
+        table = fast(fitness.full_params(population), fitness.names, None, env=fitness.env)
+    except Exception as exc:  # a census must not lose the run
+        warnings.append(f"counting the final population's stops failed: {exc}")
+        return {}
+    if table is None or "stopped" not in table:
+        return {}
+    counts = table["stopped"].replace("", "growing").value_counts()
+    return {"population": len(table), **{str(k): int(v) for k, v in counts.items()}}
+
+
 def _run_locked(
     plan, rd, workers, scheduler, resume, progress, callback, executor, fitness, ga
 ) -> RunResult:
@@ -407,6 +426,8 @@ def _run_locked(
         "ga_seconds": round(ga_seconds, 3),
         "history_seconds": float(history["seconds"].max()) if "seconds" in history else None,
         "stop_reason": str(result.stop_reason),
+        "failures": int(history["failures"].sum()) if "failures" in history else 0,
+        "stops": _census(fitness, result, warnings),
         "resumed": bool(resume),
         "started": started,
         "finished": time.strftime("%Y-%m-%dT%H:%M:%S%z"),

@@ -18,7 +18,7 @@ import numpy as np
 
 from growsim.kernels.config import njit
 from growsim.kernels.gravity import loads_kernel, radius_end_kernel
-from growsim.kernels.light import point_light_kernel
+from growsim.kernels.light import point_light_into
 from growsim.kernels.water import transport_into_kernel
 
 __all__ = [
@@ -370,7 +370,7 @@ def _ends(n, origin, length, R, end):
 
 @njit
 def grow_step(n, cap, dims, walls, parent, R, origin, length, radius, nutrient, chlorophyll,
-              lignin, apex, laterals, hormone, wall_light, met, light, genes, c,
+              lignin, apex, laterals, hormone, wall_light, met, light, head, genes, c,
               light_dirs, light_u, light_v, light_w, resolution, bias, soft, transmission,
               supply, resistance, lift, g, density, leaf_mass_per_area, strength,
               strength_young):  # fmt: skip
@@ -396,8 +396,10 @@ def grow_step(n, cap, dims, walls, parent, R, origin, length, radius, nutrient, 
        reaches it stops the plant.
 
     The arrays are as :func:`step_kernel`'s plus ``origin`` ``(cap, 3)`` and ``light``
-    ``(cap,)``, all updated in place. :func:`growsim.models.hormone.grow` calls this once
-    per step; :func:`grow_population` runs whole populations through it.
+    ``(cap,)``, all updated in place, and ``head`` ``(resolution**2,)`` int64 all -1, the
+    shadow maps' list heads (:func:`growsim.kernels.light.point_light_into`).
+    :func:`growsim.models.hormone.grow` calls this once per step; :func:`grow_population`
+    runs whole populations through it.
 
     Examples
     --------
@@ -425,9 +427,9 @@ def grow_step(n, cap, dims, walls, parent, R, origin, length, radius, nutrient, 
     offsets = np.array([0, n], np.int64)
     point_offsets = np.array([0, m], np.int64)
     trans = np.full(n, transmission) if soft else np.empty(0)
-    lit = point_light_kernel(start, end, radius[:n], offsets, points, point_offsets, unit,
-                             light_dirs, light_u, light_v, light_w, resolution, bias, soft,
-                             trans, np.empty(m))  # fmt: skip
+    lit = point_light_into(start, end, radius[:n], offsets, points, point_offsets, unit,
+                           light_dirs, light_u, light_v, light_w, resolution, bias, soft,
+                           trans, head, np.empty(m))  # fmt: skip
     demand = np.empty(n)
     for q in range(n):
         acc = 0.0
@@ -533,6 +535,7 @@ def grow_population(genes, c, dims, walls, steps, cap, strength_young, light_dir
     wall_light = np.zeros((cap, walls))
     met = np.zeros(cap)
     light = np.zeros(cap)
+    head = np.full(resolution * resolution, -1, np.int64)
     out_total = np.empty(P)
     out_modules = np.empty(P, np.int64)
     out_stop = np.zeros(P, np.int64)
@@ -545,7 +548,7 @@ def grow_population(genes, c, dims, walls, steps, cap, strength_young, light_dir
         for _ in range(steps):
             n, code = grow_step(n, cap, dims, walls, parent, R, origin, length, radius,
                                 nutrient, chlorophyll, lignin, apex, laterals, hormone,
-                                wall_light, met, light, genes[p], cp, light_dirs, light_u,
+                                wall_light, met, light, head, genes[p], cp, light_dirs, light_u,
                                 light_v, light_w, resolution, bias, soft, transmission, supply,
                                 resistance, lift, g, density, leaf_mass_per_area, strength,
                                 strength_young[p])  # fmt: skip

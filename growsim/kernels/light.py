@@ -61,6 +61,7 @@ __all__ = [
     "map_depth_kernel",
     "plant_frames",
     "point_exposure_kernel",
+    "point_light_into",
     "point_light_kernel",
     "project_segment",
     "segment_cosines",
@@ -259,7 +260,7 @@ def _walk(k, ax, ay, bx, by, za, zb, rr, res, head, nxt, qz, qown, bias, soft, t
 
 @njit
 def _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, query,
-           query_offsets, own, trans, soft, expo):  # fmt: skip
+           query_offsets, own, trans, soft, expo, head):  # fmt: skip
     """Exposure of every query point (``query`` ``(m, 3)``; plant ``p`` owns queries
     ``query_offsets[p]:query_offsets[p + 1]``; ``own[q]`` the segment a query belongs to,
     or -1) into ``expo`` ``(m,)``: the plant's shadow map read at the queries' pixels only
@@ -329,7 +330,7 @@ def _segment_exposure(start, end, radius, offsets, frames, u, v, d, res, bias_pi
                       trans, soft, out):  # fmt: skip
     query, qoff, own = _samples(start, end, offsets, samples)
     expo = _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, query, qoff,
-                  own, trans, soft, np.empty(query.shape[0]))[0]  # fmt: skip
+                  own, trans, soft, np.empty(query.shape[0]), _heads(res))[0]  # fmt: skip
     for s in range(start.shape[0]):
         acc = 0.0
         for i in range(samples):
@@ -406,7 +407,7 @@ def point_exposure_kernel(start, end, radius, offsets, frames, points, point_off
     """
     own = np.full(points.shape[0], -1, np.int64)
     return _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, points,
-                  point_offsets, own, np.empty(0), False, out)[0]  # fmt: skip
+                  point_offsets, own, np.empty(0), False, out, _heads(res))[0]  # fmt: skip
 
 
 @njit
@@ -427,7 +428,7 @@ def soft_point_exposure_kernel(start, end, radius, offsets, frames, points, poin
     """
     own = np.full(points.shape[0], -1, np.int64)
     return _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, points,
-                  point_offsets, own, trans, True, out)[0]  # fmt: skip
+                  point_offsets, own, trans, True, out, _heads(res))[0]  # fmt: skip
 
 
 @njit
@@ -452,6 +453,29 @@ def point_light_kernel(start, end, radius, offsets, points, point_offsets, norma
     ...     np.array([1.0, 0.5]), 64, 0.1, False, np.empty(0), np.empty(1)).round(3).tolist()
     [0.3]
     """
+    return point_light_into(start, end, radius, offsets, points, point_offsets, normals, dirs,
+                            us, vs, weights, res, bias_pixels, soft, trans, _heads(res),
+                            out)  # fmt: skip
+
+
+@njit
+def point_light_into(start, end, radius, offsets, points, point_offsets, normals, dirs, us,
+                     vs, weights, res, bias_pixels, soft, trans, head, out):  # fmt: skip
+    """:func:`point_light_kernel` with the map's list heads ``head`` ``(res * res,)``
+    int64, all -1, given (and left all -1): a caller that lights a plant at every step
+    (:func:`growsim.kernels.hormone.grow_step`) fills them once, not at every call.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = np.array([[0.0, 1, 0]]); e = np.array([[1.0, 1, 0]]); r = np.array([0.2])
+    >>> d = np.array([[0.0, -1, 0]]); u = np.array([[1.0, 0, 0]]); v = np.array([[0.0, 0, -1]])
+    >>> head = np.full(64 * 64, -1, np.int64)
+    >>> point_light_into(s, e, r, np.array([0, 1]), np.array([[0.5, 0, 0]]), np.array([0, 1]),
+    ...     np.array([[0.0, 1, 0]]), d, u, v, np.ones(1), 64, 0.1, False, np.empty(0), head,
+    ...     np.empty(1)).tolist(), bool((head == -1).all())
+    ([0.0], True)
+    """
     m = points.shape[0]
     out[:] = 0.0
     own = np.full(m, -1, np.int64)
@@ -463,11 +487,17 @@ def point_light_kernel(start, end, radius, offsets, points, point_offsets, norma
         d, u, v = dirs[k], us[k], vs[k]
         frames = plant_frames(start, end, radius, offsets, u, v, res)
         _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, points,
-               point_offsets, own, trans, soft, expo)  # fmt: skip
+               point_offsets, own, trans, soft, expo, head)  # fmt: skip
         for q in range(m):
             cos = -(normals[q, 0] * d[0] + normals[q, 1] * d[1] + normals[q, 2] * d[2])
             out[q] += expo[q] * max(0.0, cos) * w
     return out
+
+
+@njit
+def _heads(res):
+    """A fresh map of list heads, all -1 (no query in any pixel)."""
+    return np.full(res * res, -1, np.int64)
 
 
 @njit
@@ -490,7 +520,7 @@ def map_depth_kernel(start, end, radius, offsets, frames, points, point_offsets,
     m = points.shape[0]
     _, depth, seg = _judge(start, end, radius, offsets, frames, u, v, d, res, 0.0, points,
                            point_offsets, np.full(m, -1, np.int64), np.empty(0), False,
-                           np.empty(m))  # fmt: skip
+                           np.empty(m), _heads(res))  # fmt: skip
     return depth, seg
 
 
