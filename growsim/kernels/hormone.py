@@ -22,6 +22,7 @@ from growsim.kernels.light import point_light_into
 from growsim.kernels.water import transport_into_kernel
 
 __all__ = [
+    "GOLDEN_ANGLE",
     "HORMONES",
     "STIMULI",
     "STOPS",
@@ -50,6 +51,10 @@ HORMONES = (
 )
 #: the stimuli a wall senses (index: stimulus)
 STIMULI = ("wall light", "water met", "nutrient", "chlorophyll", "wall up", "inhibitor")
+
+#: the angle between successive laterals of a module about its axis in 3D (phyllotaxis;
+#: in 2D they alternate sides): no two laterals of a module coincide
+GOLDEN_ANGLE = math.pi * (3.0 - math.sqrt(5.0))
 
 #: why a plant stopped (index: code returned by :func:`grow_step`); "cap" does not stop it
 STOPS = ("", "cap", "nan", "broken")
@@ -285,9 +290,16 @@ def step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient, chloro
             d = bx * z[0] + by * z[1] + bz * z[2]
             bx, by, bz = bx - d * z[0], by - d * z[1], bz - d * z[2]
             nb = math.sqrt(bx * bx + by * by + bz * bz)
-            if nb < 1e-9 * walls:  # no side wins: laterals take the walls in turn
-                w = (laterals[m] * (walls // 2 + 1) + m) % walls
+            if nb < 1e-9 * walls:  # no side wins: modules take the walls in turn
+                w = m % walls
                 bx, by, bz, nb = v[w, 0], v[w, 1], v[w, 2], 1.0
+            if dims == 2 and laterals[m] % 2 == 1:  # 2D: laterals alternate sides
+                bx, by, bz = -bx, -by, -bz
+            elif dims == 3 and laterals[m] > 0:  # the j-th turns B about the axis by j phi
+                a = laterals[m] * GOLDEN_ANGLE
+                ca, sa = math.cos(a), math.sin(a)
+                cx, cy, cz = z[1] * bz - z[2] * by, z[2] * bx - z[0] * bz, z[0] * by - z[1] * bx
+                bx, by, bz = bx * ca + cx * sa, by * ca + cy * sa, bz * ca + cz * sa
             Rl = R[m].copy()
             axis = np.array([
                 z[1] * bz - z[2] * by, z[2] * bx - z[0] * bz, z[0] * by - z[1] * bx

@@ -118,7 +118,11 @@ def step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient, chloro
             z = R[m][:, 2]
             b = b - (b @ z) * z
             if np.linalg.norm(b) < 1e-9 * walls:
-                b = v[(laterals[m] * (walls // 2 + 1) + m) % walls]
+                b = v[m % walls]
+            if dims == 2:  # laterals alternate sides
+                b = -b if laterals[m] % 2 else b
+            else:  # the j-th lateral: B turned about the axis by j times the golden angle
+                b = rotation(z, laterals[m] * K.GOLDEN_ANGLE) @ b
             axis = np.cross(z, b) / np.linalg.norm(b)
             new(n_new, m, rotation(axis, c[K.C_BRANCH_ANGLE]) @ R[m])
             n_new += 1
