@@ -240,3 +240,23 @@ def test_sweep_variants_are_checked():
         load_config({**base, "sweep": {"variants": [{"name": "a"}, {"name": "a"}]}})
     with pytest.raises(ConfigError, match=r"sweep\.variants\[0\]\.name: required"):
         load_config({**base, "sweep": {"variants": [{"nme": "a"}]}})
+
+
+@pytest.mark.parametrize(
+    ("override", "key"),
+    [
+        ("environment.water.supply=-0.5", r"environment\.water\.supply"),
+        ("environment.light.direction=[0, 0, 0]", r"environment\.light\.direction"),
+        ("environment.light.intensity=-1", r"environment\.light\.intensity"),
+        ('environment.light.backend="moderngl"', r"environment\.light\.backend"),
+    ],
+)
+def test_an_impossible_environment_is_refused_before_evolution(tmp_path, override, key):
+    from growsim.errors import GrowsimError
+    from growsim.experiment import run
+
+    out = tmp_path / "run"
+    with pytest.raises(GrowsimError, match=key):
+        run("experiments/hormone_2d.toml", out, overrides=[override, "ga.generations=1"],
+            progress=False)  # fmt: skip
+    assert not (out / "history.parquet").exists()
