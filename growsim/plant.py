@@ -302,6 +302,31 @@ class Plant(Phenotype):
         c = self.stem_children_count()
         return int(np.count_nonzero((self.kind == STEM) & (c >= 2)))
 
+    def branch_angle(self) -> float:
+        """Mean over the branch points (:attr:`n_branch_points`) of the widest angle, in
+        degrees, between a STEM child's axis and its parent's: how far laterals diverge
+        (0 when there are no branch points).
+
+        Examples
+        --------
+        >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0], [0, 2, 0], [1, 2, 0]],
+        ...                       [-1, 0, 0], [-1, 0, 1, 1])  # a stem forks: up and 45 deg
+        >>> round(p.branch_angle(), 6)
+        45.0
+        """
+        c = self.stem_children_count()
+        axis = self.end - self.start
+        norm = np.linalg.norm(axis, axis=1)
+        unit = axis / np.where(norm > 0, norm, 1.0)[:, None]
+        kids = np.flatnonzero((self.parent >= 0) & (self.kind == STEM))
+        kids = kids[(self.kind[self.parent[kids]] == STEM) & (c[self.parent[kids]] >= 2)]
+        if not len(kids):
+            return 0.0
+        cos = np.clip(np.einsum("ij,ij->i", unit[kids], unit[self.parent[kids]]), -1.0, 1.0)
+        widest = np.full(self.n_segments, -1.0)
+        np.maximum.at(widest, self.parent[kids], np.degrees(np.arccos(cos)))
+        return float(widest[widest >= 0].mean())
+
     def lengths(self) -> np.ndarray:
         """``(n,)`` float64 segment lengths."""
         return np.linalg.norm(self.end - self.start, axis=1)
@@ -410,8 +435,12 @@ class Plant(Phenotype):
         )
 
     def measures(self, env=None, resolution: int = 256) -> dict[str, float]:
-        """All measures as a JSON-able dict: counts, extents, lengths, volume, and the
-        shadow areas from above (all segments and leaves only, at ``resolution``). With an
+        """All measures as a JSON-able dict: counts, extents, lengths, volume, the shadow
+        areas from above (all segments and leaves only, at ``resolution``), the mean
+        :meth:`branch_angle`, and for a plant whose model keeps each segment's light
+        (``data["light"]``, the hormone model) ``light_per_area``, the light per unit of
+        side area ``sum_i A_i l_i / sum_i A_i`` (``A_i = 2 pi r_i L_i``: light-interception
+        efficiency). With an
         environment (:class:`growsim.env.Environment`), also ``light_captured``: the light
         the leaves receive from its shadow-map light, ``sum_i A_i L_i`` over the leaves
         (:func:`leaf_light`; the light objective's linear ``light`` term).
@@ -420,7 +449,7 @@ class Plant(Phenotype):
         --------
         >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
         >>> sorted(p.measures())[:3]
-        ['crown_depth', 'crown_width', 'height']
+        ['branch_angle', 'crown_depth', 'crown_width']
         """
         from growsim.env.light import projected_area
 
@@ -439,7 +468,13 @@ class Plant(Phenotype):
                 self.start, self.end, self.radius, resolution=resolution
             ),
             "leaf_area_top": self.leaf_area(resolution=resolution),
+            "branch_angle": self.branch_angle(),
         }
+        if "light" in self.data and self.n_segments:
+            # light interception efficiency: the light per unit of side area, area-weighted
+            area = 2.0 * np.pi * self.radius * self.lengths()
+            light = np.asarray(self.data["light"], dtype=np.float64)
+            out["light_per_area"] = float(area @ light / area.sum()) if area.sum() > 0 else 0.0
         if env is not None:
             out["light_captured"] = leaf_light(self, env.light).light
         return out
