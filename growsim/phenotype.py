@@ -37,7 +37,11 @@ __all__ = ["PHENOTYPES", "Phenotype", "load_phenotype", "saved_kind"]
 #: phenotype kind -> class. One line per kind.
 PHENOTYPES: Registry[type[Phenotype]] = Registry(
     "phenotype",
-    {"plant": "growsim.plant:Plant", "trajectory": "growsim.trajectory:Trajectory"},
+    {
+        "plant": "growsim.plant:Plant",
+        "trajectory": "growsim.trajectory:Trajectory",
+        "points2d": "growsim.attractor:Attractor",
+    },
 )
 
 

@@ -19,6 +19,7 @@ MODELS: Registry[Model] = Registry(
         "ifs3d": "growsim.models.ifs3d:MODEL",
         "fish": "growsim.models.fish:MODEL",
         "hormone": "growsim.models.hormone:MODEL",
+        "ifs2d": "growsim.models.ifs2d:MODEL",
     },
 )
 

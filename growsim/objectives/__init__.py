@@ -20,6 +20,8 @@ OBJECTIVES: Registry[type[Objective]] = Registry(
         "light": "growsim.objectives.light:LightObjective",
         "collisions": "growsim.objectives.collisions:CollisionsObjective",
         "nutrient": "growsim.objectives.nutrient:NutrientObjective",
+        "ochoa": "growsim.objectives.ochoa:OchoaObjective",
+        "collage": "growsim.objectives.collage:CollageObjective",
     },
 )
 

@@ -1,0 +1,436 @@
+"""Ochoa's weighted fitness of a plant's 2D picture (seed 002, after G. Ochoa, "On genetic
+algorithms and Lindenmayer systems", PPSN V, LNCS 1498, 1998).
+
+Four terms, each in ``[0, 1]``, read off the plant's 2D view (:func:`plane_view`: an
+attractor's raster, or a plant skeleton's front view, x right and y up), and their
+weighted mean
+
+    F = (a w_a + b w_b + c w_c + d w_d) / (w_a + w_b + w_c + w_d)
+
+- ``a``, **phototropism**: ``min(1, H / height)``: the plant's height ``H`` (world units)
+  over the option ``height`` (the height that scores 1);
+- ``b``, **light capture**: the share of the light crossing the view that the plant
+  intercepts, with ``[environment.light]``: ``min(1, I sum_k w_k n_k / L_k)`` over the
+  light's directions ``(d_k, w_k)`` (:meth:`growsim.env.light.Light.directions`: the
+  beam, and the sky's when ``diffuse > 0``) taken in the view's plane, ``n_k`` the plant's
+  shadow across ``d_k`` in one-pixel bins and ``L_k = S |u_y| + S |u_x|`` the raster's
+  (:func:`growsim.kernels.ochoa.shadow_bins`). From straight above it is the share of the
+  raster's columns the plant occupies: the 2D form of :meth:`Light.captured` (intensity x
+  projected area), divided by the frame's;
+- ``c``, **structural stability**: ``1 - m / n``: ``n`` branching points of the view's
+  skeleton, ``m`` of them with at least ``many_branches`` branches (1 when ``n = 0``);
+  the skeleton is ``skimage.morphology.skeletonize`` of the view with spurs shorter than
+  ``prune`` pixels removed (:mod:`growsim.kernels.ochoa`);
+- ``d``, **symmetry**: ``min(L, R) / max(L, R)``: ``L``, ``R`` the distances from the
+  main stem (the vertical through the stem base, the view's centre column) to the
+  leftmost and rightmost ink (1 when both are 0).
+
+The view is framed without regard to size (the stem base on the centre column and the
+bottom row, one scale fitting the height or the half-width about the base: as the
+silhouette objective's views), so only ``a`` depends on the plant's absolute size.
+A species is a named set of the four weights (:data:`SPECIES`, option ``species``);
+``weights`` overrides some of them.
+"""
+
+from __future__ import annotations
+
+from typing import Any, ClassVar, Literal
+
+import numpy as np
+from pydantic import Field, field_validator, model_validator
+
+from growsim.errors import UserInputError
+from growsim.objectives.base import Objective, ObjectiveOptions
+
+__all__ = [
+    "SPECIES",
+    "TERMS",
+    "GenerationBests",
+    "OchoaObjective",
+    "OchoaOptions",
+    "evolve_species",
+    "ochoa_terms",
+    "plane_view",
+    "species_figure",
+    "terms_figure",
+]
+
+#: the four terms, in the seed's order (a, b, c, d)
+TERMS = ("phototropism", "light", "stability", "symmetry")
+
+#: Named species: weights of the four terms. ``tree_one`` and ``tree_two`` are growsim's
+#: weights for the seed's two fractal trees (its text gives none): the first values
+#: stability and light most, the second light and height.
+SPECIES: dict[str, dict[str, float]] = {
+    "balanced": {"phototropism": 1.0, "light": 1.0, "stability": 1.0, "symmetry": 1.0},
+    "tree_one": {"phototropism": 1.0, "light": 2.0, "stability": 2.0, "symmetry": 1.0},
+    "tree_two": {"phototropism": 2.0, "light": 2.0, "stability": 1.0, "symmetry": 1.0},
+    "tall": {"phototropism": 3.0, "light": 1.0, "stability": 1.0, "symmetry": 0.5},
+    "spreading": {"phototropism": 0.5, "light": 3.0, "stability": 1.0, "symmetry": 1.0},
+}
+
+
+def plane_view(phenotype, size: int = 128) -> tuple[np.ndarray, float]:
+    """The 2D view ``(size, size)`` uint8 of a phenotype and its height (world units).
+
+    A phenotype with a ``front_view(size)`` (an :class:`growsim.attractor.Attractor`)
+    gives its own; a :class:`growsim.plant.Plant` gives its skeleton's front view (the
+    x-y plane, thin lines: :func:`growsim.objectives.silhouette.plant_views`). Both are
+    framed alike: the stem base on the centre column and the bottom row.
+
+    Examples
+    --------
+    >>> from growsim.models import honda
+    >>> img, h = plane_view(honda.develop(honda.PRESETS["zelkova"]), 64)
+    >>> img.shape, int(img[63, 32]), h > 0
+    ((64, 64), 1, True)
+    """
+    front = getattr(phenotype, "front_view", None)
+    if callable(front):
+        return np.asarray(front(int(size)), dtype=np.uint8), float(phenotype.height())
+    if getattr(phenotype, "phenotype", None) == "plant":
+        from growsim.objectives.silhouette import plant_views
+
+        return plant_views(phenotype, int(size))[0], float(phenotype.height())
+    raise UserInputError(
+        f"ochoa: a {type(phenotype).__name__} has no 2D view (an attractor or a plant has)"
+    )
+
+
+def _plane_directions(light) -> list[tuple[float, float, float]]:
+    """``(ux, uy, weight)`` of the light's directions in the view's plane (x, y); a
+    direction along z (none in the plane) counts as from above."""
+    dirs, weights = light.directions()
+    out = []
+    for d, w in zip(dirs, weights):
+        if w == 0.0:
+            continue
+        n = float(np.hypot(d[0], d[1]))
+        ux, uy = (0.0, -1.0) if n < 1e-9 else (float(d[0] / n), float(d[1] / n))
+        out.append((ux, uy, float(w)))
+    return out
+
+
+def ochoa_terms(
+    img, height: float, *, light=None, height_ref: float = 10.0, many: int = 4, prune: int = 2
+) -> dict[str, float]:
+    """The four terms of a 2D view ``img`` ``(S, S)`` (stem base on column ``S // 2``)
+    and the counts behind them (see the module docstring for the formulas).
+
+    ``height``: the plant's height (world units); ``light``: a
+    :class:`growsim.env.light.Light` (default: from above, intensity 1). Returns
+    ``phototropism``, ``light``, ``stability``, ``symmetry`` and ``branch_points``,
+    ``many_branch_points``, ``shadow_bins``, ``left``, ``right`` (pixels).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> img = np.zeros((9, 9), np.uint8); img[:, 4] = 1; img[2, 1:8] = 1  # a cross
+    >>> t = ochoa_terms(img, 5.0, prune=0)
+    >>> t["phototropism"], round(t["light"], 3), t["stability"], t["symmetry"]
+    (0.5, 0.778, 0.0, 1.0)
+    """
+    from skimage.morphology import skeletonize
+
+    from growsim.env.light import Light
+    from growsim.kernels.ochoa import junctions, prune_kernel, shadow_bins
+
+    img = np.ascontiguousarray(np.asarray(img) != 0, dtype=np.uint8)
+    if img.ndim != 2 or img.shape[0] != img.shape[1]:
+        raise UserInputError(f"ochoa: a view is a square raster, got shape {img.shape}")
+    S = img.shape[0]
+    light = Light() if light is None else light
+    a = min(1.0, max(float(height), 0.0) / float(height_ref))
+    b = 0.0
+    bins_main = 0
+    for k, (ux, uy, w) in enumerate(_plane_directions(light)):
+        n, frame = shadow_bins(img, (ux, uy))
+        bins_main = n if k == 0 else bins_main
+        b += w * n / frame
+    b = min(1.0, float(light.intensity) * b)
+    skel = np.ascontiguousarray(skeletonize(img.astype(bool)), dtype=np.uint8)
+    if prune > 0:
+        prune_kernel(skel, int(prune))
+    n_points, n_many = junctions(skel, int(many))
+    c = 1.0 if n_points == 0 else 1.0 - n_many / n_points
+    cols = np.flatnonzero(img.any(axis=0))
+    centre = S // 2 + 0.5
+    left = right = 0.0
+    if cols.size:
+        left = max(0.0, centre - (cols[0] + 0.5))
+        right = max(0.0, (cols[-1] + 0.5) - centre)
+    hi = max(left, right)
+    d = 1.0 if hi == 0.0 else min(left, right) / hi
+    return {
+        "phototropism": float(a),
+        "light": float(b),
+        "stability": float(c),
+        "symmetry": float(d),
+        "branch_points": float(n_points),
+        "many_branch_points": float(n_many),
+        "shadow_bins": float(bins_main),
+        "left": float(left),
+        "right": float(right),
+    }
+
+
+class OchoaOptions(ObjectiveOptions):
+    """Options of the ``ochoa`` objective: the species' weights and how the terms are read."""
+
+    kind: Literal["ochoa"] = Field("ochoa", description="the objective: ochoa")
+    species: str = Field(
+        "balanced", description=f"named weights of the four terms: {', '.join(SPECIES)}"
+    )
+    weights: dict[str, float] | None = Field(
+        None,
+        description="weights over the species' (keys phototropism, light, stability, "
+        "symmetry; >= 0, not all 0)",
+    )
+    height: float = Field(
+        10.0, gt=0.0, le=1e9, description="phototropism: the height (world units) scoring 1"
+    )
+    size: int = Field(128, ge=16, le=1024, description="raster size of the 2D view, pixels")
+    many_branches: int = Field(
+        4, ge=3, le=8, description="stability: a branching point with at least this many "
+        "branches (the one it grows from counts) is unstable",
+    )  # fmt: skip
+    prune: int = Field(
+        2, ge=0, le=64, description="stability: skeleton spurs up to this many pixels are "
+        "ignored",
+    )  # fmt: skip
+
+    @field_validator("species")
+    @classmethod
+    def _known_species(cls, v):
+        if v not in SPECIES:
+            raise ValueError(f"unknown species {v!r}; available: {', '.join(SPECIES)}")
+        return v
+
+    @field_validator("weights")
+    @classmethod
+    def _check_weights(cls, v):
+        if v is None:
+            return v
+        unknown = sorted(set(v) - set(TERMS))
+        if unknown:
+            raise ValueError(f"unknown term(s) {', '.join(unknown)}; allowed: {', '.join(TERMS)}")
+        if any(not np.isfinite(w) or w < 0 for w in v.values()):
+            raise ValueError(f"weights must be finite and >= 0, got {v}")
+        return v
+
+    @model_validator(mode="after")
+    def _some_weight(self):
+        if sum(self.term_weights().values()) <= 0.0:
+            raise ValueError("weights: at least one term needs a weight > 0")
+        return self
+
+    def term_weights(self) -> dict[str, float]:
+        """The four weights: the species', then ``weights`` over them."""
+        return {**SPECIES[self.species], **(self.weights or {})}
+
+
+class OchoaObjective(Objective):
+    """Ochoa's weighted fitness of a plant's 2D picture (maximised, in [0, 1]).
+
+    See the module docstring for the four terms; :meth:`terms` reports them (and the
+    counts behind them) for the best individual. Scores attractors (``points2d``) and
+    plants (their front view).
+
+    Examples
+    --------
+    >>> from growsim.models import ifs2d
+    >>> obj = OchoaObjective(species="tree_one", height=2.0)
+    >>> plant = ifs2d.develop(ifs2d.PRESETS["tree"])
+    >>> t = obj.terms(plant)
+    >>> sorted(k for k in t if k in TERMS), 0.0 <= obj(plant) <= 1.0
+    (['light', 'phototropism', 'stability', 'symmetry'], True)
+    """
+
+    name = "ochoa"
+    maximize = True
+    accepts = ("points2d", "plant")
+    Options = OchoaOptions
+    example: ClassVar[dict[str, Any]] = {"species": "tree_one", "height": 2.0, "size": 64}
+
+    def setup(self) -> None:
+        w = self.options.term_weights()
+        self.weights = np.array([w[t] for t in TERMS], dtype=np.float64)
+
+    def terms(self, phenotype) -> dict[str, float]:
+        """The four terms and their counts (see :func:`ochoa_terms`)."""
+        o = self.options
+        img, height = plane_view(phenotype, o.size)
+        return ochoa_terms(
+            img, height, light=self.env.light, height_ref=o.height, many=o.many_branches,
+            prune=o.prune,
+        )  # fmt: skip
+
+    def score(self, terms: dict[str, float]) -> float:
+        """``F``: the weighted mean of the four terms of ``terms``."""
+        v = np.array([terms[t] for t in TERMS])
+        return float(v @ self.weights / self.weights.sum())
+
+    def __call__(self, phenotype) -> float:
+        return self.score(self.terms(phenotype))
+
+
+# --------------------------------------------------------------------------- species runs
+
+
+class GenerationBests:
+    """A run callback (:func:`growsim.experiment.run`'s ``callback``) that records, after
+    every GA generation, the best individual of that generation: ``rows`` of
+    ``(generation, fitness, evolved parameters (k,))``.
+
+    Examples
+    --------
+    >>> rec = GenerationBests()
+    >>> rec.rows
+    []
+    """
+
+    def __init__(self):
+        self.rows: list[tuple[int, float, np.ndarray]] = []
+
+    def __call__(self, ga, row) -> None:
+        if row.get("phase", "ga") != "ga":
+            return None
+        best, where = -np.inf, None
+        for raw, scores in zip(ga.state.pops, ga.state.scores):
+            if raw is None or scores is None or not len(scores):
+                continue
+            i = int(np.argmax(scores))
+            if where is None or scores[i] > best:
+                best, where = float(scores[i]), raw[i : i + 1]
+        if where is not None:
+            self.rows.append((int(row["generation"]), best, ga.genome.decode(where)[0]))
+        return None
+
+
+def evolve_species(config, *, out=None, seed: int | None = None, overrides=(), progress=False):
+    """Run an experiment whose first objective is ``ochoa`` and record its species'
+    evolution: the best plant of every generation, its four terms, and pictures.
+
+    Writes into the run directory (besides what :func:`growsim.experiment.run` writes):
+    ``generations.parquet`` (per generation: ``generation``, ``fitness`` and the terms of
+    :func:`ochoa_terms` of that generation's best), ``generations.png`` (the best plant of
+    the first, middle and last generation side by side: the seed's Fig. 2-3) and
+    ``terms.png`` (the four terms over generations). Returns ``(result, table)``: the
+    :class:`growsim.experiment.RunResult` and the table.
+
+    Examples
+    --------
+    >>> cfg = "experiments/ifs_species.toml"
+    >>> result, table = evolve_species(cfg, out="runs/x")  # doctest: +SKIP
+    >>> list(table.columns[:3])  # doctest: +SKIP
+    ['generation', 'fitness', 'phototropism']
+    """
+    import pandas as pd
+
+    from growsim.experiment import run
+    from growsim.experiment.runner import as_plan
+
+    plan = as_plan(config, overrides)
+    if seed is not None:
+        plan = plan.with_seed(int(seed))
+    objective = next((o for o in plan.objectives if o.name == "ochoa"), None)
+    if objective is None:
+        raise UserInputError("evolve_species: the experiment has no 'ochoa' objective")
+    rec = GenerationBests()
+    result = run(plan, out=out, callback=rec, progress=progress)
+    fitness = plan.fitness()
+    rows, plants = [], []
+    for generation, score, x in rec.rows:
+        full = fitness.full_params(np.asarray(x, dtype=np.float64)[None, :])
+        params = fitness.param_dict(full[0])
+        plant = fitness.develop(full[0], int(fitness.model_seeds(full, None)[0]))
+        plants.append(plant)
+        rows.append({"generation": generation, "fitness": score, **objective.terms(plant),
+                     **{f"param_{k}": params[k] for k in fitness.evolved}})  # fmt: skip
+    table = pd.DataFrame(rows)
+    path = result.out
+    from growsim.files import atomic_path
+
+    with atomic_path(path / "generations.parquet") as tmp:
+        table.to_parquet(tmp, index=False)
+    if plants:
+        picks = sorted({0, len(plants) // 2, len(plants) - 1})
+        species_figure([plants[i] for i in picks], [rows[i] for i in picks],
+                       path / "generations.png")  # fmt: skip
+        terms_figure(table, path / "terms.png")
+    return result, table
+
+
+def species_figure(plants, rows, path, size: int = 300):
+    """A PNG of plants side by side, each titled with its generation, ``F`` and terms
+    (``rows``: dicts with ``generation``, ``fitness`` and the four terms)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from growsim.files import atomic_path
+
+    fig, axes = plt.subplots(1, len(plants), figsize=(3.2 * len(plants), 3.9), squeeze=False)
+    for ax, plant, row in zip(axes[0], plants, rows):
+        ax.imshow(plant.render_image(view="front", size=(size, size)))
+        ax.set_axis_off()
+        ax.set_title(
+            f"generation {row['generation']}: F {row['fitness']:.3f}\n"
+            f"a {row['phototropism']:.2f} b {row['light']:.2f} "
+            f"c {row['stability']:.2f} d {row['symmetry']:.2f}",
+            fontsize=9,
+        )
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png", dpi=100)
+    plt.close(fig)
+    return path
+
+
+def terms_figure(table, path):
+    """A PNG of the fitness and the four terms of each generation's best."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from growsim.files import atomic_path
+
+    fig, ax = plt.subplots(figsize=(6, 3.6))
+    for name in ("fitness", *TERMS):
+        ax.plot(table["generation"], table[name], marker="o", ms=3, label=name,
+                lw=2.5 if name == "fitness" else 1.2)  # fmt: skip
+    ax.set_xlabel("generation")
+    ax.set_ylabel("best of the generation")
+    ax.set_ylim(-0.02, 1.02)
+    ax.legend(fontsize=8, loc="lower right")
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png", dpi=100)
+    plt.close(fig)
+    return path
+
+
+def main(argv=None) -> int:
+    """``python -m growsim.objectives.ochoa CONFIG [--out DIR] [--seed N] [--set k=v]``:
+    :func:`evolve_species` from the command line; prints the table."""
+    import argparse
+
+    ap = argparse.ArgumentParser(prog="python -m growsim.objectives.ochoa",
+                                 description=evolve_species.__doc__.split("\n\n")[0])  # fmt: skip
+    ap.add_argument("config")
+    ap.add_argument("--out", default=None)
+    ap.add_argument("--seed", type=int, default=None)
+    ap.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
+    args = ap.parse_args(argv)
+    result, table = evolve_species(args.config, out=args.out, seed=args.seed,
+                                   overrides=args.overrides, progress=True)  # fmt: skip
+    cols = ["generation", "fitness", *TERMS]
+    print(table[cols].round(4).to_string(index=False))
+    print(f"results: {result.out}")
+    return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())
