@@ -114,15 +114,21 @@ def grow_in_gardens(families: list[Family], notes: list[str]):
 
 
 def _quantities(table) -> list[str]:
+    """The numeric columns that vary, each once (a column equal to an earlier one, e.g. an
+    objective's score that is the fitness, is left out: it would only add tests)."""
     skip = {"family", "origin", "seed", "garden", "path"}
-    out = []
+    out, seen = [], []
     for c in table.columns:
         if c in skip or table[c].dtype.kind not in "fi":
             continue
         v = table[c].to_numpy(np.float64)
-        v = v[np.isfinite(v)]
-        if len(v) and not _flat(v):
-            out.append(c)
+        finite = v[np.isfinite(v)]
+        if not len(finite) or _flat(finite):
+            continue
+        if any(np.array_equal(v, w, equal_nan=True) for w in seen):
+            continue
+        seen.append(v)
+        out.append(c)
     return out
 
 
