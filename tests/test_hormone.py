@@ -260,3 +260,30 @@ def test_an_impossible_environment_is_refused_before_evolution(tmp_path, overrid
         run("experiments/hormone_2d.toml", out, overrides=[override, "ga.generations=1"],
             progress=False)  # fmt: skip
     assert not (out / "history.parquet").exists()
+
+
+def test_same_plants_serially_in_a_pool_and_on_dask():
+    # the population path in worker processes: same fitness, bit for bit
+    from concurrent.futures import ProcessPoolExecutor
+
+    from growsim.experiment import load_plan
+
+    distributed = pytest.importorskip("dask.distributed")
+    plan = load_plan("experiments/hormone_3d.toml", ["model.params.steps=8"])
+    f = plan.fitness()
+    rng = np.random.default_rng(3)
+    x = np.array([[rng.uniform(p.low, p.high) for p in plan.evolved] for _ in range(12)])
+    serial = f(x)
+    with ProcessPoolExecutor(2) as pool:
+        pooled = np.concatenate(list(pool.map(f, np.array_split(x, 4))))
+    np.testing.assert_array_equal(pooled, serial)
+    with (
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+    ):
+        parts = client.gather(client.map(f, np.array_split(x, 3), pure=False))
+    np.testing.assert_array_equal(np.concatenate(parts), serial)
+    one = [f(x[i : i + 1])[0] for i in range(3)]  # one plant at a time: the same numbers
+    np.testing.assert_array_equal(one, serial[:3])
