@@ -201,7 +201,12 @@ def twin(seed: int = 0, size: int = 64, ga_evals: int = 15_000, total: int = 50_
         m[..., 3] = np.mod(m[..., 3], 360.0)
         return score_population(m, ifs3d.DEFAULT_DEPTH, target)
 
-    ga = GA(genome_from_params(spec, coding="real"), ncc, population=100, islands=4, seed=seed)
+    # the real-coded GA before issue 15 changed the defaults (the documented figures)
+    old_ga = dict(model="generational", selection="tournament", selection_options={"size": 4},
+                  crossover="sbx", mutation="polynomial")  # fmt: skip
+    ga = GA(
+        genome_from_params(spec, coding="real"), ncc, population=100, islands=4, seed=seed, **old_ga
+    )
     r = ga.run(evaluations=ga_evals)
     used = ga.evaluations
     best_u, best_s = (np.asarray(r.best.params) - low) / span, float(r.best.fitness)

@@ -83,14 +83,16 @@ def test_mu_plus_lambda_and_elitism_keep_the_best():
 
 
 def test_generational_without_elite_can_lose_the_best_but_best_so_far_is_kept():
-    r = GA(R10, rastrigin, population=10, maximize=False, seed=0, elite=0).run(generations=40)
+    r = GA(
+        R10, rastrigin, population=10, maximize=False, seed=0, elite=0, model="generational"
+    ).run(generations=40)
     h = r.history
     assert not h["best"].is_monotonic_decreasing
     assert h["best_so_far"].iloc[-1] == h["best"].min() == r.best.fitness
 
 
 def test_elite_rate():
-    ga = GA(R10, sphere, population=40, elite_rate=0.05)
+    ga = GA(R10, sphere, population=40, elite_rate=0.05, model="generational")
     assert ga.model.elite == 2 and ga.model.offspring == 38
 
 
@@ -216,7 +218,7 @@ def test_seeds_come_from_the_global_evaluation_index():
         seen.append(np.array(seeds))
         return x.sum(axis=1)
 
-    ga = GA(R10, fit, population=10, seed=4)
+    ga = GA(R10, fit, population=10, seed=4, model="generational")
     ga.run(generations=3)
     allseeds = np.concatenate(seen)
     assert allseeds.dtype == np.uint64 and len(allseeds) == 10 + 9 + 9
@@ -280,7 +282,7 @@ def test_initial_individuals_enter_generation_zero():
 
 
 def test_ask_tell_api():
-    ga = GA(R10, sphere, population=10, maximize=False, seed=0)
+    ga = GA(R10, sphere, population=10, maximize=False, seed=0, model="generational")
     with pytest.raises(GrowsimError, match="before ask"):
         ga.tell(np.zeros(10))
     raw = ga.ask()
@@ -302,7 +304,7 @@ def test_ask_tell_api():
         ({"elite": 10}, "elite"),
         ({"population": 1.5}, "population"),
         ({"islands": 0}, "islands"),
-        ({"offspring": 3}, "offspring"),
+        ({"model": "generational", "offspring": 3}, "offspring"),
         ({"model": "steady", "offspring": 10}, "offspring"),
         ({"elite_rate": 1.0}, "elite_rate"),
         ({"selection": "rank", "selection_options": None, "mutation_options": []}, "mutation_opt"),

@@ -226,6 +226,21 @@ class Uniform(Crossover):
         super().__init__(rate)
         self.swap = _check_prob(self.name, "swap", swap)
 
+    def cross_pairs(self, pop, ia, ib, n_off, rng, genome):
+        """Fast path of :meth:`Operators.mate`: the ``n_off`` children of the pairs
+        ``(pop[ia], pop[ib])`` (first children, then second children) straight from the
+        population, for bit genomes at ``rate=1`` and ``swap=0.5``; None otherwise. The
+        same random words as :meth:`__call__`, so the same children."""
+        if self.rate < 1.0 or self.swap != 0.5 or pop.dtype != np.uint8:
+            return None
+        m, L = ia.shape[0], pop.shape[1]
+        words = rng.integers(0, 2**64 - 1, size=(m, (L + 63) // 64), dtype=np.uint64, endpoint=True)
+        kids = np.empty((n_off, L), dtype=np.uint8)
+        K.byte_word_crossover_pairs(
+            np.ascontiguousarray(pop), ia.astype(np.int64), ib.astype(np.int64), words, kids
+        )
+        return kids
+
     def _cross(self, a, b, rng, genome):
         m, L = a.shape
         if self.swap == 0.5:
@@ -234,7 +249,10 @@ class Uniform(Crossover):
             )
             c1 = np.empty_like(a)
             c2 = np.empty_like(b)
-            K.word_crossover(a, b, c1, c2, words)
+            if a.dtype == np.uint8:  # bit genomes: a branch-free byte-mask kernel
+                K.byte_word_crossover(a, b, c1, c2, words)
+            else:
+                K.word_crossover(a, b, c1, c2, words)
             return c1, c2
         n = m * L
         kswap = int(rng.binomial(n, self.swap))

@@ -209,8 +209,9 @@ class Evaluator:
         n = getattr(self.executor, "_max_workers", None)
         return int(n) if n else (os.cpu_count() or 2)
 
-    def __call__(self, x: np.ndarray, seeds: np.ndarray) -> EvalOutcome:
-        """Evaluate ``x`` ``(n, p)`` with ``seeds`` ``(n,)`` uint64 -> :class:`EvalOutcome`."""
+    def __call__(self, x: np.ndarray, seeds: np.ndarray | None) -> EvalOutcome:
+        """Evaluate ``x`` ``(n, p)`` with ``seeds`` ``(n,)`` uint64 (None when the fitness
+        takes none) -> :class:`EvalOutcome`."""
         n = x.shape[0]
         s = seeds if self.with_seeds else None
         if self.executor is None or n == 0:

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.ga.history import std
 from growsim.kernels import ga as K
 
 __all__ = [
@@ -380,8 +381,10 @@ class Genome:
             return raw
         return raw[:, : self.n_bits] | raw[:, self.n_bits :]
 
-    def decode(self, raw: np.ndarray) -> np.ndarray:
-        """Raw population ``(n, length)`` -> decoded parameters ``(n, p)`` float64.
+    def decode(self, raw: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """Raw population ``(n, length)`` -> decoded parameters ``(n, p)`` float64, written
+        into ``out`` if given (a C-contiguous ``(n, p)`` float64 array; the GA reuses one
+        between generations, which spares a large population's fresh pages).
 
         Examples
         --------
@@ -390,14 +393,16 @@ class Genome:
         0.4
         """
         raw = self._check_raw(raw)
+        shape = (raw.shape[0], self.n_params)
+        if out is None or out.shape != shape or out.dtype != np.float64:
+            out = np.empty(shape, dtype=np.float64)
         if self.kind == "real":
-            out = raw.astype(np.float64, copy=True)
+            np.copyto(out, raw)
             if self.discrete.any():
                 d = self.discrete
                 out[:, d] = np.clip(np.floor(out[:, d]), self.param_low[d], self.param_high[d])
             return out
         bits = self.phenotype_bits(raw)
-        out = np.empty((raw.shape[0], self.n_params), dtype=np.float64)
         if self._unit:
             K.decode_unit_bits(np.ascontiguousarray(bits), self._dlow, self._unit_scale, out)
             return out
@@ -509,7 +514,8 @@ class Genome:
         if self.kind == "bits":
             q = K.ones_per_locus(np.ascontiguousarray(raw)) / raw.shape[0]
             return float(np.mean(2.0 * q * (1.0 - q)))
-        return float(np.mean(raw.std(axis=0) / (self.high - self.low)))
+        x = np.ascontiguousarray(raw, dtype=np.float64)
+        return float(np.mean(std(x, axis=0) / (self.high - self.low)))
 
     def _check_raw(self, raw) -> np.ndarray:
         raw = np.asarray(raw)

@@ -21,6 +21,7 @@ __all__ = [
     "history_frame",
     "history_row",
     "stats",
+    "std",
     "summary_row",
 ]
 
@@ -57,13 +58,41 @@ def stats(values: np.ndarray, maximize: bool) -> dict:
     ok = np.isfinite(values)
     if not ok.any():
         return {"best": np.nan, "mean": np.nan, "std": np.nan, "worst": np.nan}
-    v = values[ok]
+    v = values if ok.all() else values[ok]
+    hi, lo = float(np.maximum.reduce(v)), float(np.minimum.reduce(v))
     return {
-        "best": float(v.max() if maximize else v.min()),
-        "mean": float(v.mean()),
-        "std": float(v.std()),
-        "worst": float(v.min() if maximize else v.max()),
+        "best": hi if maximize else lo,
+        "mean": float(np.add.reduce(v) / v.size),
+        "std": float(std(v)),
+        "worst": lo if maximize else hi,
     }
+
+
+def std(a: np.ndarray, axis: int | None = None):
+    """``numpy.std(a, axis=axis)`` of a float64 array, bit for bit, without NumPy's
+    Python-level argument handling (~10 us less per call: a GA generation at population
+    20 takes two). Only ``axis=None`` or ``axis=0``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = np.random.default_rng(0).random((5, 3))
+    >>> bool(std(a) == a.std()), bool((std(a, axis=0) == a.std(axis=0)).all())
+    (True, True)
+    """
+    n = a.shape[0] if axis == 0 else a.size
+    # the operations of numpy's _var/_std, in their order: sum, divide, subtract,
+    # square, sum, divide, sqrt
+    m = np.add.reduce(a, axis=axis, keepdims=True)
+    np.true_divide(m, n, out=m, casting="unsafe", subok=False)
+    x = np.subtract(a, m)
+    np.square(x, out=x)
+    r = np.add.reduce(x, axis=axis)
+    if isinstance(r, np.ndarray):
+        np.true_divide(r, n, out=r, casting="unsafe", subok=False)
+        return np.sqrt(r, out=r)
+    r = r.dtype.type(r / n)
+    return r.dtype.type(np.sqrt(r))
 
 
 def history_row(

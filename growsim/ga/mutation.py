@@ -13,6 +13,7 @@ import numpy as np
 
 from growsim.errors import UserInputError
 from growsim.ga.operator import Operator
+from growsim.kernels import ga as K
 from growsim.registry import Registry
 
 __all__ = [
@@ -23,6 +24,7 @@ __all__ = [
     "Mutation",
     "Polynomial",
     "Reset",
+    "SelfAdaptiveGaussian",
 ]
 
 
@@ -173,6 +175,111 @@ class Gaussian(Mutation):
         return np.clip(x, genome.low, np.nextafter(genome.high, -np.inf))
 
 
+class SelfAdaptiveGaussian(Mutation):
+    """Self-adaptive Gaussian mutation, the real-coded default: Schwefel's one step size
+    per individual (Beyer & Schwefel, "Evolution strategies: a comprehensive
+    introduction"), after a polynomial mutation of a few genes.
+
+    Each individual carries a step ``s``: the length of its whole Gaussian step relative to
+    the ranges (first ``sigma``). A child first gets Deb's bounded polynomial mutation
+    (index ``polynomial_eta``) on each gene with probability ``polynomial_rate`` (default
+    ``1 / p``; 0 = none): coordinate moves of every scale, which separable problems
+    reward. Then it draws ``s' = s exp(tau N(0, 1))`` (``tau`` default ``1 / sqrt(p)``),
+    kept in ``[min_sigma, max_sigma]``, and adds ``N(0, (s' (high - low) / sqrt(p))^2)`` to
+    each gene with probability ``rate`` (default every gene: an isotropic step, which
+    rotated problems cost no more than separable ones). Steps that produced surviving
+    children spread with them, so the step size follows the landscape, down to the
+    precision a sphere needs and up again on a slope. Results are clipped to the bounds.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from growsim.ga import Genome, Real
+    >>> g = Genome([Real("x", 0, 1, size=4)])
+    >>> op = SelfAdaptiveGaussian(sigma=0.2)
+    >>> s = op.init_strategy(3, g)
+    >>> x, s2 = op(np.full((3, 4), 0.5), np.random.default_rng(0), g, s)
+    >>> s.tolist(), bool(((x >= 0) & (x <= 1)).all()), bool((s2 != 0.2).all())
+    ([0.2, 0.2, 0.2], True, True)
+    """
+
+    name = "self_adaptive"
+    kinds = ("real",)
+    self_adaptive = True
+
+    def __init__(
+        self,
+        sigma: float = 0.01,
+        tau: float | None = None,
+        rate: float | None = None,
+        min_sigma: float = 1e-12,
+        max_sigma: float = 1.0,
+        polynomial_rate: float | None = None,
+        polynomial_eta: float = 20.0,
+    ):
+        if not 0.0 < float(min_sigma) <= float(sigma) <= float(max_sigma):
+            raise UserInputError(
+                "mutation 'self_adaptive': need 0 < min_sigma <= sigma <= max_sigma, got "
+                f"{min_sigma}, {sigma}, {max_sigma}"
+            )
+        if tau is not None and not float(tau) >= 0:
+            raise UserInputError(f"mutation 'self_adaptive': tau must be >= 0, got {tau}")
+        self.sigma = float(sigma)
+        self.tau = None if tau is None else float(tau)
+        self.rate = None if rate is None else _rate(self.name, rate, 0.0)
+        self.min_sigma = float(min_sigma)
+        self.max_sigma = float(max_sigma)
+        self.polynomial_rate = (
+            None if polynomial_rate is None else _rate(self.name, polynomial_rate, 0.0)
+        )
+        self.polynomial_eta = float(polynomial_eta)
+        if not self.polynomial_eta >= 0:
+            raise UserInputError(
+                f"mutation 'self_adaptive': polynomial_eta must be >= 0, got {polynomial_eta}"
+            )
+
+    def init_strategy(self, n: int, genome) -> np.ndarray:
+        """``(n,)`` float64 initial steps ``sigma``."""
+        return np.full(int(n), self.sigma)
+
+    def __call__(self, x, rng, genome, strategy):
+        m, p = x.shape
+        if strategy is None:  # children of parents without steps: the first step
+            strategy = self.init_strategy(m, genome)
+        # all draws up front, one numba pass over the genes (a fixed cost of ~20 us where
+        # NumPy calls per step cost ~120 us at population 20)
+        poly_rate = 1.0 / p if self.polynomial_rate is None else self.polynomial_rate
+        gauss_rate = 1.0 if self.rate is None else self.rate
+        r_hit = rng.random((m, p))
+        r_u = rng.random((m, p))
+        z_tau = rng.standard_normal(m)
+        z = rng.standard_normal((m, p))
+        r_gauss = rng.random((m, p)) if gauss_rate < 1.0 else np.zeros((m, p))
+        out_x = np.empty((m, p))
+        out_s = np.empty(m)
+        K.self_adaptive_mutation(
+            np.ascontiguousarray(x, dtype=np.float64),
+            genome.low,
+            genome.high,
+            np.nextafter(genome.high, -np.inf),
+            np.asarray(strategy, dtype=np.float64),
+            1.0 / np.sqrt(p) if self.tau is None else self.tau,
+            self.min_sigma,
+            self.max_sigma,
+            poly_rate,
+            self.polynomial_eta,
+            gauss_rate,
+            r_hit,
+            r_u,
+            z_tau,
+            z,
+            r_gauss,
+            out_x,
+            out_s,
+        )
+        return out_x, out_s
+
+
 class Polynomial(Mutation):
     """Deb's bounded polynomial mutation of index ``eta`` (larger = smaller steps), each
     gene with probability ``rate`` (default ``1 / p``).
@@ -247,5 +354,6 @@ class Reset(Mutation):
 
 #: name -> mutation class (construct with the options, e.g. ``MUTATION["bitflip"](rate=0.06)``)
 MUTATION: Registry[type[Mutation]] = Registry(
-    "mutation operator", {c.name: c for c in (BitFlip, MetaRate, Gaussian, Polynomial, Reset)}
+    "mutation operator",
+    {c.name: c for c in (BitFlip, MetaRate, Gaussian, SelfAdaptiveGaussian, Polynomial, Reset)},
 )

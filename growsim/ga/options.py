@@ -36,9 +36,12 @@ from growsim.ga.operator import Operators, make_operator
 from growsim.ga.selection import SELECTION, Selection
 from growsim.options import validation_message
 
-__all__ = ["DEFAULT_OPERATORS", "GA_OPTIONS_CONFIG", "GAOptions"]
+__all__ = ["DEFAULT_MODEL", "DEFAULT_OPERATORS", "GA_OPTIONS_CONFIG", "GAOptions"]
 
-#: default operators per genome kind: the ones ``benchmarks/ga_vs_peers.py`` measures
+#: default operators per genome kind, chosen by ``benchmarks/bbob.py`` (reals) and its bit
+#: suite (bits); see docs/ga.md. Before issue 15 the reals' were a tournament of 4, SBX
+#: (eta 15) and polynomial mutation under the generational model: configs that relied on
+#: them name them.
 DEFAULT_OPERATORS = {
     "bits": {
         "selection": ("tournament", {"size": 4}),
@@ -48,9 +51,11 @@ DEFAULT_OPERATORS = {
     "real": {
         "selection": ("tournament", {"size": 4}),
         "crossover": ("sbx", {"eta": 15.0}),
-        "mutation": ("polynomial", {}),
+        "mutation": ("self_adaptive", {}),
     },
 }
+#: default generation model per genome kind (``GAOptions(model=None)``)
+DEFAULT_MODEL = {"bits": "generational", "real": "mu+lambda"}
 
 _REGISTRIES = {"selection": SELECTION, "crossover": CROSSOVER, "mutation": MUTATION}
 
@@ -74,8 +79,9 @@ class GAOptions:
     :data:`~growsim.ga.CROSSOVER`, :data:`~growsim.ga.MUTATION`) with their options, or
     operator instances (without options); None takes the defaults of the genome's kind
     (:data:`DEFAULT_OPERATORS`: bits: tournament of 4, uniform crossover, bit-flip 1/L;
-    reals: tournament of 4, SBX eta 15, polynomial mutation 1/p), and options given with
-    None override the defaults' options.
+    reals: tournament of 4, SBX eta 15, self-adaptive Gaussian mutation), and options
+    given with None override the defaults' options. ``model=None`` likewise takes the
+    coding's default (:data:`DEFAULT_MODEL`: bits generational, reals mu+lambda).
 
     Every field is strict (a string ``"50"`` is not a population; ints are accepted for
     floats); a subclass (the config's ``[ga]`` section) declares its fields the same way,
@@ -106,8 +112,8 @@ class GAOptions:
     selection_options: StrictDict = Field(default_factory=dict, description="its options")
     crossover_options: StrictDict = Field(default_factory=dict, description="its options")
     mutation_options: StrictDict = Field(default_factory=dict, description="its options")
-    model: Literal["generational", "steady", "mu+lambda"] = Field(
-        "generational", description="generation model"
+    model: Literal["generational", "steady", "mu+lambda"] | None = Field(
+        None, description="generation model (default per coding)"
     )
     elite: StrictInt = Field(1, ge=0, description="best individuals copied unchanged")
     elite_rate: StrictFloat | None = Field(
@@ -167,7 +173,8 @@ class GAOptions:
             raise ValueError(
                 f"{what} ({self.n_elite}) must be smaller than population ({self.population})"
             )
-        self.generation_model()  # raises ValueError for an offspring the model cannot use
+        if self.model is not None:  # None: checked when the genome's kind is known
+            self.generation_model()  # raises ValueError for an offspring the model cannot use
         return self
 
     @property
@@ -178,9 +185,29 @@ class GAOptions:
             return self.elite
         return round(float(self.elite_rate) * self.population)
 
-    def generation_model(self) -> GenerationModel:
-        """The :class:`~growsim.ga.generation.GenerationModel` named by ``model``."""
-        return GENERATION_MODELS.get(self.model)(self.population, self.n_elite, self.offspring)
+    def model_name(self, kind: str | None = None) -> str:
+        """``model``, or when None the default of a genome of ``kind``
+        (:data:`DEFAULT_MODEL`).
+
+        Examples
+        --------
+        >>> GAOptions().model_name("real"), GAOptions(model="steady").model_name("real")
+        ('mu+lambda', 'steady')
+        """
+        if self.model is not None:
+            return self.model
+        if kind not in DEFAULT_MODEL:
+            raise UserInputError(
+                f"model: None takes the default of the genome's kind ({', '.join(DEFAULT_MODEL)}); "
+                f"got kind {kind!r}"
+            )
+        return DEFAULT_MODEL[kind]
+
+    def generation_model(self, kind: str | None = None) -> GenerationModel:
+        """The :class:`~growsim.ga.generation.GenerationModel` named by ``model`` (None:
+        the default for a genome of ``kind``, see :meth:`model_name`)."""
+        name = self.model_name(kind)
+        return GENERATION_MODELS.get(name)(self.population, self.n_elite, self.offspring)
 
     def operator(self, role: str, kind: str) -> tuple[str | Any, dict[str, Any]]:
         """``(spec, options)`` of the ``role`` operator (``"selection"``, ``"crossover"``,

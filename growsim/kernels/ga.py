@@ -129,6 +129,81 @@ def word_crossover(a, b, c1, c2, words):
                 c2i[t] = bi[t]
 
 
+def _spread_table() -> np.ndarray:
+    """``(256,)`` uint64: byte ``v`` -> 8 bytes, byte ``j`` 0xFF where bit ``j`` of ``v``
+    is set (little-endian: byte ``j`` of the word is the ``j``-th byte in memory)."""
+    v = np.arange(256, dtype=np.uint64)
+    out = np.zeros(256, dtype=np.uint64)
+    for j in range(8):
+        out |= ((v >> np.uint64(j)) & np.uint64(1)) * np.uint64(0xFF << (8 * j))
+    return out
+
+
+_SPREAD = _spread_table()
+
+
+@njit
+def byte_word_crossover(a, b, c1, c2, words):
+    """:func:`word_crossover` for ``(m, L)`` uint8 genomes (the bit genomes), without a
+    branch per gene: each random byte becomes eight 0x00/0xFF mask bytes through a
+    256-entry table, then ``d = (a ^ b) & mask``, ``c1 = a ^ d``, ``c2 = b ^ d``, a loop
+    the compiler vectorises (measured 8x faster than :func:`word_crossover` on 500 pairs
+    x 1000 bits)."""
+    m, L = a.shape
+    nq = (L + 7) // 8
+    mask64 = np.empty(nq, np.uint64)
+    mask = mask64.view(np.uint8)
+    nw = words.shape[1]
+    for i in range(m):
+        for w in range(nw):
+            word = words[i, w]
+            for k in range(8):
+                q = 8 * w + k
+                if q < nq:
+                    mask64[q] = _SPREAD[(word >> np.uint64(8 * k)) & np.uint64(0xFF)]
+        ai = a[i]
+        bi = b[i]
+        c1i = c1[i]
+        c2i = c2[i]
+        for t in range(L):
+            d = (ai[t] ^ bi[t]) & mask[t]
+            c1i[t] = ai[t] ^ d
+            c2i[t] = bi[t] ^ d
+
+
+@njit
+def byte_word_crossover_pairs(pop, ia, ib, words, kids):
+    """:func:`byte_word_crossover` of the pairs ``(pop[ia[i]], pop[ib[i]])`` written
+    straight into ``kids`` ``(n, L)``: first children in rows ``0..m-1``, second children in
+    rows ``m..n-1`` (those beyond ``n`` dropped), so the parents are never gathered into
+    arrays of their own and the children never concatenated."""
+    m = ia.shape[0]
+    n, L = kids.shape
+    nq = (L + 7) // 8
+    mask64 = np.empty(nq, np.uint64)
+    mask = mask64.view(np.uint8)
+    nw = words.shape[1]
+    for i in range(m):
+        for w in range(nw):
+            word = words[i, w]
+            for k in range(8):
+                q = 8 * w + k
+                if q < nq:
+                    mask64[q] = _SPREAD[(word >> np.uint64(8 * k)) & np.uint64(0xFF)]
+        ai = pop[ia[i]]
+        bi = pop[ib[i]]
+        k1 = kids[i]
+        if m + i < n:
+            k2 = kids[m + i]
+            for t in range(L):
+                d = (ai[t] ^ bi[t]) & mask[t]
+                k1[t] = ai[t] ^ d
+                k2[t] = bi[t] ^ d
+        else:
+            for t in range(L):
+                k1[t] = ai[t] ^ ((ai[t] ^ bi[t]) & mask[t])
+
+
 @njit
 def decode_unit_bits(bits, low, scale, out):
     """Fast path of :func:`decode_bits` when every column is one bit:
@@ -143,10 +218,22 @@ def decode_unit_bits(bits, low, scale, out):
 def ones_per_locus(bits):
     """Number of set bits in each column of a ``(n, L)`` uint8 matrix -> ``(L,)`` int64."""
     n, L = bits.shape
+    # int32 partial sums (more lanes per vector instruction than int64), flushed before
+    # they could overflow
+    acc = np.zeros(L, np.int32)
     out = np.zeros(L, np.int64)
+    rows = 0
     for i in range(n):
         for t in range(L):
-            out[t] += bits[i, t]
+            acc[t] += bits[i, t]
+        rows += 1
+        if rows == 8_000_000:
+            for t in range(L):
+                out[t] += acc[t]
+                acc[t] = 0
+            rows = 0
+    for t in range(L):
+        out[t] += acc[t]
     return out
 
 
@@ -191,3 +278,40 @@ def sbx(a, b, low, high, top, eta, gene_rate, r_act, r_u, r_flip, c1, c2):
             else:
                 c1[i, t] = k1
                 c2[i, t] = k2
+
+
+@njit
+def self_adaptive_mutation(
+    x, low, high, top, strategy, tau, min_sigma, max_sigma, poly_rate, poly_eta, gauss_rate,
+    r_hit, r_u, z_tau, z, r_gauss, out_x, out_s,
+):  # fmt: skip
+    """The self-adaptive Gaussian mutation of ``x`` ``(m, p)`` into ``out_x``, ``out_s``.
+
+    Per child ``i``: Deb's bounded polynomial mutation (index ``poly_eta``) of gene ``t``
+    when ``r_hit[i, t] < poly_rate`` with the uniform ``r_u[i, t]``; then the step
+    ``out_s[i] = clip(strategy[i] exp(tau z_tau[i]), min_sigma, max_sigma)`` and
+    ``+ z[i, t] out_s[i] (high - low) / sqrt(p)`` on each gene with ``r_gauss[i, t] <
+    gauss_rate``; clipped to ``[low, top]``. ``low, high, top``: ``(p,)``; draws as shaped.
+    """
+    m, p = x.shape
+    e = poly_eta + 1.0
+    root = 1.0 / np.sqrt(p)
+    for i in range(m):
+        s = strategy[i] * np.exp(tau * z_tau[i])
+        s = min(max(s, min_sigma), max_sigma)
+        out_s[i] = s
+        for t in range(p):
+            v = x[i, t]
+            span = high[t] - low[t]
+            if r_hit[i, t] < poly_rate and span > 0.0:
+                u = r_u[i, t]
+                if u < 0.5:
+                    b = 2.0 * u + (1.0 - 2.0 * u) * (1.0 - (v - low[t]) / span) ** e
+                    dq = b ** (1.0 / e) - 1.0
+                else:
+                    b = 2.0 * (1.0 - u) + 2.0 * (u - 0.5) * (1.0 - (high[t] - v) / span) ** e
+                    dq = 1.0 - b ** (1.0 / e)
+                v = min(max(v + dq * span, low[t]), top[t])
+            if r_gauss[i, t] < gauss_rate:
+                v += z[i, t] * s * span * root
+            out_x[i, t] = min(max(v, low[t]), top[t])

@@ -91,3 +91,33 @@ def sbx(a, b, low, high, top, eta, gene_rate, r_act, r_u, r_flip):
     c1 = np.where(act, np.where(flip, k2, k1), a)
     c2 = np.where(act, np.where(flip, k1, k2), b)
     return c1, c2
+
+
+def byte_word_crossover(a, b, words):
+    """The uint8 kernel's contract is :func:`word_crossover`'s: the same swaps."""
+    return word_crossover(a, b, words)
+
+
+def byte_word_crossover_pairs(pop, ia, ib, words, n):
+    """Gather the pairs, cross them as :func:`word_crossover`, first children then second
+    children, the first ``n`` rows."""
+    c1, c2 = word_crossover(pop[ia], pop[ib], words)
+    return np.concatenate([c1, c2])[:n]
+
+
+def self_adaptive_mutation(
+    x, low, high, top, strategy, tau, min_sigma, max_sigma, poly_rate, poly_eta, gauss_rate,
+    r_hit, r_u, z_tau, z, r_gauss,
+):  # fmt: skip
+    """Vectorised: the polynomial step on the hit genes, then the Gaussian step."""
+    p = x.shape[1]
+    span = high - low
+    e = poly_eta + 1.0
+    with np.errstate(all="ignore"):
+        b1 = 2.0 * r_u + (1.0 - 2.0 * r_u) * (1.0 - (x - low) / span) ** e
+        b2 = 2.0 * (1.0 - r_u) + 2.0 * (r_u - 0.5) * (1.0 - (high - x) / span) ** e
+        dq = np.where(r_u < 0.5, b1 ** (1.0 / e) - 1.0, 1.0 - b2 ** (1.0 / e))
+    y = np.where(r_hit < poly_rate, np.clip(x + dq * span, low, top), x)
+    s = np.clip(strategy * np.exp(tau * z_tau), min_sigma, max_sigma)
+    y = np.where(r_gauss < gauss_rate, y + z * s[:, None] * span / np.sqrt(p), y)
+    return np.clip(y, low, top), s
