@@ -1,12 +1,13 @@
 """Test pictures for fitting trees to photos: growsim trees rendered as a camera sees them.
 
 Each picture is a pyvista render of a growsim tree standing on a ground plane under a sky
-(a colour gradient), lit and shaded by pyvista's light kit, seen through a perspective
-camera a little above the ground, anti-aliased (rendered at twice the size and averaged
-over 2 x 2 pixels), with a little sensor noise, then JPEG-compressed: what a user's photo
-of a tree against the sky looks like, with the ground strip along the bottom. The same
-camera renders the tree alone (black, unlit, on white, no ground) for the true silhouette:
-the pixels at least half covered by the tree.
+(a colour gradient), lit and shaded by pyvista's light kit, seen through a long lens
+(:data:`FOV`, 5 degrees: the tree about 14 of its heights away, as a whole tree is
+photographed to be fitted) with the camera a little above the ground, anti-aliased
+(rendered at twice the size and averaged over 2 x 2 pixels), with a little sensor noise,
+then JPEG-compressed: what a user's photo of a tree against the sky looks like, with the
+ground strip along the bottom. The same camera renders the tree alone (black, unlit, on
+white, no ground) for the true silhouette: the pixels at least half covered by the tree.
 
     python benchmarks/make_photos.py --out runs/photos   # writes the set of PICTURES
 
@@ -29,6 +30,13 @@ import numpy as np
 __all__ = ["PICTURES", "Picture", "make_photo", "plant_of", "write_set"]
 
 
+#: The camera's vertical view angle, degrees: a long lens from a distance (about a 300 mm
+#: lens on a full-frame camera, the tree about 14 tree heights away), as a whole tree is
+#: photographed to be fitted: nearly orthographic, as the fit's views are. ``fov = 25``
+#: (a normal lens close by) shows the perspective's cost (docs/models/fitting.md).
+FOV = 5.0
+
+
 @dataclass(frozen=True)
 class Picture:
     """One test picture: the tree (``model``, ``preset``, ``params`` over the preset), the
@@ -46,6 +54,7 @@ class Picture:
     leaf: tuple = (0.25, 0.45, 0.18)
     eye: float = 0.15
     quality: int = 85
+    fov: float = FOV
 
 
 #: The benchmark's pictures: four Honda species of the seed's Table 2 and two IFS trees,
@@ -82,11 +91,10 @@ def plant_of(picture: Picture):
     return model.develop({**model.preset(picture.preset), **picture.params})
 
 
-def _camera(pl, bounds, size_px: int, eye: float) -> None:
+def _camera(pl, bounds, size_px: int, eye: float, fov: float) -> float:
     (x0, x1), (_, y1), (z0, z1) = np.asarray(bounds, float).reshape(3, 2)
     height = max(y1, 1e-6)
     half_w = max(abs(x0), abs(x1), abs(z0), abs(z1), 0.05 * height)
-    fov = 25.0
     t = math.tan(math.radians(fov / 2))
     # far enough that the crown (with a margin) and the ground below the base fit
     dist = max(0.62 * height / t, 1.15 * half_w / t) + half_w
@@ -95,7 +103,8 @@ def _camera(pl, bounds, size_px: int, eye: float) -> None:
     pl.camera.focal_point = (0.0, cy, 0.0)
     pl.camera.up = (0.0, 1.0, 0.0)
     pl.camera.view_angle = fov
-    pl.camera.clipping_range = (0.01 * dist, 200.0 * height)
+    pl.camera.clipping_range = (0.01 * dist, 2.0 * dist + 200.0 * height)
+    return dist
 
 
 def make_photo(picture: Picture, plant=None, *, size: int = 512):
@@ -125,7 +134,13 @@ def make_photo(picture: Picture, plant=None, *, size: int = 512):
             parts.append((pv.PolyData.from_regular_faces(mesh.points, sel), colour))
     big = 2 * size
     height = float(mesh.bounds[3])
-    ground = pv.Plane(center=(0, 0, 0), direction=(0, 1, 0), i_size=80 * height, j_size=80 * height)
+    # the ground reaches far behind the tree (its far edge is the horizon)
+    far = (
+        80.0
+        * height
+        * max(1.0, math.tan(math.radians(12.5)) / math.tan(math.radians(picture.fov / 2)))
+    )
+    ground = pv.Plane(center=(0, 0, 0), direction=(0, 1, 0), i_size=far, j_size=far)
     with offscreen_plotter(big, big) as pl:
         pl.disable_anti_aliasing()
         pl.set_background(picture.sky_bottom, top=picture.sky_top)
@@ -133,13 +148,13 @@ def make_photo(picture: Picture, plant=None, *, size: int = 512):
         for part, colour in parts:
             pl.add_mesh(part, color=colour, ambient=0.2, diffuse=0.8, specular=0.15,
                         smooth_shading=True)  # fmt: skip
-        _camera(pl, mesh.bounds, big, picture.eye)
+        _camera(pl, mesh.bounds, big, picture.eye, picture.fov)
         colour = np.asarray(pl.screenshot(return_img=True))[..., :3].astype(np.float64)
     with offscreen_plotter(big, big) as pl:
         pl.disable_anti_aliasing()
         pl.set_background("white")
         pl.add_mesh(mesh, color="black", lighting=False)
-        _camera(pl, mesh.bounds, big, picture.eye)
+        _camera(pl, mesh.bounds, big, picture.eye, picture.fov)
         cover = np.asarray(pl.screenshot(return_img=True))[..., 0] < 128
     # 2 x 2 box filter: anti-aliased colour, coverage of the tree
     rgb = colour.reshape(size, 2, size, 2, 3).mean(axis=(1, 3))

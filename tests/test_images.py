@@ -226,3 +226,27 @@ def test_picture_target_of_the_thin_objective_is_the_rendered_one(tmp_path):
     obj = SilhouetteObjective(front=paths[0], side=paths[1])
     rendered = SilhouetteObjective(target_model="ifs3d", target_preset="table1")
     assert np.array_equal(obj.target, rendered.target) and obj(tree) == 1.0
+
+
+def test_radius_framing_draws_branches_as_the_renderer_does():
+    """A photo's silhouette is framed as tubes are drawn: a branch thinner than a raster
+    pixel is one pixel wide (its skeleton), a thick one as wide as it is (pixels at least
+    COVER_SHARE covered), not a pixel fatter (issue 16)."""
+    from growsim.images import COVER_SHARE
+    from growsim.kernels.raster import draw_segments
+
+    assert 0.0 < COVER_SHARE <= 0.5
+    pic = np.zeros((400, 400), bool)
+    pic[0:400, 196:204] = True  # trunk 8 px: 1.3 raster px at 64
+    pic[100:102, 60:340] = True  # a branch 2 px thick: a third of a raster pixel
+    out = frame_silhouettes(pic, None, 64)[0]
+    widths = out.sum(axis=1)
+    branch_row = int(np.argmax(widths))
+    assert widths[branch_row] >= 44  # the thin branch survives, one pixel thick
+    assert out[branch_row - 1 : branch_row + 2].sum(axis=0).max() <= 3  # with the trunk
+    assert set(widths[40:60].tolist()) <= {1, 2}  # the trunk: 1.3 px, not 2-3
+    # the same trunk drawn as a tube of that width covers as many pixels
+    tube = np.zeros((64, 64), np.uint8)
+    k = 63.0 / 400
+    draw_segments(np.array([[32.0, 63.5]]), np.array([[32.0, 0.5]]), np.array([8 * k]), tube)
+    assert abs(int(tube[40:60].sum()) - int(widths[40:60].sum())) <= 20

@@ -12,7 +12,7 @@ import pytest
 from PIL import Image
 
 from growsim.cli import main
-from growsim.cli.fit_image import FIT_SETUPS, fit_config
+from growsim.cli.fit_image import FIT_SETUPS, LEAF_MARGIN, fit_config
 from growsim.errors import UserInputError
 from growsim.experiment import load_config
 from growsim.images import segment_photo
@@ -123,7 +123,9 @@ def test_one_picture_objective_frames_and_scores_the_front_alone(photo):
     assert obj.target.shape == (1, 32, 32) and set(obj.pictures) == {"front"}
     tree = honda.develop(honda.PRESETS["zelkova"])
     assert 0.5 < obj(tree) == obj.view_scores(tree)[0] <= 1.0
-    # the front view's framing ignores the depth (the side is free)
+    # the front view's framing ignores the depth (the side is free; a bare tree: a leaf's
+    # blade, facing up, is seen wider or narrower when the depth is stretched)
+    tree = honda.develop({**honda.PRESETS["zelkova"], "leaves": 0})
     deep = tree.subset(np.ones(tree.n_segments, bool))
     deep.end[:, 2] *= 5.0
     deep.start[:, 2] *= 5.0
@@ -158,9 +160,17 @@ def test_fit_config_fits_leaves_and_one_picture(photo):
         cfg = load_config(fit_config(path, model=model, evaluations=500))
         assert set(setup.leaves) <= set(cfg.model.evolve)
         assert cfg.objective[0].views == "front" and cfg.objective[0].segmentation == "photo"
-        assert cfg.objective[0].line_width == "radius"
-        bare = load_config(fit_config(path, model=model, leaves=False))
-        assert "leaves" not in bare.model.evolve
+        assert cfg.objective[0].line_width == setup.line_width
+        kept = load_config(fit_config(path, model=model, leaves=False))
+        assert "leaves" not in kept.model.evolve
+        if setup.bare:  # a bare tree: no leaves, none evolved
+            bare = load_config(fit_config(path, model=model, leaves="bare"))
+            assert bare.model.params["leaves"] == 0 and not set(setup.leaves) & set(
+                bare.model.evolve
+            )
+            assert set(bare.model.evolve) == set(kept.model.evolve)
+    with pytest.raises(UserInputError, match="--leaves"):
+        fit_config("tree.jpg", model="honda", leaves="some")
     with pytest.raises(UserInputError, match="fit setup"):
         fit_config("tree.jpg", model="nope")
     with pytest.raises(UserInputError, match="--segmentation threshold"):
@@ -178,8 +188,19 @@ def test_fit_image_one_photo_coarse_to_fine(photo, tmp_path, capsys):
     assert fit["stages"][1]["ncc"] >= fit["stages"][1]["ncc_start"]
     assert 0.3 < fit["ncc"] <= 1.0 and fit["views"] == ["front"]
     for name in ("tree.glb", "silhouettes.png", "silhouette_front.png", "segmentation_front.png",
-                 "best.json", "history.parquet"):  # fmt: skip
+                 "bare-0/best.json", "bare-0/history.parquet", "leafy-1/best.json"):  # fmt: skip
         assert (out / name).is_file(), name
+    # --leaves auto: a bare and a leafy tree fitted, the leafy one kept only if clearly better
+    leaves = fit["leaves"]
+    assert leaves["mode"] == "auto" and set(leaves["ncc"]) == {"bare", "leafy"}
+    # honda: two restarts of each kind, the best of each kept
+    runs = leaves["runs"]
+    assert sorted(runs) == ["bare seed 0", "bare seed 1", "leafy seed 0", "leafy seed 1"]
+    for kind in ("bare", "leafy"):
+        assert leaves["ncc"][kind] == max(runs[f"{kind} seed {s}"]["ncc"] for s in (0, 1))
+    kept = "leafy" if leaves["ncc"]["leafy"] > leaves["ncc"]["bare"] + LEAF_MARGIN else "bare"
+    assert leaves["chosen"] == kept and fit["ncc"] == pytest.approx(leaves["ncc"][kept])
+    assert (fit["params"]["leaves"] == 0) == (kept == "bare")
     used = np.asarray(Image.open(out / "silhouette_front.png")) < 128
     assert np.array_equal(used, segment_photo(path).tree)  # the silhouette used, as is
     text = capsys.readouterr().out

@@ -202,3 +202,25 @@ def test_bad_pictures(tmp_path):
         SilhouetteObjective(front=str(good), side=str(blank))
     obj = SilhouetteObjective(front=str(good), side=str(good), size=16)
     assert obj.target[:, :, 8].all()
+
+
+def test_leaves_are_drawn_as_their_blades_are_seen():
+    """line_width = "radius": a leaf is a flat blade facing up (issue 16): seen edge-on
+    (its axis along the view's x, the blade across it in depth) it is a line; seen
+    face-on it is as wide as the blade, with 3/4 of its length x width."""
+    from growsim.plant import LEAF, STEM, Plant
+
+    # a trunk 0 -> 10 up, a leaf from its top along +x, 4 long, blade 2 * 0.8 wide
+    pts = [[0, 0, 0], [0, 10, 0], [4, 10, 0]]
+    plant = Plant.from_points(pts, parent=[-1, 0], point_parent=[-1, 0, 1],
+                              radius=[0.05, 0.8], kind=[STEM, LEAF])  # fmt: skip
+    front, side = plant_views(plant, 64, "radius")
+    # the front sees the blade edge-on (across it is z): a one-pixel line
+    leaf_rows = np.flatnonzero(front[:, 40:].any(axis=1))
+    assert leaf_rows.size == 1
+    # the side sees it face-on (across it is the view's u = -z) but foreshortened along
+    # its axis (x is depth): the blade's width shows around the trunk's top
+    assert np.flatnonzero(side.any(axis=0)).size >= 5
+    # the thin-line drawing is unchanged (the seed's rendering)
+    thin = plant_views(plant, 64, "thin")
+    assert thin[0, leaf_rows[0], 40:].sum() > 0 and thin[1].any(axis=0).sum() == 1

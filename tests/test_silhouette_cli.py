@@ -77,7 +77,7 @@ def test_fit_image_budget_split_is_what_runs(pictures, tmp_path):
     generation's end), then the polish exactly its 2,800; at 50,000, 15,000 and 35,000."""
     out = tmp_path / "fit"
     args = ["fit-image", *pictures, "--out", str(out), "--evaluations", "4000", "--quiet"]
-    assert main(args) == 0
+    assert main([*args, "--leaves", "fit"]) == 0  # one run (auto: a bare and a leafy one)
     h = pd.read_parquet(out / "history.parquet")
     assert set(h["phase"]) == {"ga", "polish"}
     ga_evaluations = h.loc[h.phase == "ga", "evaluations"].max()
@@ -94,7 +94,8 @@ def test_a_photographed_honda_tree_scores_higher_drawn_at_its_radius(tmp_path):
     from growsim.models.honda import PRESETS, develop
 
     score = _own_render_scores(develop(PRESETS["zelkova"]), tmp_path)
-    # measured at 600 px: thin 0.882, radius 0.936
+    # measured at 400 px (issue 16: targets framed by cover and skeleton, leaves drawn as
+    # their blades are seen): thin 0.840, radius 0.933
     assert score["radius"] >= 0.9
     assert score["radius"] > score["thin"] + 0.02
 
@@ -120,15 +121,16 @@ def test_a_rendered_ifs3d_tree_scores_higher_drawn_at_its_radius(tmp_path):
     """growsim's own render of the Table 1 tree (tubes 0.04 x their length wide): the true
     tree matches it better drawn at its radius (docs/models/ifs3d.md, when to use which)."""
     score = _own_render_scores(ifs3d.develop(ifs3d.PRESETS["table1"]), tmp_path)
-    # measured: thin 0.860, radius 0.964
-    assert score["radius"] >= 0.95
+    # measured: thin 0.856, radius 0.907 (issue 16: targets framed by cover and skeleton;
+    # 0.964 when every pixel a branch touched was set, which fattened photos of thin trees)
+    assert score["radius"] >= 0.89
     assert score["radius"] > score["thin"] + 0.05
 
 
 def test_fit_image_end_to_end(pictures, tmp_path, capsys):
     out = tmp_path / "fit"
     args = ["fit-image", *pictures, "--out", str(out), "--evaluations", "1500", "--quiet"]
-    code = main([*args, "--line-width", "thin", "--sizes", "64"])
+    code = main([*args, "--line-width", "thin", "--sizes", "64", "--leaves", "fit"])
     assert code == 0
     for name in ("tree.glb", "silhouettes.png", "best.json", "summary.json", "history.parquet"):
         assert (out / name).is_file(), name

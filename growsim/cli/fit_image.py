@@ -5,17 +5,22 @@ The pictures become silhouettes (:mod:`growsim.images`: by default the photo seg
 the tree apart from sky and ground; ``--segmentation threshold`` for clean drawings); a
 bad segmentation is refused with a message naming the picture. The model is fitted coarse
 to fine: the setup's GA (and polish) at the first of ``--sizes`` (64 px), then a local
-refinement of the best at each finer size (128, 256 px), so branch structure counts. Every
-model is one :class:`FitSetup` in :data:`FIT_SETUPS` (its tables, the parameters of its
-leaves, the views it has): adding a model is adding an entry. With one picture a 3D
-model's front view is fitted and its side is left free (the silhouette objective's
-``views = "front"``).
+refinement of the best at each finer size (128, 256 px), so branch structure counts. With
+``--leaves auto`` (the default) a bare and a leafy tree are both fitted and the leafy one
+is kept only if clearly better (:data:`LEAF_MARGIN`), so a winter tree is fitted by a bare
+tree; each kind is fitted ``--restarts`` times (GA seeds), the best at the final size
+kept. Every model is one :class:`FitSetup` in :data:`FIT_SETUPS` (its tables, the
+parameters of its leaves and of a bare tree, the views it has, its restarts): adding a
+model is adding an entry. With one picture a 3D model's front view is fitted and its side
+is left free (the silhouette objective's ``views = "front"``).
 
 Writes into ``--out``: the first stage's run results (``config.toml``, ``history.parquet``,
-``best.json``, ...), ``fit.json`` (every stage: size, evaluations, seconds, NCC; the final
-parameters), ``tree.glb`` (the fitted tree), ``silhouette_<view>.png`` (the silhouette
-used, at the picture's size) and ``segmentation_<view>.png`` (it over the picture), and
-``silhouettes.png`` (target and fit, framed, at the final size).
+``best.json``, ...; with several fits, one directory each: ``bare-0``, ``leafy-1``, ...),
+``fit.json`` (every stage of the kept fit: size, evaluations, seconds, NCC; the final
+parameters; ``leaves``: which fit was kept and every fit's final NCC), ``tree.glb`` (the
+fitted tree), ``silhouette_<view>.png`` (the silhouette used, at the picture's size) and
+``segmentation_<view>.png`` (it over the picture), and ``silhouettes.png`` (target and
+fit, framed, at the final size).
 """
 
 from __future__ import annotations
@@ -37,6 +42,8 @@ __all__ = [
     "BEST_SETUP",
     "FIT_SETUPS",
     "HONDA_EVOLVE",
+    "LEAF_MARGIN",
+    "LEAF_MODES",
     "SIZES",
     "FitSetup",
     "best_setup",
@@ -83,6 +90,16 @@ HONDA_GA: dict = {
 #: next (``--sizes``).
 SIZES = (64, 128, 256)
 
+#: ``--leaves``: ``auto`` fits a bare and a leafy tree and keeps the better (the leafy one
+#: only if it beats the bare one by :data:`LEAF_MARGIN`); ``fit``: the leaves are fitted;
+#: ``bare``: no leaves; ``keep``: the setup's leaves, fixed.
+LEAF_MODES = ("auto", "fit", "bare", "keep")
+
+#: ``--leaves auto``: the leafy fit is kept only when its final NCC beats the bare fit's by
+#: more than this (leaves are two more parameters and can stand in for thickness; a bare
+#: tree's photo must not be fitted by a leafy blob)
+LEAF_MARGIN = 0.01
+
 
 def best_setup() -> dict:
     """The tables of the best ifs3d setup, ``growsim/data/ifs_tree_best.toml`` (a fresh
@@ -114,12 +131,15 @@ class FitSetup:
 
     ``tables()``: fresh ``[model]``, ``[ga]`` and ``[output]`` tables (a dict with those
     keys) of the first, coarse stage; ``leaves``: the ``[model.evolve]`` entries of the
-    model's leaves (count, size), added to the fit unless ``leaves=False``, so a bare
-    tree is fitted by a bare tree; ``line_width``: how the fitted tree is drawn by default
-    (``"radius"``: the branches at their thickness, as photos show them); ``views``: the
-    views the model has (``("front", "side")`` for a 3D tree; a 2D model has only
-    ``("front",)`` and takes one picture); ``refine``: evaluations of the local
-    refinement at each finer size, and its step (``sigma``, unit box).
+    model's leaves (count, size), evolved when the leaves are fitted; ``bare``: the
+    ``[model.params]`` of a bare tree (no leaves), fitted beside the leafy one so a
+    winter tree is fitted by a bare tree (``fit-image --leaves auto``); ``line_width``:
+    how the fitted tree is drawn by default (``"radius"``: the branches at their
+    thickness, as photos show them); ``views``: the views the model has (``("front",
+    "side")`` for a 3D tree; a 2D model has only ``("front",)`` and takes one picture);
+    ``refine``: evaluations of the local refinement at each finer size, and its step
+    (``sigma``, unit box); ``restarts``: independent fits (GA seeds) of each kind of tree,
+    the best kept at the final size (``--restarts``).
 
     Examples
     --------
@@ -130,10 +150,12 @@ class FitSetup:
 
     tables: Callable[[], dict]
     leaves: dict = field(default_factory=dict)
+    bare: dict = field(default_factory=dict)
     line_width: str = "radius"
     views: tuple[str, ...] = ("front", "side")
     refine: int = 1000
     refine_sigma: float = 0.03
+    restarts: int = 1
 
 
 def _ifs3d_tables() -> dict:
@@ -149,6 +171,12 @@ def _honda_tables() -> dict:
     }
 
 
+def _ifs2d_tables() -> dict:
+    from growsim.models.ifs2d import fit_tables
+
+    return fit_tables()
+
+
 #: model name -> its :class:`FitSetup`. ifs3d: the best setup of
 #: ``experiments/ifs_tree_best.toml`` (its GA at 64 px: 50,000 evaluations, 70 % CMA-ES);
 #: honda: the ``cherry`` preset's fixed values with :data:`HONDA_EVOLVE` evolved,
@@ -158,9 +186,21 @@ FIT_SETUPS: Registry[FitSetup] = Registry(
     "fit setup",
     {
         "ifs3d": FitSetup(
-            _ifs3d_tables, leaves={"leaves": True, "leaf_radius": [0.005, 0.1]}, refine=600
+            _ifs3d_tables,
+            leaves={"leaves": True, "leaf_radius": [0.005, 0.1]},
+            bare={"leaves": 0},
+            refine=600,
         ),
-        "honda": FitSetup(_honda_tables, leaves={"leaves": True, "leaf_radius": [0.3, 4.0]}),
+        # two restarts: the GA at 64 px often ends in a crown that scores alike there and
+        # differs at 256 px (the tall-trunk photo: 0.81 or 0.93 by the GA's seed)
+        "honda": FitSetup(
+            _honda_tables,
+            leaves={"leaves": True, "leaf_radius": [0.3, 4.0]},
+            bare={"leaves": 0},
+            restarts=2,
+        ),
+        # a 2D IFS code fitted to one picture of an attractor (docs/models/ifs2d.md)
+        "ifs2d": FitSetup(_ifs2d_tables, line_width="thin", views=("front",)),
     },
 )
 
@@ -179,13 +219,15 @@ def fit_config(
     evaluations: int | None = None,
     seed: int = 0,
     segmentation: str = "photo",
-    leaves: bool = True,
+    leaves: str | bool = "fit",
 ) -> dict:
     """The experiment config (a dict for :func:`growsim.experiment.load_config`) of a fit's
     first stage (at ``size`` pixels).
 
-    The model's :class:`FitSetup` (:data:`FIT_SETUPS`) gives the tables, with its leaves'
-    parameters evolved too (``leaves=False``: not). ``side = None``: one picture, the
+    The model's :class:`FitSetup` (:data:`FIT_SETUPS`) gives the tables; ``leaves``:
+    ``"fit"`` (or ``True``): its leaves' parameters are evolved too; ``"bare"``: a bare
+    tree (the setup's ``bare`` parameters fixed); ``"keep"`` (or ``False``): the setup's
+    own leaves, fixed (:data:`LEAF_MODES`). ``side = None``: one picture, the
     front view alone (the objective's ``views = "front"``). ``evaluations`` replaces the
     budget and keeps the polish's share of it (ifs3d: 70 %, honda: 20 %), with enough
     generations for the GA's share. ``line_width``: ``"thin"`` or ``"radius"``; ``None``,
@@ -202,6 +244,8 @@ def fit_config(
     (10000, 7000)
     >>> fit_config("tree.jpg", model="honda")["objective"][0]["views"]
     'front'
+    >>> fit_config("tree.jpg", model="honda", leaves="bare")["model"]["params"]
+    {'leaves': 0}
     """
     setup = FIT_SETUPS.get(model)
     if line_width is None:
@@ -234,8 +278,15 @@ def fit_config(
         objective["mask_side"] = str(Path(mask_side).absolute())
     tables = setup.tables()
     model_cfg, ga, output = tables["model"], tables["ga"], tables["output"]
-    if leaves and setup.leaves:
+    leaves = {True: "fit", False: "keep"}.get(leaves, leaves)
+    if leaves not in LEAF_MODES[1:]:
+        raise UserInputError(f"--leaves: expected fit, bare or keep, got {leaves!r}")
+    if leaves == "fit" and setup.leaves:
         model_cfg = dict(model_cfg, evolve={**model_cfg.get("evolve", {}), **setup.leaves})
+    elif leaves == "bare" and setup.bare:
+        evolve = {k: v for k, v in model_cfg.get("evolve", {}).items() if k not in setup.leaves}
+        params = {**model_cfg.get("params", {}), **setup.bare}
+        model_cfg = dict(model_cfg, evolve=evolve, params=params)
     if evaluations is not None:
         evaluations = int(evaluations)
         pol = ga.get("polish")
@@ -413,10 +464,19 @@ def register(subparsers) -> None:
         "paper's 64x64 silhouettes; ifs3d's fast path)",
     )
     p.add_argument(
+        "--leaves",
+        choices=LEAF_MODES,
+        default="auto",
+        help="auto (default): fit a bare and a leafy tree, keep the better (the leafy one "
+        "only if clearly better); fit: fit the leaves; bare: no leaves; keep: the setup's "
+        "leaves, fixed",
+    )
+    p.add_argument(
         "--no-leaves",
         dest="leaves",
-        action="store_false",
-        help="keep the setup's leaves fixed instead of fitting them",
+        action="store_const",
+        const="keep",
+        help="same as --leaves keep",
     )
     for view in ("front", "side"):
         p.add_argument(
@@ -444,6 +504,14 @@ def register(subparsers) -> None:
     )
     p.add_argument(
         "--seed", type=int, default=0, metavar="N", help="random seed of the run (default 0)"
+    )
+    p.add_argument(
+        "--restarts",
+        type=int,
+        default=None,
+        metavar="N",
+        help="independent fits (seeds SEED, SEED+1, ...) of each kind of tree, the best at "
+        "the final size kept (default: the model's, honda 2, ifs3d 1)",
     )
     p.add_argument(
         "--workers", type=int, default=None, metavar="N", help="evaluate in N local processes"
@@ -475,36 +543,15 @@ def _write_masks(objective, out: Path, pictures: dict) -> list[str]:
     return written
 
 
-def _main(args) -> int:
+def _fit_chain(plan, config, sizes, args, setup, refine_evaluations, out, seed) -> dict:
+    """One coarse-to-fine fit: the setup's GA on ``plan`` (compiled at ``sizes[0]``), run
+    into ``out``, then a refinement at each finer size (``config(size)``: the fit's config
+    at that size). Returns the last plan, the evolved parameters ``x``, the stages (size,
+    evaluations, seconds, exact NCC) and the run's directory."""
     from growsim.experiment import load_plan, run
-    from growsim.files import atomic_write, jsonable
-    from growsim.images import silhouette_image
-    from growsim.mesh import export
-    from growsim.objectives.silhouette import plant_views
 
-    if args.evaluations is not None and args.evaluations < 100:
-        raise UserInputError(f"--evaluations: at least 100, got {args.evaluations}")
-    if args.refine is not None and args.refine < 0:
-        raise UserInputError(f"--refine: at least 0, got {args.refine}")
-    if args.size is not None and not 8 <= args.size <= 1024:
-        raise UserInputError(f"--size: expected 8..1024, got {args.size}")
-    setup = FIT_SETUPS.get(args.model)
-    sizes = (args.size,) if args.size is not None else tuple(args.sizes)
-    refine_evaluations = setup.refine if args.refine is None else args.refine
-    options = ("model", "threshold", "polarity", "mask_front", "mask_side", "line_width")
-    options += ("evaluations", "seed", "segmentation", "leaves")
-    kw = {k: getattr(args, k) for k in options}
-
-    def config(size):
-        return fit_config(args.front, args.side, size=size, **kw)
-
-    # compiling builds the objective once: bad pictures fail here, before any evolution
     t0 = time.perf_counter()
-    plan = load_plan(config(sizes[0]))
-    objective = plan.objectives[0]
-    out_dir = Path(args.out)
-    result = run(plan, out=args.out, workers=args.workers, progress=not args.quiet)
-    out = Path(result.out)
+    result = run(plan, out=out, workers=args.workers, progress=not args.quiet)
     fitness = plan.fitness()
     x = np.array([result.best_params[n] for n in fitness.evolved], dtype=np.float64)
     stages = [
@@ -521,7 +568,7 @@ def _main(args) -> int:
         fine = load_plan(config(size))
         x, score, start = refine(
             fine, x, evaluations=refine_evaluations, sigma=setup.refine_sigma,
-            seed=args.seed * 1000 + k,
+            seed=seed * 1000 + k,
         )  # fmt: skip
         stages.append(
             {
@@ -533,7 +580,81 @@ def _main(args) -> int:
                 "ncc": score,
             }
         )
-        plan, objective = fine, fine.objectives[0]
+        plan = fine
+    return {"plan": plan, "x": x, "stages": stages, "out": Path(result.out)}
+
+
+def _main(args) -> int:
+    from growsim.experiment import load_plan
+    from growsim.files import atomic_write, jsonable
+    from growsim.images import silhouette_image
+    from growsim.mesh import export
+    from growsim.objectives.silhouette import phenotype_views
+
+    if args.evaluations is not None and args.evaluations < 100:
+        raise UserInputError(f"--evaluations: at least 100, got {args.evaluations}")
+    if args.refine is not None and args.refine < 0:
+        raise UserInputError(f"--refine: at least 0, got {args.refine}")
+    if args.size is not None and not 8 <= args.size <= 1024:
+        raise UserInputError(f"--size: expected 8..1024, got {args.size}")
+    setup = FIT_SETUPS.get(args.model)
+    sizes = (args.size,) if args.size is not None else tuple(args.sizes)
+    refine_evaluations = setup.refine if args.refine is None else args.refine
+    options = ("model", "threshold", "polarity", "mask_front", "mask_side", "line_width")
+    options += ("evaluations", "segmentation")
+    kw = {k: getattr(args, k) for k in options}
+    restarts = setup.restarts if args.restarts is None else args.restarts
+    if restarts < 1:
+        raise UserInputError(f"--restarts: at least 1, got {restarts}")
+    mode = args.leaves
+    if mode == "auto":
+        # a bare and a leafy tree, when the model has leaves to choose
+        modes = ("bare", "fit") if setup.leaves and setup.bare else ("keep",)
+    else:
+        modes = (mode,)
+    label = {"fit": "leafy", "bare": "bare", "keep": "setup's"}
+    runs = [(m, args.seed + r) for m in modes for r in range(restarts)]
+    out_dir = Path(args.out)
+    t0 = time.perf_counter()
+
+    def config(size, m, seed):
+        return fit_config(args.front, args.side, size=size, leaves=m, seed=seed, **kw)
+
+    # compiling builds the objective once: bad pictures fail here, before any evolution
+    first = {run_: load_plan(config(sizes[0], *run_)) for run_ in runs}
+    fits = {}
+    for m, seed in runs:
+        name = label[m] if m != "keep" else "run"
+        if restarts > 1:
+            name += f"-{seed}"
+        run_out = out_dir / name if len(runs) > 1 else out_dir
+        fits[m, seed] = _fit_chain(
+            first[m, seed], lambda size, m=m, seed=seed: config(size, m, seed), sizes, args,
+            setup, refine_evaluations, run_out, seed,
+        )  # fmt: skip
+    # per kind of tree its best restart at the final size, then bare or leafy
+    best = {}
+    for (m, _), f in fits.items():
+        if m not in best or f["stages"][-1]["ncc"] > best[m]["stages"][-1]["ncc"]:
+            best[m] = f
+    chosen = modes[0]
+    if len(modes) > 1:
+        bare, leafy = best["bare"]["stages"][-1]["ncc"], best["fit"]["stages"][-1]["ncc"]
+        chosen = "fit" if leafy > bare + LEAF_MARGIN else "bare"
+    plan, x, stages = best[chosen]["plan"], best[chosen]["x"], best[chosen]["stages"]
+    objective = plan.objectives[0]
+    out = Path(best[chosen]["out"]) if len(runs) == 1 else out_dir
+    out.mkdir(parents=True, exist_ok=True)
+    leaves_summary = {
+        "mode": mode,
+        "chosen": label[chosen],
+        "ncc": {label[m]: f["stages"][-1]["ncc"] for m, f in best.items()},
+        "run": str(best[chosen]["out"]),
+        "runs": {
+            f"{label[m]} seed {seed}": {"ncc": f["stages"][-1]["ncc"], "out": str(f["out"])}
+            for (m, seed), f in fits.items()
+        },
+    }
     fitness = plan.fitness()
     row = fitness.full_params(x[None, :])[0]
     params = fitness.param_dict(row)
@@ -541,8 +662,13 @@ def _main(args) -> int:
         params[n] = round(params[n])
     plant = fitness.develop(row, int(fitness.model_seeds(row[None, :], None)[0]))
     views = objective.view_scores(plant)
-    export(plant, out / "tree.glb")
-    fitted = plant_views(plant, objective.size, objective.line_width, views=objective.n_views)
+    # a 2D model (ifs2d) has no mesh: its picture instead
+    shape = "tree.glb" if plant.phenotype == "plant" else "attractor.png"
+    if plant.phenotype == "plant":
+        export(plant, out / shape)
+    else:
+        plant.screenshot(out / shape, view="front")
+    fitted = phenotype_views(plant, objective.size, objective.line_width, views=objective.n_views)
     titles = [
         f"{v} target" if i % 2 == 0 else f"{v} fit" for v in ("front", "side") for i in (0, 1)
     ]
@@ -559,8 +685,9 @@ def _main(args) -> int:
         "size": objective.size,
         "seconds": round(time.perf_counter() - t0, 3),
         "stages": stages,
+        "leaves": leaves_summary,
         "params": params,
-        "files": ["tree.glb", "silhouettes.png", *[Path(w).name for w in written]],
+        "files": [shape, "silhouettes.png", *[Path(w).name for w in written]],
     }
     text = json.dumps(jsonable(summary), indent=1)
     atomic_write(out / "fit.json", lambda fh: fh.write(text.encode()))
@@ -569,9 +696,12 @@ def _main(args) -> int:
         f"fitted {args.model}: mean NCC {summary['ncc']:.4f} ({shown}) at {objective.size} px "
         f"in {summary['seconds']:.1f} s"
     )
+    if len(fits) > 1:
+        shown = ", ".join(f"{k} {v['ncc']:.4f}" for k, v in leaves_summary["runs"].items())
+        print(f"  kept: the {leaves_summary['chosen']} tree, {best[chosen]['out']} ({shown})")
     for st in stages:
         print(f"  {st['size']:4d} px {st['stage']:6s} {st['evaluations']:6d} evaluations "
               f"{st['seconds']:7.1f} s  NCC {st['ncc']:.4f}")  # fmt: skip
-    print(f"  mesh: {out / 'tree.glb'}")
+    print(f"  {'mesh' if shape == 'tree.glb' else 'picture'}: {out / shape}")
     print(f"  silhouettes: {out / 'silhouettes.png'} (used: {out_dir / 'silhouette_front.png'})")
     return 0

@@ -39,6 +39,7 @@ from pydantic import Field, field_validator, model_validator
 
 from growsim.errors import ConfigError, GrowsimError, UserInputError
 from growsim.objectives.base import Objective, ObjectiveOptions
+from growsim.plant import LEAF
 
 # The kernels (framing, rasters, NCC: growsim.kernels.views; the IFS population scorer) are
 # imported where they are used: the config schema imports every objective's options, and a
@@ -94,9 +95,40 @@ def plant_views(
         return render_thin(coords, size)
     img = np.zeros((views, size, size), dtype=np.uint8)
     width = 2.0 * k * plant.radius
+    leaf = plant.kind == LEAF
     for v in range(views):
-        draw_segments(coords[v, 0], coords[v, 1], width, img[v])
+        a, b, w = coords[v, 0], coords[v, 1], width
+        if leaf.any():
+            a, b, w = a.copy(), b.copy(), width.copy()
+            a[leaf], b[leaf], w[leaf] = _leaf_blades(plant, leaf, a[leaf], b[leaf], w[leaf], v)
+        draw_segments(a, b, w, img[v])
     return img
+
+
+def _leaf_blades(plant, leaf, a, b, width, view):
+    """Leaves drawn as their blades are seen (``line_width = "radius"``): a leaf is a
+    flat hexagon facing up (:mod:`growsim.kernels.mesh`: across it a horizontal vector
+    perpendicular to its axis, ``2 radius`` wide; 3/4 of its length x width rectangle);
+    in a view its width is foreshortened by the across vector's share in the picture
+    plane, and it is drawn as a capsule of that width and of the blade's projected
+    area (shortened about its centre). A leaf seen edge-on is a line. ``a``, ``b``
+    ``(m, 2)`` its projected end points, ``width`` ``(m,)`` its full width in pixels;
+    ``view`` 0 front (picture x), 1 side (picture -z). Returns new ``a``, ``b``,
+    ``width``."""
+    d = plant.end[leaf] - plant.start[leaf]
+    horiz = np.hypot(d[:, 0], d[:, 2])
+    # across = (-dz, 0, dx) / horiz; a vertical leaf: the frame's first axis (x)
+    share = np.where(
+        horiz > 1e-12, np.abs(d[:, 2 if view == 0 else 0]) / np.maximum(horiz, 1e-300), 1.0
+    )
+    if view == 1:
+        share = np.where(horiz > 1e-12, share, 0.0)
+    w = width * share
+    length = np.hypot(*(b - a).T)
+    keep = np.clip(0.75 - 0.25 * np.pi * w / np.maximum(length, 1e-12), 0.0, 1.0)
+    mid = 0.5 * (a + b)
+    half = 0.5 * (b - a) * keep[:, None]
+    return mid - half, mid + half, w
 
 
 def phenotype_views(
