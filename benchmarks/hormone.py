@@ -115,7 +115,7 @@ def generation(population: int) -> dict:
             parts = list(pool.map(f, np.array_split(x, 8)))
             t_pool = time.perf_counter() - t0
         assert np.array_equal(np.concatenate(parts), serial, equal_nan=True)
-        table = hormone.population(f.full_params(x[:200]), f.names, None, env=f.env)
+        table = hormone.population(f.full_params(x[:200]), f.names, f.env)
         out[name] = {
             "serial_s": round(t_serial, 2),
             "pool2_s": round(t_pool, 2),
