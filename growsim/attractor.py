@@ -255,24 +255,15 @@ class Attractor(Phenotype):
     def _plotter_scene(self, pl, view) -> None:
         import pyvista as pv
 
-        from growsim.viz import VIEWS
+        from growsim.viz import aim_camera
 
-        if isinstance(view, str):
-            if view not in VIEWS:
-                raise UserInputError(f"unknown view {view!r}; choose from {', '.join(VIEWS)}")
-            d, up = VIEWS[view]
-        else:
-            d, up = tuple(view), (0.0, 1.0, 0.0)
         pts = np.column_stack([self.points, np.zeros(self.n_points)])
         if self.n_points:
             pl.add_mesh(pv.PolyData(pts), color=tuple(_INK / 255), point_size=2.0)
         b = self.bbox()
         centre = np.array([*(0.5 * (b[0] + b[1])), 0.0])
         radius = max(float(np.linalg.norm(b[1] - b[0])) / 2.0, 1e-6)
-        d = np.asarray(d, float) / np.linalg.norm(d)
-        pl.camera.focal_point = centre
-        pl.camera.position = centre - d * radius * 4.0
-        pl.camera.up = up
+        aim_camera(pl, centre, radius, view)
         pl.enable_parallel_projection()
         pl.camera.parallel_scale = radius * 1.05
         pl.reset_camera_clipping_range()

@@ -229,20 +229,11 @@ class Trajectory(Phenotype):
         pl.add_mesh(pv.Sphere(radius=2 * r, center=self.positions[0]), color=_START)
 
     def _camera(self, pl, view) -> None:
-        from growsim.viz import VIEWS
+        from growsim.viz import aim_camera, view_vectors
 
-        if isinstance(view, str):
-            if view not in VIEWS:
-                raise UserInputError(f"unknown view {view!r}; choose from {', '.join(VIEWS)}")
-            d, up = VIEWS[view]
-        else:
-            d, up = tuple(view), (0.0, 1.0, 0.0)
-        d = np.asarray(d, float) / np.linalg.norm(d)
         centre = self.size / 2.0
-        radius = float(np.linalg.norm(self.size)) / 2.0
-        pl.camera.focal_point = centre
-        pl.camera.position = centre - d * radius * 4.0
-        pl.camera.up = up
+        aim_camera(pl, centre, float(np.linalg.norm(self.size)) / 2.0, view)
+        d, up = view_vectors(view)
         pl.enable_parallel_projection()
         w, h = pl.window_size
         right = np.cross(d, np.asarray(up, float))

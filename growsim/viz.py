@@ -216,11 +216,16 @@ def _add(pl, mesh) -> None:
             pl.add_mesh(pv.PolyData.from_regular_faces(mesh.points, sel), color=color)
 
 
-def _camera(pl, bounds, view, zoom=1.0, bottom=0.0, tight=False) -> None:
-    """Frame ``bounds`` (orthographic) looking along ``view``: on its bounding sphere (the
-    same scale from every side), or with ``tight`` on the box's outline as seen (a still
-    image with a legend). ``bottom``: share of the image height kept free below the plant
-    (for a scalar bar)."""
+def view_vectors(view) -> tuple[np.ndarray, tuple]:
+    """The unit direction a view looks along and its up vector: a name of :data:`VIEWS`,
+    or a direction (up: +y).
+
+    Examples
+    --------
+    >>> d, up = view_vectors((0, 0, -2))
+    >>> d.tolist(), up
+    ([0.0, 0.0, -1.0], (0.0, 1.0, 0.0))
+    """
     if isinstance(view, str):
         if view not in VIEWS:
             raise UserInputError(f"unknown view {view!r}; choose from {', '.join(VIEWS)}")
@@ -228,7 +233,32 @@ def _camera(pl, bounds, view, zoom=1.0, bottom=0.0, tight=False) -> None:
     else:
         d, up = tuple(view), (0.0, 1.0, 0.0)
     d = np.asarray(d, float)
-    d /= np.linalg.norm(d)
+    return d / np.linalg.norm(d), up
+
+
+def aim_camera(pl, centre, radius: float, view) -> None:
+    """Point ``pl``'s camera at ``centre`` from four ``radius`` back along ``view``
+    (:func:`view_vectors`): a scene of that radius seen whole.
+
+    Examples
+    --------
+    >>> with offscreen_plotter(32, 32) as pl:
+    ...     aim_camera(pl, (0, 0, 0), 1.0, (0, 0, -1))
+    ...     [round(float(c), 3) for c in pl.camera.position]
+    [0.0, 0.0, 4.0]
+    """
+    d, up = view_vectors(view)
+    pl.camera.focal_point = np.asarray(centre, float)
+    pl.camera.position = np.asarray(centre, float) - d * radius * 4.0
+    pl.camera.up = up
+
+
+def _camera(pl, bounds, view, zoom=1.0, bottom=0.0, tight=False) -> None:
+    """Frame ``bounds`` (orthographic) looking along ``view``: on its bounding sphere (the
+    same scale from every side), or with ``tight`` on the box's outline as seen (a still
+    image with a legend). ``bottom``: share of the image height kept free below the plant
+    (for a scalar bar)."""
+    d, up = view_vectors(view)
     b = np.asarray(bounds, float).reshape(3, 2)
     centre = b.mean(1)
     radius = max(float(np.linalg.norm(b[:, 1] - b[:, 0])) / 2.0, 1e-6)
