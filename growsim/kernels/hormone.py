@@ -528,8 +528,10 @@ def grow_population(genes, c, dims, walls, steps, cap, strength_young, light_dir
     >>> from growsim.models.hormone import PARAMS, PRESETS, population, resolve_params
     >>> env = Environment.model_validate({"light": {"diffuse": 0.5}})
     >>> row = resolve_params(PARAMS, PRESETS["demo_2d"])
-    >>> population(np.array([list(row.values())] * 2), list(row), env).modules.tolist()
-    [42, 42]
+    >>> table = population(np.array([list(row.values())] * 2), list(row), env)
+    >>> from growsim.models.hormone import develop
+    >>> table.modules.tolist() == [develop(row, env=env).n_segments] * 2
+    True
     """
     P = genes.shape[0]
     H = genes.shape[1]
