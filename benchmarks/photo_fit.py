@@ -60,7 +60,7 @@ def main(argv=None) -> int:
     from PIL import Image
 
     from growsim.cli import main as cli
-    from growsim.images import segment_photo
+    from growsim.photo import segment_photo
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", default="runs/photo-bench")

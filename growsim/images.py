@@ -45,7 +45,6 @@ A user's front and side pictures (PNG, JPEG, ... any size) become binary silhoue
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -54,16 +53,15 @@ from growsim.errors import UserInputError
 from growsim.kernels.views import frame_scale, frame_view
 
 __all__ = [
-    "Segmentation",
     "check_silhouette",
     "frame_silhouettes",
     "frame_thin_lines",
     "load_gray",
-    "load_rgb",
     "otsu_threshold",
+    "over_white",
     "picture_silhouettes",
+    "read_picture",
     "read_silhouettes",
-    "segment_photo",
     "silhouette",
     "silhouette_image",
 ]
@@ -113,6 +111,38 @@ def load_gray(path: str | os.PathLike) -> np.ndarray:
     >>> load_gray(p).shape
     (3, 4)
     """
+
+    def grey(im):
+        if im.mode in ("RGBA", "LA", "PA") or "transparency" in im.info:
+            im = over_white(im)
+        return np.asarray(im.convert("L"), dtype=np.float64) / 255.0
+
+    gray = read_picture(path, grey)
+    if gray.ndim != 2:
+        raise UserInputError(f"{Path(path)}: the image is empty")
+    return gray
+
+
+def over_white(im):
+    """A PIL image with its transparency composited over white (mode RGBA)."""
+    from PIL import Image
+
+    rgba = im.convert("RGBA")
+    return Image.alpha_composite(Image.new("RGBA", rgba.size, (255, 255, 255, 255)), rgba)
+
+
+def read_picture(path: str | os.PathLike, convert) -> np.ndarray:
+    """``convert(image)`` of the PIL image in the file at ``path`` (the one place a
+    picture is opened): a missing, unreadable or empty file raises
+    :class:`UserInputError` naming it.
+
+    Examples
+    --------
+    >>> read_picture("no/such.png", np.asarray)
+    Traceback (most recent call last):
+    ...
+    growsim.errors.UserInputError: no/such.png: image file not found
+    """
     from PIL import Image, UnidentifiedImageError
 
     path = Path(path)
@@ -121,16 +151,12 @@ def load_gray(path: str | os.PathLike) -> np.ndarray:
     try:
         with Image.open(path) as im:
             im.load()
-            if im.mode in ("RGBA", "LA", "PA") or "transparency" in im.info:
-                rgba = im.convert("RGBA")
-                white = Image.new("RGBA", rgba.size, (255, 255, 255, 255))
-                im = Image.alpha_composite(white, rgba)
-            gray = np.asarray(im.convert("L"), dtype=np.float64) / 255.0
+            out = convert(im)
     except (UnidentifiedImageError, OSError, ValueError) as exc:
         raise UserInputError(f"{path}: cannot read the image ({exc})") from None
-    if gray.ndim != 2 or gray.size == 0:
+    if out.size == 0:
         raise UserInputError(f"{path}: the image is empty")
-    return gray
+    return out
 
 
 def otsu_threshold(gray: np.ndarray, bins: int = 256) -> float:
@@ -437,7 +463,7 @@ def frame_thin_lines(front: np.ndarray, side: np.ndarray | None, size: int = 64)
 
 
 #: how pictures become silhouettes: ``"threshold"`` (:func:`silhouette`: grey levels) or
-#: ``"photo"`` (:func:`segment_photo`: colour, sky and ground)
+#: ``"photo"`` (:func:`growsim.photo.segment_photo`: colour, sky and ground)
 SEGMENTATIONS = ("threshold", "photo")
 
 
@@ -453,7 +479,7 @@ def picture_silhouettes(
 ) -> list[np.ndarray]:
     """The silhouettes ``(H, W)`` bool of a front picture and an optional side picture
     (paths or arrays), at the pictures' own size: :func:`silhouette` (``segmentation =
-    "threshold"``, with ``threshold`` and ``polarity``) or :func:`segment_photo`
+    "threshold"``, with ``threshold`` and ``polarity``) or :func:`growsim.photo.segment_photo`
     (``"photo"``). Returns one or two masks.
 
     Examples
@@ -473,6 +499,8 @@ def picture_silhouettes(
     if side is not None:
         views.append((side, mask_side, "side"))
     if segmentation == "photo":
+        from growsim.photo import segment_photo
+
         return [segment_photo(img, mask=m, name=label).tree for img, m, label in views]
     return [
         silhouette(img, threshold=threshold, polarity=polarity, mask=m, name=label)
@@ -570,330 +598,3 @@ def silhouette_image(views, path: str | os.PathLike, *, titles=None, scale: int 
             draw.text((x + 2, 1), str(title), fill=0)
             x += t.shape[1] + gap.shape[1]
     return atomic_write(path, lambda fh: im.save(fh, format="PNG"))
-
-
-# ---------------------------------------------------------------- photos: sky, ground, tree
-# What segment_photo refuses and how it decides. Measured on the benchmark's pictures
-# (benchmarks/make_photos.py: JPEG renders of growsim trees on a ground plane under a sky)
-# and on growsim's line drawings.
-#: width of the border strips sampled for the sky and the ground, share of the picture
-#: (at least 2 pixels)
-BORDER = 0.01
-#: the bottom edge is ground (a band to find) when its colour differs from the sky's by
-#: more than this (CIE76 Delta E in CIELAB; 2.3 is a just-noticeable difference)
-GROUND_MIN_DE = 10.0
-#: the ground band ends where a side edge's colour jumps by more than this from the rows
-#: below it (the horizon, or a tree touching the edge)
-GROUND_STEP_DE = 8.0
-#: rows either side of the horizon whose pixels may blend sky and ground (anti-aliasing)
-HORIZON_ROWS = 3
-#: the tree/background threshold: half the colour difference of the nearest fully covered
-#: tree pixels (a pixel at least half covered by the tree is tree), looked for in a window
-#: of this many pixels, and never under NOISE_K times the background's noise nor MIN_DE
-LOCAL_WINDOW = 7
-LOCAL_SHARE = 0.3
-#: JPEG compression rings beside a strong edge (up to the far side of its 8 x 8 block):
-#: pixels under this share of the strongest difference within RINGING_WINDOW pixels are
-#: background
-RINGING = 0.15
-RINGING_WINDOW = 17
-NOISE_K = 5.0
-MIN_DE = 10.0
-#: refused: the sky's colour varies more than this (robust sigma, Delta E) around a smooth
-#: gradient: not a plain sky (clutter, clouds, a wall with texture)
-MAX_SKY_NOISE = 4.0
-#: refused: the tree's median colour difference from its background under this (Delta E)
-MIN_CONTRAST = 15.0
-#: refused: objects apart from the tree (8-connected pieces of at least SPECK pixels away
-#: from it) holding more than this share of the foreground
-MAX_OTHER_SHARE = 0.25
-#: refused: the tree touching the top, left or right edge with this many pixels or more
-#: (it is cut off; the framing needs the whole tree)
-MAX_EDGE_PIXELS = 3
-
-
-def load_rgb(path: str | os.PathLike) -> np.ndarray:
-    """A picture file as ``(H, W, 3)`` float64 RGB in ``[0, 1]``; transparency is
-    composited over white. An unreadable or missing file raises :class:`UserInputError`
-    naming it.
-
-    Examples
-    --------
-    >>> import tempfile, pathlib
-    >>> from PIL import Image
-    >>> p = pathlib.Path(tempfile.mkdtemp()) / "a.png"
-    >>> Image.new("RGB", (4, 3), (255, 0, 0)).save(p)
-    >>> load_rgb(p)[0, 0].tolist()
-    [1.0, 0.0, 0.0]
-    """
-    from PIL import Image, UnidentifiedImageError
-
-    path = Path(path)
-    if not path.is_file():
-        raise UserInputError(f"{path}: image file not found")
-    try:
-        with Image.open(path) as im:
-            im.load()
-            rgba = im.convert("RGBA")
-            white = Image.new("RGBA", rgba.size, (255, 255, 255, 255))
-            rgb = np.asarray(Image.alpha_composite(white, rgba).convert("RGB"), np.float64)
-    except (UnidentifiedImageError, OSError, ValueError) as exc:
-        raise UserInputError(f"{path}: cannot read the image ({exc})") from None
-    if rgb.size == 0:
-        raise UserInputError(f"{path}: the image is empty")
-    return rgb / 255.0
-
-
-@dataclass(frozen=True)
-class Segmentation:
-    """What :func:`segment_photo` found: ``tree`` ``(H, W)`` bool (the silhouette),
-    ``ground`` ``(H, W)`` bool, ``horizon`` (the first row of the ground band, ``None``
-    without ground), ``distance`` ``(H, W)`` (each pixel's colour difference from its
-    background, Delta E), ``threshold`` (the least one taken as tree, Delta E),
-    ``sky_noise`` (robust sigma of the sky around its smooth model, Delta E) and
-    ``contrast`` (the tree's median difference from its background, Delta E)."""
-
-    tree: np.ndarray
-    ground: np.ndarray
-    horizon: int | None
-    distance: np.ndarray
-    threshold: float
-    sky_noise: float
-    contrast: float
-
-    def describe(self) -> str:
-        """One line: what was found (for messages and logs)."""
-        ground = "no ground" if self.horizon is None else f"ground from row {self.horizon}"
-        return (
-            f"photo segmentation: {ground}, sky noise {self.sky_noise:.1f}, tree/background "
-            f"threshold {self.threshold:.1f}, contrast {self.contrast:.1f} (Delta E)"
-        )
-
-
-def _quadratic_basis(r, c, h, w) -> np.ndarray:
-    y = np.asarray(r, np.float64) / max(h - 1, 1) - 0.5
-    x = np.asarray(c, np.float64) / max(w - 1, 1) - 0.5
-    return np.stack([np.ones_like(x), x, y, x * x, x * y, y * y], axis=-1)
-
-
-def _robust_sigma(x) -> float:
-    x = np.asarray(x, np.float64)
-    return float(1.4826 * np.median(np.abs(x - np.median(x)))) if x.size else 0.0
-
-
-def _sky_model(lab, rows, cols):
-    """A smooth sky: per CIELAB channel a quadratic in (row, column), fitted to the
-    sample pixels with two rounds of dropping outliers (a branch crossing the border);
-    returns the model over the whole picture ``(H, W, 3)`` and the residual sigma."""
-    h, w = lab.shape[:2]
-    a = _quadratic_basis(rows, cols, h, w)
-    v = lab[rows, cols]
-    keep = np.ones(len(rows), dtype=bool)
-    for _ in range(3):
-        coef, *_ = np.linalg.lstsq(a[keep], v[keep], rcond=None)
-        res = np.linalg.norm(v - a @ coef, axis=1)
-        sigma = max(_robust_sigma(res[keep]), 0.25)
-        keep = res <= np.median(res[keep]) + 4.0 * sigma
-    rr, cc = np.mgrid[0:h, 0:w]
-    model = _quadratic_basis(rr, cc, h, w) @ coef
-    return model, float(np.median(res[keep]) + _robust_sigma(res[keep]))
-
-
-def _ground_band(lab, b: int, sky_colour):
-    """The ground band along the bottom edge: ``(horizon row, left colours (H, 3), right
-    colours (H, 3))`` smoothed over 5 rows, then the same unsmoothed (the horizon's
-    blended rows), or ``None`` when the bottom edge looks like the sky. Walks up from
-    the bottom while both side edges keep the ground's colour (within
-    :data:`GROUND_STEP_DE` of the rows below)."""
-    from scipy import ndimage
-
-    h = lab.shape[0]
-    left = np.median(lab[:, :b], axis=1)
-    right = np.median(lab[:, -b:], axis=1)
-    bottom = np.median(np.concatenate([lab[-b:, :b], lab[-b:, -b:]], axis=1).reshape(-1, 3), 0)
-    if np.linalg.norm(bottom - sky_colour) < GROUND_MIN_DE:
-        return None
-    horizon = h - 1
-    ref_l, ref_r = left[-1].copy(), right[-1].copy()
-    for r in range(h - 2, -1, -1):
-        if (
-            np.linalg.norm(left[r] - ref_l) > GROUND_STEP_DE
-            or np.linalg.norm(right[r] - ref_r) > GROUND_STEP_DE
-        ):
-            break
-        horizon = r
-        # follow a slow gradient (perspective, haze): the reference drifts with the rows
-        ref_l = 0.8 * ref_l + 0.2 * left[r]
-        ref_r = 0.8 * ref_r + 0.2 * right[r]
-    smooth_left = ndimage.median_filter(left, size=(5, 1), mode="nearest")
-    smooth_right = ndimage.median_filter(right, size=(5, 1), mode="nearest")
-    return horizon, smooth_left, smooth_right, left, right
-
-
-def segment_photo(image, *, mask=None, name: str = "image") -> Segmentation:
-    """Separate a tree from the sky and the ground in a colour picture.
-
-    ``image``: a path or an ``(H, W, 3)`` RGB (or ``(H, W)`` grey) array in ``[0, 1]``;
-    ``mask``: optional picture or array of the same size, only its light part (> 0.5) may
-    be tree; ``name`` labels errors. Colours are compared in CIELAB
-    (:func:`skimage.color.rgb2lab`; Delta E, CIE76) against the picture's background:
-
-    1. **ground**: a band along the bottom edge whose colour differs from the sky's; it
-       runs up while both side edges keep its colour (:data:`GROUND_STEP_DE`), and its
-       colour at each pixel is the side edges' colours of that row, interpolated across;
-    2. **sky**: the large smooth region: a quadratic colour gradient fitted to the top
-       edge and the side edges above the ground (outliers dropped);
-    3. each pixel's **distance** from its background (the sky above the horizon; the
-       nearer of sky and ground below it; near the horizon also their blends), and a
-       local threshold: half the distance of the nearest fully covered tree pixels
-       (:data:`LOCAL_WINDOW`), so a pixel at least half covered by the tree is tree,
-       never under :data:`NOISE_K` times the sky's noise or :data:`MIN_DE`;
-    4. **connectivity** (:func:`skimage.measure.label`, 8-connected): the tree is the
-       largest piece, standing on the ground, with the pieces inside its bounding box
-       (twigs and leaf clusters cut off by the threshold); other objects are dropped.
-
-    Refused with :class:`UserInputError` naming ``name`` (a bad segmentation is not
-    fitted): a background that is not a plain sky (:data:`MAX_SKY_NOISE`), a tree that
-    hardly differs from it (:data:`MIN_CONTRAST`), a tree cut off by the top or side
-    edges (:data:`MAX_EDGE_PIXELS`), a tree that does not reach the ground, other
-    objects as large as the tree (:data:`MAX_OTHER_SHARE`), and every silhouette
-    :func:`check_silhouette` refuses.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> rgb = np.ones((60, 50, 3)) * [0.8, 0.9, 1.0]           # sky
-    >>> rgb[50:] = [0.3, 0.5, 0.2]                               # ground strip
-    >>> rgb[15:55, 24:27] = [0.4, 0.3, 0.2]                      # trunk, standing on it
-    >>> rgb[20, 12:38] = [0.4, 0.3, 0.2]                         # a branch
-    >>> seg = segment_photo(rgb)
-    >>> seg.horizon, int(seg.tree.sum()), bool(seg.tree[52, 25]), bool(seg.tree[52, 5])
-    (50, 143, True, False)
-    """
-    from scipy import ndimage
-    from skimage.color import gray2rgb, rgb2lab
-    from skimage.measure import label
-
-    if isinstance(image, (str, os.PathLike)):
-        name = str(image)
-        image = load_rgb(image)
-    rgb = np.asarray(image, dtype=np.float64)
-    if rgb.ndim == 2:
-        rgb = gray2rgb(rgb)
-    if rgb.ndim != 3 or rgb.shape[2] != 3 or rgb.shape[0] < 8 or rgb.shape[1] < 8:
-        raise UserInputError(f"{name}: expected an RGB picture of at least 8 x 8, got {rgb.shape}")
-    if float(np.ptp(rgb)) < 1e-6:
-        raise UserInputError(f"{name}: the picture is uniform (blank): no silhouette to fit")
-    keep = np.ones(rgb.shape[:2], dtype=bool)
-    if mask is not None:
-        mname = str(mask) if isinstance(mask, (str, os.PathLike)) else f"{name} mask"
-        m = load_gray(mask) if isinstance(mask, (str, os.PathLike)) else np.asarray(mask, float)
-        if m.shape != rgb.shape[:2]:
-            raise UserInputError(
-                f"{mname}: mask size {m.shape[::-1]} differs from the image's {rgb.shape[1::-1]}"
-            )
-        keep = m > 0.5
-        if not keep.any():
-            raise UserInputError(f"{mname}: the mask keeps no pixel (it is all black)")
-    lab = rgb2lab(np.clip(rgb, 0.0, 1.0))
-    h, w = keep.shape
-    b = max(2, round(BORDER * min(h, w)))
-    top_colour = np.median(lab[:b].reshape(-1, 3), axis=0)
-    band = _ground_band(lab, b, top_colour)
-    horizon = None if band is None else band[0]
-    sky_rows = h if horizon is None else horizon - HORIZON_ROWS
-    if sky_rows < 2 * b:
-        raise UserInputError(
-            f"{name}: no sky found above the ground (the ground band reaches row "
-            f"{horizon} of {h}): photograph the tree against the sky, or give a mask"
-        )
-    # the sky's samples: the top edge and the side edges above the ground
-    rr, cc = np.mgrid[0:sky_rows, 0:w]
-    edge = (rr < b) | (cc < b) | (cc >= w - b)
-    sky, sky_noise = _sky_model(lab, rr[edge], cc[edge])
-    dist = np.linalg.norm(lab - sky, axis=-1)
-    ground = np.zeros((h, w), dtype=bool)
-    if horizon is not None:
-        _, left, right, raw_left, raw_right = band
-        t = (np.arange(w) / max(w - 1, 1))[None, :, None]
-        lo = max(horizon - HORIZON_ROWS, 0)
-        below = slice(lo, h)
-        g = left[below, None, :] * (1.0 - t) + right[below, None, :] * t  # ground colour
-        d_ground = np.linalg.norm(lab[below] - g, axis=-1)
-        # the horizon's rows blend sky and ground (anti-aliasing, JPEG's chroma bleeding),
-        # alike along the row: their background is the row's own edge colours
-        g_raw = raw_left[below, None, :] * (1.0 - t) + raw_right[below, None, :] * t
-        d_blend = np.linalg.norm(lab[below] - g_raw, axis=-1)
-        near = np.arange(lo, h)[:, None] <= horizon + HORIZON_ROWS
-        d_below = np.minimum(np.minimum(dist[below], d_ground), np.where(near, d_blend, np.inf))
-        ground_noise = _robust_sigma(d_ground[horizon + HORIZON_ROWS - lo :])
-        ground[below] = d_ground <= d_below + 1e-9
-        dist[below] = d_below
-        sky_noise = max(sky_noise, min(ground_noise, MAX_SKY_NOISE))
-    floor = max(NOISE_K * sky_noise, MIN_DE)
-    local = ndimage.maximum_filter(dist, size=LOCAL_WINDOW, mode="nearest")
-    # JPEG rings around strong edges up to the 8 x 8 block's far side
-    ringing = ndimage.maximum_filter(dist, size=RINGING_WINDOW, mode="nearest")
-    threshold = np.maximum(np.maximum(LOCAL_SHARE * local, RINGING * ringing), floor)
-    fg = (dist > threshold) & keep
-    ground &= ~fg
-    how = f"photo segmentation, sky noise {sky_noise:.1f}, threshold >= {floor:.1f} Delta E"
-    if sky_noise > MAX_SKY_NOISE:
-        raise UserInputError(
-            f"{name}: the background is not a plain sky: its colour varies by {sky_noise:.1f} "
-            f"Delta E around a smooth gradient (at most {MAX_SKY_NOISE:g}); photograph the "
-            "tree against the sky, give a mask, or use the threshold segmentation"
-        )
-    labels = label(fg, connectivity=2)
-    sizes = np.bincount(labels.ravel())
-    sizes[0] = 0
-    if sizes.max() == 0:
-        raise UserInputError(f"{name}: the silhouette is empty ({how})")
-    main = int(np.argmax(sizes))
-    rows, cols = np.nonzero(labels == main)
-    r0, r1, c0, c1 = rows.min(), rows.max(), cols.min(), cols.max()
-    # pieces inside the tree's bounding box belong to it (twigs, leaf clusters); the box is
-    # widened by 5 % of the tree's height, and reaches down into the ground band (the
-    # trunk's foot, cut from the tree where it crosses the horizon)
-    pad = int(np.ceil(0.05 * (r1 - r0 + 1)))
-    box = np.zeros((h, w), dtype=bool)
-    r_end = r1 + 1 if horizon is None else h
-    box[max(r0 - pad, 0) : r_end, max(c0 - pad, 0) : c1 + pad + 1] = True
-    ids = np.unique(labels[box & fg])
-    tree = np.isin(labels, ids[ids > 0])
-    others = sizes.copy()
-    others[ids] = 0
-    other_share = float(others[others >= SPECK].sum()) / max(float(sizes.sum()), 1.0)
-    contrast = float(np.median(dist[tree]))
-    seg = Segmentation(tree, ground, horizon, dist, floor, sky_noise, contrast)
-    if contrast < MIN_CONTRAST:
-        raise UserInputError(
-            f"{name}: the tree hardly differs from its background: median colour difference "
-            f"{contrast:.1f} Delta E (at least {MIN_CONTRAST:g}; {how}); use a picture with "
-            "more contrast, or a mask"
-        )
-    for edge_name, n_edge in (
-        ("top", int(tree[0].sum())),
-        ("left", int(tree[: horizon or h, 0].sum())),
-        ("right", int(tree[: horizon or h, -1].sum())),
-    ):
-        if n_edge >= MAX_EDGE_PIXELS:
-            raise UserInputError(
-                f"{name}: the tree touches the picture's {edge_name} edge ({n_edge} pixels): "
-                "it is cut off, and the whole tree must be in the picture; crop less tightly "
-                f"({how})"
-            )
-    if horizon is not None and r1 < horizon - HORIZON_ROWS:
-        raise UserInputError(
-            f"{name}: no tree stands on the ground: the largest object ends at row {r1}, "
-            f"{horizon - r1} pixels above the ground's first row {horizon} ({how}); give a "
-            "mask around the tree"
-        )
-    if other_share > MAX_OTHER_SHARE:
-        raise UserInputError(
-            f"{name}: other objects beside the tree hold {100 * other_share:.0f} % of the "
-            f"foreground (at most {100 * MAX_OTHER_SHARE:g} %; {how}): crop the picture to "
-            "one tree, or give a mask"
-        )
-    check_silhouette(tree, keep, name=name, how=how)
-    return seg

@@ -15,9 +15,9 @@ from growsim.cli import main
 from growsim.cli.fit_image import FIT_SETUPS, LEAF_MARGIN, fit_config
 from growsim.errors import UserInputError
 from growsim.experiment import load_config
-from growsim.images import segment_photo
 from growsim.models import honda, ifs3d
 from growsim.objectives.silhouette import SilhouetteObjective, plant_views
+from growsim.photo import segment_photo
 from growsim.plant import LEAF
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))

@@ -526,7 +526,7 @@ def _write_masks(objective, out: Path, pictures: dict) -> list[str]:
     from PIL import Image
 
     from growsim.files import atomic_write
-    from growsim.images import load_rgb
+    from growsim.photo import load_rgb
 
     written = []
     for view, mask in objective.pictures.items():

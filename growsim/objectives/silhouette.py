@@ -255,7 +255,7 @@ class SilhouetteObjective(Objective):
     ``views`` : ``"both"`` (default: front and side) or ``"front"`` (one picture, or the
     rendered target's front: the side is left free, see :func:`plant_views`);
     ``segmentation`` : ``"threshold"`` (default: grey levels, ``threshold`` and
-    ``polarity``) or ``"photo"`` (:func:`growsim.images.segment_photo`: the tree apart from
+    ``polarity``) or ``"photo"`` (:func:`growsim.photo.segment_photo`: the tree apart from
     sky and ground, in colour);
     ``blur`` : search on anti-aliased, Gaussian-blurred views, ``sigma`` in pixels
     (default 0: the binary NCC; see the module doc). :meth:`exact` is always binary.
