@@ -344,7 +344,7 @@ def test_fit_image_fits_a_2d_code_to_one_picture(tmp_path):
     import json
 
     from growsim.cli import main
-    from growsim.cli.fit_image import fit_config
+    from growsim.fitting import fit_config
 
     cfg = fit_config("fern.png", model="ifs2d")
     assert cfg["model"]["kind"] == "ifs2d" and cfg["objective"][0]["views"] == "front"

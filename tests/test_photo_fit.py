@@ -12,9 +12,9 @@ import pytest
 from PIL import Image
 
 from growsim.cli import main
-from growsim.cli.fit_image import FIT_SETUPS, LEAF_MARGIN, fit_config
 from growsim.errors import UserInputError
 from growsim.experiment import load_config
+from growsim.fitting import FIT_SETUPS, LEAF_MARGIN, fit_config
 from growsim.models import honda, ifs3d
 from growsim.objectives.silhouette import SilhouetteObjective, plant_views
 from growsim.photo import segment_photo

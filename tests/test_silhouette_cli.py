@@ -10,8 +10,8 @@ import pytest
 from PIL import Image
 
 from growsim.cli import build_parser, main
-from growsim.cli.fit_image import fit_config
 from growsim.experiment import load_config
+from growsim.fitting import fit_config
 from growsim.models import ifs3d
 from growsim.objectives.silhouette import plant_views
 
