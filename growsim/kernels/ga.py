@@ -142,6 +142,18 @@ def _spread_table() -> np.ndarray:
 _SPREAD = _spread_table()
 
 
+@njit(inline="always")
+def _spread_words(row, nw, nq, mask64):
+    """The first ``nq`` 8-byte mask words of one pair: each byte of the ``nw`` random
+    words ``row`` spread to eight 0x00/0xFF bytes (:data:`_SPREAD`)."""
+    for w in range(nw):
+        word = row[w]
+        for k in range(8):
+            q = 8 * w + k
+            if q < nq:
+                mask64[q] = _SPREAD[(word >> np.uint64(8 * k)) & np.uint64(0xFF)]
+
+
 @njit
 def byte_word_crossover(a, b, c1, c2, words):
     """:func:`word_crossover` for ``(m, L)`` uint8 genomes (the bit genomes), without a
@@ -155,12 +167,7 @@ def byte_word_crossover(a, b, c1, c2, words):
     mask = mask64.view(np.uint8)
     nw = words.shape[1]
     for i in range(m):
-        for w in range(nw):
-            word = words[i, w]
-            for k in range(8):
-                q = 8 * w + k
-                if q < nq:
-                    mask64[q] = _SPREAD[(word >> np.uint64(8 * k)) & np.uint64(0xFF)]
+        _spread_words(words[i], nw, nq, mask64)
         ai = a[i]
         bi = b[i]
         c1i = c1[i]
@@ -184,12 +191,7 @@ def byte_word_crossover_pairs(pop, ia, ib, words, kids):
     mask = mask64.view(np.uint8)
     nw = words.shape[1]
     for i in range(m):
-        for w in range(nw):
-            word = words[i, w]
-            for k in range(8):
-                q = 8 * w + k
-                if q < nq:
-                    mask64[q] = _SPREAD[(word >> np.uint64(8 * k)) & np.uint64(0xFF)]
+        _spread_words(words[i], nw, nq, mask64)
         ai = pop[ia[i]]
         bi = pop[ib[i]]
         k1 = kids[i]
