@@ -18,7 +18,7 @@ import numpy as np
 
 from growsim.kernels.config import njit
 from growsim.kernels.gravity import loads_kernel, radius_end_kernel
-from growsim.kernels.light import point_light_into
+from growsim.kernels.light import point_light_into, shadow_scratch
 from growsim.kernels.water import transport_into_kernel
 
 __all__ = [
@@ -32,6 +32,7 @@ __all__ = [
     "place_kernel",
     "step_kernel",
     "total",
+    "wall_angles",
     "wall_frame",
     "wall_normals",
 ]
@@ -68,11 +69,43 @@ N_CONSTANTS = 21
 
 
 @njit
+def wall_angles(walls, dims):
+    """``(walls, 2)``: the cosine and sine of each wall's angle about a module's axis: in
+    3D ``2 pi i / walls``; in 2D (the plant in the x-y plane) the two sides, ``(1, 0)`` and
+    ``(-1, 0)``. Computed once per step, not per module.
+
+    Examples
+    --------
+    >>> wall_angles(2, 2).tolist()
+    [[1.0, 0.0], [-1.0, 0.0]]
+    """
+    out = np.empty((walls, 2))
+    for i in range(walls):
+        if dims == 2:
+            out[i, 0] = 1.0 if i == 0 else -1.0
+            out[i, 1] = 0.0
+        else:
+            a = 2.0 * math.pi * i / walls
+            out[i, 0] = math.cos(a)
+            out[i, 1] = math.sin(a)
+    return out
+
+
+@njit(inline="always")
+def _frame(R, cs, out_v):
+    """:func:`wall_frame` with the walls' :func:`wall_angles` ``cs`` given."""
+    for i in range(cs.shape[0]):
+        for c in range(3):
+            out_v[i, c] = cs[i, 0] * R[c, 0] + cs[i, 1] * R[c, 1]
+    return out_v
+
+
+@njit
 def wall_frame(R, walls, dims, out_v):
     """Unit outward directions ``(walls, 3)`` of a module's walls from its pose ``R``
     ``(3, 3)`` (columns: the two axes across the module and its growth axis): in 3D
     ``cos(2 pi i / walls) x + sin(2 pi i / walls) y``; in 2D (the plant in the x-y plane)
-    the two sides ``+-x``.
+    the two sides ``+-x`` (:func:`wall_angles`).
 
     Examples
     --------
@@ -80,18 +113,7 @@ def wall_frame(R, walls, dims, out_v):
     >>> wall_frame(np.eye(3), 2, 2, np.empty((2, 3))).tolist()
     [[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]
     """
-    for i in range(walls):
-        if dims == 2:
-            a = math.pi * i
-        else:
-            a = 2.0 * math.pi * i / walls
-        ca, sa = math.cos(a), math.sin(a)
-        if dims == 2:
-            sa = 0.0
-            ca = 1.0 if i == 0 else -1.0
-        for c in range(3):
-            out_v[i, c] = ca * R[c, 0] + sa * R[c, 1]
-    return out_v
+    return _frame(R, wall_angles(walls, dims), out_v)
 
 
 @njit
@@ -104,8 +126,9 @@ def wall_normals(n, R, walls, dims, out):
     >>> wall_normals(1, np.eye(3)[None], 2, 2, np.empty((1, 2, 3)))[0, 1].tolist()
     [-1.0, 0.0, 0.0]
     """
+    cs = wall_angles(walls, dims)
     for m in range(n):
-        wall_frame(R[m], walls, dims, out[m])
+        _frame(R[m], cs, out[m])
     return out
 
 
@@ -178,10 +201,11 @@ def step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient, chloro
     mean_h = np.zeros((n, H))
     e = np.empty(walls)
     axis = np.empty(3)
+    cs = wall_angles(walls, dims)
     gained = 0.0
     # synthesis per wall: s = gain sigmoid(bias + w . x); h = (1 - decay) h + s
     for m in range(n):
-        wall_frame(R[m], walls, dims, v)
+        _frame(R[m], cs, v)
         for i in range(walls):
             x[0] = wall_light[m, i]
             x[1] = met[m]
@@ -204,7 +228,7 @@ def step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient, chloro
             inh[p] += c[C_INH_TRANSPORT] * inh[m]
     n_new = n
     for m in range(n):
-        wall_frame(R[m], walls, dims, v)
+        _frame(R[m], cs, v)
         L = length[m]
         r = radius[m]
         area = 2.0 * math.pi * r * L / walls if dims == 3 else 2.0 * r * L / 2.0
@@ -280,7 +304,7 @@ def step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient, chloro
             and nutrient[m] > c[C_NEW_COST]
         ):
             # lateral direction B = sum_i v_i H_i, tilted from the axis by the branch angle
-            wall_frame(R[m], walls, dims, v)
+            _frame(R[m], cs, v)
             bx = by = bz = 0.0
             for i in range(walls):
                 bx += v[i, 0] * hormone[m, i, 2]
@@ -382,7 +406,7 @@ def _ends(n, origin, length, R, end):
 
 @njit
 def grow_step(n, cap, dims, walls, parent, R, origin, length, radius, nutrient, chlorophyll,
-              lignin, apex, laterals, hormone, wall_light, met, light, head, genes, c,
+              lignin, apex, laterals, hormone, wall_light, met, light, scratch, genes, c,
               light_dirs, light_u, light_v, light_w, resolution, bias, soft, transmission,
               supply, resistance, lift, g, density, leaf_mass_per_area, strength,
               strength_young):  # fmt: skip
@@ -408,8 +432,8 @@ def grow_step(n, cap, dims, walls, parent, R, origin, length, radius, nutrient, 
        reaches it stops the plant.
 
     The arrays are as :func:`step_kernel`'s plus ``origin`` ``(cap, 3)`` and ``light``
-    ``(cap,)``, all updated in place, and ``head`` ``(resolution**2,)`` int64 all -1, the
-    shadow maps' list heads (:func:`growsim.kernels.light.point_light_into`).
+    ``(cap,)``, all updated in place, and ``scratch`` the shadow maps' scratch
+    (:func:`growsim.kernels.light.shadow_scratch` of ``resolution``).
     :func:`growsim.models.hormone.grow` calls this once per step; :func:`grow_population`
     runs whole populations through it.
 
@@ -441,7 +465,7 @@ def grow_step(n, cap, dims, walls, parent, R, origin, length, radius, nutrient, 
     trans = np.full(n, transmission) if soft else np.empty(0)
     lit = point_light_into(start, end, radius[:n], offsets, points, point_offsets, unit,
                            light_dirs, light_u, light_v, light_w, resolution, bias, soft,
-                           trans, head, np.empty(m))  # fmt: skip
+                           trans, scratch, np.empty(m))  # fmt: skip
     demand = np.empty(n)
     for q in range(n):
         acc = 0.0
@@ -549,7 +573,7 @@ def grow_population(genes, c, dims, walls, steps, cap, strength_young, light_dir
     wall_light = np.zeros((cap, walls))
     met = np.zeros(cap)
     light = np.zeros(cap)
-    head = np.full(resolution * resolution, -1, np.int64)
+    scratch = shadow_scratch(resolution)
     out_total = np.empty(P)
     out_modules = np.empty(P, np.int64)
     out_stop = np.zeros(P, np.int64)
@@ -562,10 +586,10 @@ def grow_population(genes, c, dims, walls, steps, cap, strength_young, light_dir
         for _ in range(steps):
             n, code = grow_step(n, cap, dims, walls, parent, R, origin, length, radius,
                                 nutrient, chlorophyll, lignin, apex, laterals, hormone,
-                                wall_light, met, light, head, genes[p], cp, light_dirs, light_u,
-                                light_v, light_w, resolution, bias, soft, transmission, supply,
-                                resistance, lift, g, density, leaf_mass_per_area, strength,
-                                strength_young[p])  # fmt: skip
+                                wall_light, met, light, scratch, genes[p], cp, light_dirs,
+                                light_u, light_v, light_w, resolution, bias, soft,
+                                transmission, supply, resistance, lift, g, density,
+                                leaf_mass_per_area, strength, strength_young[p])  # fmt: skip
             out_steps[p] += n
             if code != STOP_NONE:
                 stop = code

@@ -19,22 +19,26 @@ pixel is the depth of its axis at the point nearest the pixel centre. Sampling p
 centres at the true radius estimates each shadow's area without bias (a segment thinner
 than a pixel covers some pixels or none, in proportion to its width); a minimum width of
 a pixel, as silhouettes use, would darken plants of thin twigs (measured in
-``docs/environment.md``). Each capsule is walked line by line along its shorter extent
-(rows, or columns for a segment taller than wide) over exactly the pixels of the line's
-chord of the capsule, computed in closed form.
+``docs/environment.md``).
 
 The map is read only where it is queried: each plant's query points (segment samples or
-given points) are listed per pixel first, and a capsule's pixel is judged only when it
-holds queries, so a plant costs its segments' walks and its queries, not a whole map's
-writes. The answers are those of the whole map at the pixels read (tested against a
-pixel-by-pixel z-buffer, ``tests/naive/light.py``'s ``render_depth``,
+given points) are listed per pixel first, and a bit is set for each such pixel in
+occupancy words by rows and by columns (:func:`shadow_scratch`). A capsule then visits
+only the pixels that hold queries: a small one (its bounding box at most
+``_BOX_PIXELS`` pixels or ``_BOX_RATIO`` times its area) tests the occupied pixels of
+its bounding box against its radius; a larger one is walked line by line along its
+shorter extent (rows, or columns for a segment taller than wide) over exactly the
+pixels of each line's chord of the capsule, computed in closed form, masked by the
+line's occupancy. So a plant costs its segments' walks and its queries, not a whole
+map's writes. The answers are those of the whole map at the pixels read (tested against
+a pixel-by-pixel z-buffer, ``tests/naive/light.py``'s ``render_depth``,
 :func:`map_depth_kernel` read at every pixel centre).
 
 Hard shadows (:func:`segment_exposure_kernel`, :func:`point_exposure_kernel`): the map
-keeps each pixel's nearest depth and segment (the first drawn on a tie, as a z-buffer). A
-point at depth ``z`` in pixel ``(i, j)`` is lit (exposure 1) when the pixel is empty, when
-its nearest segment is the point's own segment, or when ``z - depth[i, j] <= bias``
-(``bias = bias_pixels * pix``); else 0. Points outside the frame are lit.
+keeps each queried pixel's nearest depth and segment (the first drawn on a tie, as a
+z-buffer). A point at depth ``z`` in pixel ``(i, j)`` is lit (exposure 1) when the pixel
+is empty, when its nearest segment is the point's own segment, or when ``z - depth[i, j]
+<= bias`` (``bias = bias_pixels * pix``); else 0. Points outside the frame are lit.
 
 Soft shadows (:func:`soft_segment_exposure_kernel`, :func:`soft_point_exposure_kernel`):
 the deep map (every segment covering a pixel, at its depth there). A point's exposure is
@@ -44,8 +48,8 @@ every ``trans -> 0`` it is 0 when anything else lies in front: the binary map, e
 that a steep segment whose own nearest depth at the pixel is in front of an occluder does
 not shield its point here.
 
-Plants never shade each other: each has its own map (one buffer of list heads, reset
-after each plant at its queries' pixels only).
+Plants never shade each other: each has its own map (one scratch of list heads,
+occupancy and nearest depths, reset after each plant at its queries' pixels only).
 """
 
 from __future__ import annotations
@@ -53,9 +57,15 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba.cpython.unsafe.numbers import trailing_zeros
 
 from growsim.kernels.config import njit
 from growsim.kernels.raster import _iceil, _ifloor
+
+#: a capsule is judged over its bounding box (not line by line) when the box holds at most
+#: this many pixels, or at most ``_BOX_RATIO`` times the capsule's area
+_BOX_PIXELS = 64
+_BOX_RATIO = 3.0
 
 __all__ = [
     "map_depth_kernel",
@@ -66,6 +76,7 @@ __all__ = [
     "project_segment",
     "segment_cosines",
     "segment_exposure_kernel",
+    "shadow_scratch",
     "soft_point_exposure_kernel",
     "soft_segment_exposure_kernel",
 ]
@@ -212,17 +223,76 @@ def _span(i, ax, ay, bx, by, r, dx, dy, L2, slope, half, cap, cap_w, res):
 
 
 @njit(inline="always")
-def _walk(k, ax, ay, bx, by, za, zb, rr, res, head, nxt, qz, qown, bias, soft, trans_k,
-          best_z, best_id, expo):  # fmt: skip
+def _bits(lo, hi):
+    """The bits ``lo..hi`` (``0 <= lo <= hi <= 63``) of a 64-bit word."""
+    n = hi - lo + 1
+    m = np.uint64(0xFFFFFFFFFFFFFFFF) if n == 64 else (np.uint64(1) << np.uint64(n)) - np.uint64(1)
+    return m << np.uint64(lo)
+
+
+@njit(inline="always")
+def _meet(px, k, z, head, nxt, qz, qown, bias, soft, trans_k, near_z, near_id, expo):
+    """Segment ``k``, at depth ``z`` over pixel ``px`` (which holds queries): hard shadows
+    keep the pixel's nearest depth and segment in ``near_z``/``near_id`` (the first drawn
+    wins a tie, as in a z-buffer); soft ones multiply the ``expo`` of each of the pixel's
+    queries (a list from ``head[px]`` on, through ``nxt``) that belongs to another segment
+    and lies more than ``bias`` behind ``z`` by ``trans_k``."""
+    if soft:
+        q = head[px]
+        while q >= 0:
+            if qown[q] != k and z < qz[q] - bias:
+                expo[q] *= trans_k
+            q = nxt[q]
+    elif z < near_z[px]:
+        near_z[px] = z
+        near_id[px] = k
+
+
+@njit(inline="always")
+def _walk(k, ax, ay, bx, by, za, zb, rr, res, head, occ, nxt, qz, qown, bias, soft, trans_k,
+          near_z, near_id, expo):  # fmt: skip
     """Rasterise segment ``k`` (pixel coordinates ``a``, ``b``, depths ``za``, ``zb``,
-    radius ``rr`` pixels) and judge the queries of the pixels it covers: every pixel whose
-    centre lies within the radius of the axis, walked line by line along the segment's
-    shorter extent over exactly the columns it covers. ``head[pixel]`` is the pixel's first
-    query (-1: none), ``nxt[q]`` the next one. Hard shadows: the nearest depth (and its
-    segment) over the pixel goes into ``best_z``/``best_id`` of each of its queries (the
-    first drawn wins a tie, as in a z-buffer). Soft: a query ``q`` of another segment
-    lying more than ``bias`` behind the segment's depth there has its ``expo`` multiplied
-    by ``trans_k``."""
+    radius ``rr`` pixels) and let it meet (:func:`_meet`) the queries of the pixels it
+    covers: those whose centre lies within the radius of the axis. Only pixels holding
+    queries are visited: ``occ`` holds a bit per such pixel, by rows (``W = (res + 63) //
+    64`` words per row) then by columns, and ``head[pixel]`` the pixel's first query (-1:
+    none), ``nxt[q]`` the next one. A small capsule tests the pixels of its bounding box
+    that hold queries; a larger one is walked line by line along its shorter extent over
+    exactly the columns of each line's chord (closed form, :func:`_span`)."""
+    W = (res + 63) // 64
+    r = rr
+    dx = bx - ax
+    dy = by - ay
+    L2 = dx * dx + dy * dy
+    inv_L2 = 1.0 / L2 if L2 > 0.0 else 0.0
+    i0 = max(0, _iceil(min(ay, by) - r - 0.5, res))
+    i1 = min(res - 1, _ifloor(max(ay, by) + r - 0.5, res))
+    j0 = max(0, _iceil(min(ax, bx) - r - 0.5, res))
+    j1 = min(res - 1, _ifloor(max(ax, bx) + r - 0.5, res))
+    if i0 > i1 or j0 > j1:
+        return
+    box = (i1 - i0 + 1) * (j1 - j0 + 1)
+    if box <= _BOX_PIXELS or box <= _BOX_RATIO * (2.0 * r * math.sqrt(L2) + math.pi * r * r):
+        r2 = r * r
+        for i in range(i0, i1 + 1):
+            yc = i + 0.5
+            e = (yc - ay) * dy
+            for w in range(j0 >> 6, (j1 >> 6) + 1):
+                bits = occ[i * W + w] & _bits(
+                    max(j0, w * 64) - w * 64, min(j1, w * 64 + 63) - w * 64
+                )
+                while bits != 0:
+                    j = w * 64 + trailing_zeros(bits)
+                    bits &= bits - np.uint64(1)
+                    xc = j + 0.5
+                    t = ((xc - ax) * dx + e) * inv_L2
+                    t = min(1.0, max(0.0, t))
+                    px = ax + t * dx - xc
+                    py = ay + t * dy - yc
+                    if px * px + py * py <= r2:
+                        _meet(i * res + j, k, za + t * (zb - za), head, nxt, qz, qown, bias,
+                              soft, trans_k, near_z, near_id, expo)  # fmt: skip
+        return
     tr, ax, ay, bx, by, r, i0, i1, dx, dy, L2, inv_L2, slope, half, cap, cap_w = _setup(
         ax, ay, bx, by, rr, res
     )
@@ -232,6 +302,7 @@ def _walk(k, ax, ay, bx, by, za, zb, rr, res, head, nxt, qz, qown, bias, soft, t
     slack = abs(half * dx * inv_L2)
     line = 1 if tr else res  # pixel (i, j) of the walk is i * line + j * step
     step = res if tr else 1
+    lines = res * W if tr else 0  # the line's occupancy words: by columns or by rows
     for i in range(i0, i1 + 1):
         te = (i + 0.5 - ay) * inv_dy
         if dy != 0.0 and slack <= te <= 1.0 - slack:
@@ -240,97 +311,124 @@ def _walk(k, ax, ay, bx, by, za, zb, rr, res, head, nxt, qz, qown, bias, soft, t
             j1 = min(res - 1, math.floor(c + half - 0.5))
         else:
             j0, j1 = _span(i, ax, ay, bx, by, r, dx, dy, L2, slope, half, cap, cap_w, res)
+        if j0 > j1:
+            continue
         e = (i + 0.5 - ay) * dy
-        for j in range(j0, j1 + 1):
-            q = head[i * line + j * step]
-            if q < 0:
-                continue
-            t = ((j + 0.5 - ax) * dx + e) * inv_L2
-            t = min(1.0, max(0.0, t))
-            z = za + t * (zb - za)
-            while q >= 0:
-                if soft:
-                    if qown[q] != k and z < qz[q] - bias:
-                        expo[q] *= trans_k
-                elif z < best_z[q]:
-                    best_z[q] = z
-                    best_id[q] = k
-                q = nxt[q]
+        for w in range(j0 >> 6, (j1 >> 6) + 1):
+            bits = occ[lines + i * W + w] & _bits(
+                max(j0, w * 64) - w * 64, min(j1, w * 64 + 63) - w * 64
+            )
+            while bits != 0:
+                j = w * 64 + trailing_zeros(bits)
+                bits &= bits - np.uint64(1)
+                t = ((j + 0.5 - ax) * dx + e) * inv_L2
+                t = min(1.0, max(0.0, t))
+                _meet(i * line + j * step, k, za + t * (zb - za), head, nxt, qz, qown, bias,
+                      soft, trans_k, near_z, near_id, expo)  # fmt: skip
 
 
 @njit
-def _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, query,
-           query_offsets, own, trans, soft, expo, head):  # fmt: skip
-    """Exposure of every query point (``query`` ``(m, 3)``; plant ``p`` owns queries
-    ``query_offsets[p]:query_offsets[p + 1]``; ``own[q]`` the segment a query belongs to,
-    or -1) into ``expo`` ``(m,)``: the plant's shadow map read at the queries' pixels only
-    (a pixel holding no query is never written: the same answers as a whole z-buffer or
-    deep map, for the pixels read). Also returns, for hard shadows, the map's depth and
-    segment at each query's pixel (``inf`` and -1 where empty)."""
-    m = query.shape[0]
-    head = np.full(res * res, -1, np.int64)
-    nxt = np.empty(m, np.int64)
-    pix = np.empty(m, np.int64)
-    qz = np.empty(m)
-    best_z = np.empty(m)
-    best_id = np.empty(m, np.int64)
+def _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, samples, query,
+           query_offsets, own, trans, soft, expo, depth, seg, scratch):  # fmt: skip
+    """Exposure of every query point into ``expo`` ``(m,)``: each plant's shadow map read
+    at its queries' pixels only (a pixel holding no query is never written: the same
+    answers as a whole z-buffer or deep map, for the pixels read).
+
+    The queries: with ``samples > 0``, each segment's ``samples`` points at ``t = (i +
+    0.5) / samples`` of its axis (query ``s * samples + i``, its own segment ``s``;
+    ``query``, ``query_offsets``, ``own`` unused); with ``samples == 0``, the points
+    ``query`` ``(m, 3)``, plant ``p`` owning ``query_offsets[p]:query_offsets[p + 1]``,
+    ``own[q]`` the segment a query belongs to or -1. ``scratch`` a
+    :func:`shadow_scratch` of ``res``, left as given. For hard shadows, the map's depth
+    and segment at each query's pixel (``inf`` and -1 where empty) go into ``depth`` and
+    ``seg`` ``(m,)`` unless they are empty."""
+    head, occ, near_z, near_id = scratch
+    W = (res + 63) // 64
+    keep = depth.shape[0] > 0
+    # a plant's queries, numbered from 0: their depth, pixel, next query in the pixel and
+    # segment
+    most = 0
     for p in range(offsets.shape[0] - 1):
-        q0 = query_offsets[p]
-        q1 = query_offsets[p + 1]
+        if samples > 0:
+            most = max(most, (offsets[p + 1] - offsets[p]) * samples)
+        else:
+            most = max(most, query_offsets[p + 1] - query_offsets[p])
+    qz = np.empty(most)
+    pix = np.empty(most, np.int64)
+    nxt = np.empty(most, np.int64)
+    mine = np.empty(most, np.int64)
+    rows = np.empty(most, np.int64)  # the query's occupancy words: its row's, its column's
+    cols = np.empty(most, np.int64)
+    for p in range(offsets.shape[0] - 1):
+        if samples > 0:
+            q0 = offsets[p] * samples
+            q1 = offsets[p + 1] * samples
+        else:
+            q0 = query_offsets[p]
+            q1 = query_offsets[p + 1]
         if q1 <= q0:
             continue
         ox, oy, inv = frames[p, 0], frames[p, 1], 1.0 / frames[p, 2]
         bias = bias_pixels * frames[p, 2]
-        # the queries' pixels, as lists per pixel
-        for q in range(q0, q1):
-            x = (query[q, 0] * u[0] + query[q, 1] * u[1] + query[q, 2] * u[2] - ox) * inv
-            y = (query[q, 0] * v[0] + query[q, 1] * v[1] + query[q, 2] * v[2] - oy) * inv
-            qz[q] = query[q, 0] * d[0] + query[q, 1] * d[1] + query[q, 2] * d[2]
-            best_z[q] = np.inf
-            best_id[q] = -1
-            expo[q] = 1.0
-            if x >= 0.0 and y >= 0.0 and x < res and y < res:
-                pix[q] = int(y) * res + int(x)
-                nxt[q] = head[pix[q]]
-                head[pix[q]] = q
+        # the queries' pixels, as lists per pixel, and their bits by rows and by columns
+        for i in range(q1 - q0):
+            if samples > 0:
+                k = offsets[p] + i // samples
+                t = (i % samples + 0.5) / samples
+                px = start[k, 0] + t * (end[k, 0] - start[k, 0])
+                py = start[k, 1] + t * (end[k, 1] - start[k, 1])
+                pz = start[k, 2] + t * (end[k, 2] - start[k, 2])
+                mine[i] = k
             else:
-                pix[q] = -1  # outside the frame: in the open
+                px, py, pz = query[q0 + i, 0], query[q0 + i, 1], query[q0 + i, 2]
+                mine[i] = own[q0 + i]
+            x = (px * u[0] + py * u[1] + pz * u[2] - ox) * inv
+            y = (px * v[0] + py * v[1] + pz * v[2] - oy) * inv
+            qz[i] = px * d[0] + py * d[1] + pz * d[2]
+            expo[q0 + i] = 1.0
+            if x >= 0.0 and y >= 0.0 and x < res and y < res:
+                xi = int(x)
+                yi = int(y)
+                pix[i] = yi * res + xi
+                nxt[i] = head[pix[i]]
+                head[pix[i]] = i
+                rows[i] = yi * W + (xi >> 6)
+                cols[i] = (res + xi) * W + (yi >> 6)
+                occ[rows[i]] |= np.uint64(1) << np.uint64(xi & 63)
+                occ[cols[i]] |= np.uint64(1) << np.uint64(yi & 63)
+            else:
+                pix[i] = -1  # outside the frame: in the open
+        expo_p = expo[q0:q1]
         for k in range(offsets[p], offsets[p + 1]):
             ax, ay, bx, by, za, zb = project_segment(start, end, k, u, v, d, ox, oy, inv)
-            _walk(k, ax, ay, bx, by, za, zb, radius[k] * inv, res, head, nxt, qz, own, bias,
-                  soft, trans[k] if soft else 1.0, best_z, best_id, expo)  # fmt: skip
-        for q in range(q0, q1):
-            if pix[q] >= 0:
-                head[pix[q]] = -1
-            if not soft:
-                k = best_id[q]
-                lit = k < 0 or k == own[q] or qz[q] - best_z[q] <= bias
-                expo[q] = 1.0 if lit else 0.0
-    return expo, best_z, best_id
-
-
-@njit
-def _samples(start, end, offsets, samples):
-    """The segments' sample points (``samples`` per segment, at ``t = (i + 0.5) /
-    samples`` of the axis), their plants' offsets and their segments."""
-    n = start.shape[0]
-    query = np.empty((n * samples, 3))
-    own = np.empty(n * samples, np.int64)
-    for s in range(n):
-        for i in range(samples):
-            t = (i + 0.5) / samples
-            for c in range(3):
-                query[s * samples + i, c] = start[s, c] + t * (end[s, c] - start[s, c])
-            own[s * samples + i] = s
-    return query, offsets * samples, own
+            _walk(k, ax, ay, bx, by, za, zb, radius[k] * inv, res, head, occ, nxt, qz, mine,
+                  bias, soft, trans[k] if soft else 1.0, near_z, near_id, expo_p)  # fmt: skip
+        if not soft:
+            for i in range(q1 - q0):
+                z, k = (near_z[pix[i]], near_id[pix[i]]) if pix[i] >= 0 else (np.inf, -1)
+                lit = k < 0 or k == mine[i] or qz[i] - z <= bias
+                expo[q0 + i] = 1.0 if lit else 0.0
+                if keep:
+                    depth[q0 + i] = z
+                    seg[q0 + i] = k
+        for i in range(q1 - q0):
+            if pix[i] >= 0:
+                head[pix[i]] = -1
+                near_z[pix[i]] = np.inf
+                near_id[pix[i]] = -1
+                occ[rows[i]] = 0
+                occ[cols[i]] = 0
+    return expo
 
 
 @njit
 def _segment_exposure(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, samples,
                       trans, soft, out):  # fmt: skip
-    query, qoff, own = _samples(start, end, offsets, samples)
-    expo = _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, query, qoff,
-                  own, trans, soft, np.empty(query.shape[0]), _heads(res))[0]  # fmt: skip
+    scratch = shadow_scratch(res)
+    none = np.empty(0, np.int64)
+    expo = _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, samples,
+                  np.empty((0, 3)), none, none, trans, soft, np.empty(start.shape[0] * samples),
+                  np.empty(0), none, scratch)  # fmt: skip
     for s in range(start.shape[0]):
         acc = 0.0
         for i in range(samples):
@@ -406,8 +504,10 @@ def point_exposure_kernel(start, end, radius, offsets, frames, points, point_off
     [0.0, 1.0, 1.0]
     """
     own = np.full(points.shape[0], -1, np.int64)
-    return _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, points,
-                  point_offsets, own, np.empty(0), False, out, _heads(res))[0]  # fmt: skip
+    scratch = shadow_scratch(res)
+    return _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, 0, points,
+                  point_offsets, own, np.empty(0), False, out, np.empty(0), own[:0],
+                  scratch)  # fmt: skip
 
 
 @njit
@@ -427,8 +527,10 @@ def soft_point_exposure_kernel(start, end, radius, offsets, frames, points, poin
     [0.01]
     """
     own = np.full(points.shape[0], -1, np.int64)
-    return _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, points,
-                  point_offsets, own, trans, True, out, _heads(res))[0]  # fmt: skip
+    scratch = shadow_scratch(res)
+    return _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, 0, points,
+                  point_offsets, own, trans, True, out, np.empty(0), own[:0],
+                  scratch)  # fmt: skip
 
 
 @njit
@@ -453,27 +555,29 @@ def point_light_kernel(start, end, radius, offsets, points, point_offsets, norma
     ...     np.array([1.0, 0.5]), 64, 0.1, False, np.empty(0), np.empty(1)).round(3).tolist()
     [0.3]
     """
+    scratch = shadow_scratch(res)
     return point_light_into(start, end, radius, offsets, points, point_offsets, normals, dirs,
-                            us, vs, weights, res, bias_pixels, soft, trans, _heads(res),
+                            us, vs, weights, res, bias_pixels, soft, trans, scratch,
                             out)  # fmt: skip
 
 
 @njit
 def point_light_into(start, end, radius, offsets, points, point_offsets, normals, dirs, us,
-                     vs, weights, res, bias_pixels, soft, trans, head, out):  # fmt: skip
-    """:func:`point_light_kernel` with the map's list heads ``head`` ``(res * res,)``
-    int64, all -1, given (and left all -1): a caller that lights a plant at every step
-    (:func:`growsim.kernels.hormone.grow_step`) fills them once, not at every call.
+                     vs, weights, res, bias_pixels, soft, trans, scratch, out):  # fmt: skip
+    """:func:`point_light_kernel` with the map's scratch given (a
+    :func:`shadow_scratch` of ``res``, left as it was given): a caller that lights a plant
+    at every step (:func:`growsim.kernels.hormone.grow_step`) makes it once, not at every
+    call.
 
     Examples
     --------
     >>> import numpy as np
     >>> s = np.array([[0.0, 1, 0]]); e = np.array([[1.0, 1, 0]]); r = np.array([0.2])
     >>> d = np.array([[0.0, -1, 0]]); u = np.array([[1.0, 0, 0]]); v = np.array([[0.0, 0, -1]])
-    >>> head = np.full(64 * 64, -1, np.int64)
+    >>> scratch = shadow_scratch(64)
     >>> point_light_into(s, e, r, np.array([0, 1]), np.array([[0.5, 0, 0]]), np.array([0, 1]),
-    ...     np.array([[0.0, 1, 0]]), d, u, v, np.ones(1), 64, 0.1, False, np.empty(0), head,
-    ...     np.empty(1)).tolist(), bool((head == -1).all())
+    ...     np.array([[0.0, 1, 0]]), d, u, v, np.ones(1), 64, 0.1, False, np.empty(0), scratch,
+    ...     np.empty(1)).tolist(), bool((scratch[0] == -1).all() and (scratch[1] == 0).all())
     ([0.0], True)
     """
     m = points.shape[0]
@@ -486,8 +590,8 @@ def point_light_into(start, end, radius, offsets, points, point_offsets, normals
             continue
         d, u, v = dirs[k], us[k], vs[k]
         frames = plant_frames(start, end, radius, offsets, u, v, res)
-        _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, points,
-               point_offsets, own, trans, soft, expo, head)  # fmt: skip
+        _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, 0, points,
+               point_offsets, own, trans, soft, expo, np.empty(0), own[:0], scratch)  # fmt: skip
         for q in range(m):
             cos = -(normals[q, 0] * d[0] + normals[q, 1] * d[1] + normals[q, 2] * d[2])
             out[q] += expo[q] * max(0.0, cos) * w
@@ -495,9 +599,24 @@ def point_light_into(start, end, radius, offsets, points, point_offsets, normals
 
 
 @njit
-def _heads(res):
-    """A fresh map of list heads, all -1 (no query in any pixel)."""
-    return np.full(res * res, -1, np.int64)
+def shadow_scratch(res):
+    """The scratch a shadow map of ``res`` pixels across reads its queries through:
+    ``(head, occ, near_z, near_id)``, the pixels' query lists' heads ``(res * res,)`` int64
+    all -1, the occupancy bits ``(2 * res * W,)`` uint64 all 0 (``W = (res + 63) // 64``
+    words per row, then per column), and the pixels' nearest depth ``(res * res,)``
+    float64 all ``inf`` and segment int64 all -1 (hard shadows). The kernels leave them so;
+    a caller that lights a plant at every step (:func:`growsim.kernels.hormone.grow_step`)
+    makes them once.
+
+    Examples
+    --------
+    >>> head, occ, near_z, near_id = shadow_scratch(64)
+    >>> head.shape, occ.shape, int(head.max()), int(occ.max()), float(near_z.min())
+    ((4096,), (128,), -1, 0, inf)
+    """
+    W = (res + 63) // 64
+    return (np.full(res * res, -1, np.int64), np.zeros(2 * res * W, np.uint64),
+            np.full(res * res, np.inf), np.full(res * res, -1, np.int64))  # fmt: skip
 
 
 @njit
@@ -518,9 +637,30 @@ def map_depth_kernel(start, end, radius, offsets, frames, points, point_offsets,
     ([-2.0, inf], [0, -1])
     """
     m = points.shape[0]
-    _, depth, seg = _judge(start, end, radius, offsets, frames, u, v, d, res, 0.0, points,
-                           point_offsets, np.full(m, -1, np.int64), np.empty(0), False,
-                           np.empty(m), _heads(res))  # fmt: skip
+    scratch = shadow_scratch(res)
+    depth, seg = np.empty(m), np.empty(m, np.int64)
+    _judge(
+        start,
+        end,
+        radius,
+        offsets,
+        frames,
+        u,
+        v,
+        d,
+        res,
+        0.0,
+        0,
+        points,
+        point_offsets,
+        np.full(m, -1, np.int64),
+        np.empty(0),
+        False,
+        np.empty(m),
+        depth,
+        seg,
+        scratch,
+    )
     return depth, seg
 
 

@@ -36,6 +36,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from growsim.kernels import hormone as K
+from growsim.kernels.light import shadow_scratch
 from growsim.models.base import Model, Param, resolve_params
 from growsim.plant import Plant
 
@@ -219,14 +220,14 @@ def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Pla
     wall_light = np.zeros((cap, walls))
     met = np.zeros(cap)
     light = np.zeros(cap)
-    head = np.full(int(env.light.resolution) ** 2, -1, np.int64)
+    scratch = shadow_scratch(int(env.light.resolution))
     n = K.new_plant(parent, R, origin, length, radius, nutrient, chlorophyll, lignin, apex,
                     laterals, hormone, c)  # fmt: skip
     stopped = ""
     for step in range(int(p["steps"])):
         n, code = K.grow_step(
             n, cap, dims, walls, parent, R, origin, length, radius, nutrient, chlorophyll,
-            lignin, apex, laterals, hormone, wall_light, met, light, head, g, c, *args,
+            lignin, apex, laterals, hormone, wall_light, met, light, scratch, g, c, *args,
             float(p["strength_young"]),
         )  # fmt: skip
         if code != K.STOP_NONE:
