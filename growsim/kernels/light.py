@@ -354,11 +354,9 @@ def _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, sampl
         else:
             most = max(most, query_offsets[p + 1] - query_offsets[p])
     qz = np.empty(most)
-    pix = np.empty(most, np.int64)
-    nxt = np.empty(most, np.int64)
-    mine = np.empty(most, np.int64)
-    rows = np.empty(most, np.int64)  # the query's occupancy words: its row's, its column's
-    cols = np.empty(most, np.int64)
+    work = np.empty((5, most), np.int64)
+    pix, nxt, mine = work[0], work[1], work[2]
+    rows, cols = work[3], work[4]  # the query's occupancy words: its row's, its column's
     for p in range(offsets.shape[0] - 1):
         if samples > 0:
             q0 = offsets[p] * samples
@@ -385,7 +383,8 @@ def _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, sampl
             x = (px * u[0] + py * u[1] + pz * u[2] - ox) * inv
             y = (px * v[0] + py * v[1] + pz * v[2] - oy) * inv
             qz[i] = px * d[0] + py * d[1] + pz * d[2]
-            expo[q0 + i] = 1.0
+            if soft:
+                expo[q0 + i] = 1.0
             if x >= 0.0 and y >= 0.0 and x < res and y < res:
                 xi = int(x)
                 yi = int(y)
@@ -581,20 +580,41 @@ def point_light_into(start, end, radius, offsets, points, point_offsets, normals
     ([0.0], True)
     """
     m = points.shape[0]
+    P = point_offsets.shape[0] - 1
     out[:] = 0.0
-    own = np.full(m, -1, np.int64)
-    expo = np.empty(m)
+    # the points facing a light (the others get none of it: their shadow is not judged)
+    real = np.empty(5 * m)
+    facing = real[: 3 * m].reshape((m, 3))
+    expo, cosine = real[3 * m : 4 * m], real[4 * m :]
+    ints = np.empty(2 * m + P + 1, np.int64)
+    own, which, facing_offsets = ints[:m], ints[m : 2 * m], ints[2 * m :]
+    own[:] = -1
     for k in range(dirs.shape[0]):
         w = weights[k]
         if w == 0.0:
             continue
         d, u, v = dirs[k], us[k], vs[k]
+        c = 0
+        for p in range(P):
+            facing_offsets[p] = c
+            for q in range(point_offsets[p], point_offsets[p + 1]):
+                cos = -(normals[q, 0] * d[0] + normals[q, 1] * d[1] + normals[q, 2] * d[2])
+                if cos > 0.0:
+                    facing[c, 0], facing[c, 1], facing[c, 2] = (
+                        points[q, 0],
+                        points[q, 1],
+                        points[q, 2],
+                    )
+                    which[c] = q
+                    cosine[c] = cos
+                    c += 1
+        facing_offsets[P] = c
         frames = plant_frames(start, end, radius, offsets, u, v, res)
-        _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, 0, points,
-               point_offsets, own, trans, soft, expo, np.empty(0), own[:0], scratch)  # fmt: skip
-        for q in range(m):
-            cos = -(normals[q, 0] * d[0] + normals[q, 1] * d[1] + normals[q, 2] * d[2])
-            out[q] += expo[q] * max(0.0, cos) * w
+        _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, 0, facing[:c],
+               facing_offsets, own[:c], trans, soft, expo[:c], np.empty(0), own[:0],
+               scratch)  # fmt: skip
+        for i in range(c):
+            out[which[i]] += expo[i] * cosine[i] * w
     return out
 
 
