@@ -49,7 +49,8 @@ that a steep segment whose own nearest depth at the pixel is in front of an occl
 not shield its point here.
 
 Plants never shade each other: each has its own map (one scratch of list heads,
-occupancy and nearest depths, reset after each plant at its queries' pixels only).
+occupancy and nearest depths, a pixel's cells set up by its first query and its
+occupancy bits cleared after each plant).
 """
 
 from __future__ import annotations
@@ -255,8 +256,8 @@ def _walk(k, ax, ay, bx, by, za, zb, rr, res, head, occ, nxt, qz, qown, bias, so
     radius ``rr`` pixels) and let it meet (:func:`_meet`) the queries of the pixels it
     covers: those whose centre lies within the radius of the axis. Only pixels holding
     queries are visited: ``occ`` holds a bit per such pixel, by rows (``W = (res + 63) //
-    64`` words per row) then by columns, and ``head[pixel]`` the pixel's first query (-1:
-    none), ``nxt[q]`` the next one. A small capsule tests the pixels of its bounding box
+    64`` words per row) then by columns, and ``head[pixel]`` the pixel's first query,
+    ``nxt[q]`` the next one (-1: no more). A small capsule tests the pixels of its bounding box
     that hold queries; a larger one is walked line by line along its shorter extent over
     exactly the columns of each line's chord (closed form, :func:`_span`)."""
     W = (res + 63) // 64
@@ -389,12 +390,17 @@ def _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, sampl
                 xi = int(x)
                 yi = int(y)
                 pix[i] = yi * res + xi
-                nxt[i] = head[pix[i]]
-                head[pix[i]] = i
                 rows[i] = yi * W + (xi >> 6)
                 cols[i] = (res + xi) * W + (yi >> 6)
-                occ[rows[i]] |= np.uint64(1) << np.uint64(xi & 63)
-                occ[cols[i]] |= np.uint64(1) << np.uint64(yi & 63)
+                bit = np.uint64(1) << np.uint64(xi & 63)
+                if occ[rows[i]] & bit == 0:  # the pixel's first query: its cells begin here
+                    occ[rows[i]] |= bit
+                    occ[cols[i]] |= np.uint64(1) << np.uint64(yi & 63)
+                    head[pix[i]] = -1
+                    near_z[pix[i]] = np.inf
+                    near_id[pix[i]] = -1
+                nxt[i] = head[pix[i]]
+                head[pix[i]] = i
             else:
                 pix[i] = -1  # outside the frame: in the open
         expo_p = expo[q0:q1]
@@ -412,9 +418,6 @@ def _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, sampl
                     seg[q0 + i] = k
         for i in range(q1 - q0):
             if pix[i] >= 0:
-                head[pix[i]] = -1
-                near_z[pix[i]] = np.inf
-                near_id[pix[i]] = -1
                 occ[rows[i]] = 0
                 occ[cols[i]] = 0
     return expo
@@ -576,7 +579,7 @@ def point_light_into(start, end, radius, offsets, points, point_offsets, normals
     >>> scratch = shadow_scratch(64)
     >>> point_light_into(s, e, r, np.array([0, 1]), np.array([[0.5, 0, 0]]), np.array([0, 1]),
     ...     np.array([[0.0, 1, 0]]), d, u, v, np.ones(1), 64, 0.1, False, np.empty(0), scratch,
-    ...     np.empty(1)).tolist(), bool((scratch[0] == -1).all() and (scratch[1] == 0).all())
+    ...     np.empty(1)).tolist(), bool((scratch[1] == 0).all())
     ([0.0], True)
     """
     m = points.shape[0]
@@ -621,22 +624,29 @@ def point_light_into(start, end, radius, offsets, points, point_offsets, normals
 @njit
 def shadow_scratch(res):
     """The scratch a shadow map of ``res`` pixels across reads its queries through:
-    ``(head, occ, near_z, near_id)``, the pixels' query lists' heads ``(res * res,)`` int64
-    all -1, the occupancy bits ``(2 * res * W,)`` uint64 all 0 (``W = (res + 63) // 64``
-    words per row, then per column), and the pixels' nearest depth ``(res * res,)``
-    float64 all ``inf`` and segment int64 all -1 (hard shadows). The kernels leave them so;
-    a caller that lights a plant at every step (:func:`growsim.kernels.hormone.grow_step`)
-    makes them once.
+    ``(head, occ, near_z, near_id)``. ``occ`` ``(2 * res * W,)`` uint64 (``W = (res + 63)
+    // 64`` words per row, then per column) holds a bit per pixel that holds queries, all
+    0 between calls; the pixel's cells, read only where its bit is set (and set when it
+    is), are ``head`` its first query (int64), ``near_z`` and ``near_id`` its nearest
+    depth (float64) and segment (int64, hard shadows), ``(res * res,)`` each and never
+    filled: a map costs the pages its queries touch, not ``res ** 2`` writes. The kernels
+    leave ``occ`` all 0; a caller that lights a plant at every step
+    (:func:`growsim.kernels.hormone.grow_step`) makes the scratch once.
 
     Examples
     --------
     >>> head, occ, near_z, near_id = shadow_scratch(64)
-    >>> head.shape, occ.shape, int(head.max()), int(occ.max()), float(near_z.min())
-    ((4096,), (128,), -1, 0, inf)
+    >>> head.shape, occ.shape, near_z.shape, int(occ.max())
+    ((4096,), (128,), (4096,), 0)
     """
     W = (res + 63) // 64
-    return (np.full(res * res, -1, np.int64), np.zeros(2 * res * W, np.uint64),
-            np.full(res * res, np.inf), np.full(res * res, -1, np.int64))  # fmt: skip
+    n = res * res
+    return (
+        np.empty(n, np.int64),
+        np.zeros(2 * res * W, np.uint64),
+        np.empty(n),
+        np.empty(n, np.int64),
+    )
 
 
 @njit
