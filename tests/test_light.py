@@ -411,3 +411,32 @@ def test_mean_light_hardly_moves_with_resolution():
         assert np.ptp(means) < 0.08 * means[-1], (preset, means)
         coarse = [Light(resolution=r, bias=1.5).segment_light(tree).mean() for r in (64, 512)]
         assert coarse[0] > 1.1 * coarse[1], (preset, coarse)
+
+
+def test_kept_scratch_gives_fresh_answers_in_any_thread():
+    """segment_light keeps one shadow-map scratch per thread and resolution: calls after
+    calls, and threads at once, answer as a fresh map does."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    rng = np.random.default_rng(5)
+    trees = [random_tree(rng, int(rng.integers(5, 60))) for _ in range(12)]
+
+    def fresh(tree, res):
+        s, e, r = tree
+        off = np.array([0, len(s)])
+        d = np.array([0.0, -1.0, 0.0])
+        u, v = view_basis(d)
+        frames = kernels.plant_frames(s, e, r, off, u, v, res)
+        n = len(s)
+        expo = kernels.segment_exposure_kernel(s, e, r, off, frames, u, v, d, res, 0.1, 1,
+                                               np.empty(n))  # fmt: skip
+        flat = np.zeros((n, 3)), np.zeros(n, np.bool_)
+        return expo * kernels.segment_cosines(s, e, *flat, d, np.empty(n))
+
+    jobs = [(t, res) for res in (32, 128) for t in trees]
+    want = [fresh(t, res) for t, res in jobs]
+    got = [segment_light(*t, resolution=res) for t, res in jobs]
+    assert all(np.array_equal(a, b) for a, b in zip(want, got, strict=True))
+    with ThreadPoolExecutor(4) as pool:
+        threaded = list(pool.map(lambda job: segment_light(*job[0], resolution=job[1]), jobs * 3))
+    assert all(np.array_equal(a, b) for a, b in zip(want * 3, threaded, strict=True))

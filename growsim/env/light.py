@@ -21,6 +21,7 @@ them, whatever model grew it:
 from __future__ import annotations
 
 import math
+import threading
 from typing import Annotated, Literal
 
 import numpy as np
@@ -422,6 +423,24 @@ def _shadow_passes(where, direction, intensity):
     return d, u, v, w
 
 
+_SCRATCH = threading.local()
+
+
+def _scratch(res: int) -> tuple:
+    """This thread's shadow-map scratch of ``res`` pixels
+    (:func:`growsim.kernels.light.shadow_scratch`), made once: the kernels leave it ready
+    for the next call, and its pages stay mapped (a fresh one at 1024 px costs thousands
+    of page faults a call). One per thread, as the kernels release the GIL."""
+    cache = getattr(_SCRATCH, "maps", None)
+    if cache is None:
+        cache = _SCRATCH.maps = {}
+    if res not in cache:
+        from growsim.kernels.light import shadow_scratch
+
+        cache[res] = shadow_scratch(res)
+    return cache[res]
+
+
 def _transmissions(where: str, data, transmission, n: int) -> np.ndarray:
     """``(n,)`` per-segment transmission: ``data["transmission"]`` or the scalar."""
     per = data.get("transmission")
@@ -521,17 +540,16 @@ def segment_light(
         normal = np.ascontiguousarray(normal / np.where(norm > 0, norm, 1.0)[:, None])
     frames = kernels.plant_frames(s, e, r, off, u, v, res)
     out = np.empty(n)
-    if shadows == "soft":
-        trans = _transmissions(where, data, transmission, n)
-        kernels.soft_segment_exposure_kernel(
-            s, e, r, off, frames, u, v, d, res, bias, samples, trans, out
-        )
-    elif backend == "moderngl":
+    if backend == "moderngl" and shadows == "hard":
         from growsim.env.shadow_gl import segment_exposure_gl
 
         out = segment_exposure_gl(s, e, r, off, frames, u, v, d, res, bias, samples)
     else:
-        kernels.segment_exposure_kernel(s, e, r, off, frames, u, v, d, res, bias, samples, out)
+        soft = shadows == "soft"
+        trans = _transmissions(where, data, transmission, n) if soft else np.empty(0)
+        kernels.segment_exposure_into(
+            s, e, r, off, frames, u, v, d, res, bias, samples, soft, trans, _scratch(res), out
+        )
     cos = kernels.segment_cosines(s, e, normal, use, d, np.empty(n))
     out *= cos
     out *= intensity
@@ -609,9 +627,10 @@ def point_light(
     if backend == "numba":
         soft = shadows == "soft"
         trans = _transmissions(where, data, transmission, s.shape[0]) if soft else np.empty(0)
-        return kernels.point_light_kernel(
-            s, e, r, off, pts, poff, nrm, d, u, v, w, res, bias, soft, trans, np.empty(m)
-        )
+        return kernels.point_light_into(
+            s, e, r, off, pts, poff, nrm, d, u, v, w, res, bias, soft, trans, _scratch(res),
+            np.empty(m),
+        )  # fmt: skip
     from growsim.env.shadow_gl import point_exposure_gl
 
     out = np.zeros(m)

@@ -76,6 +76,7 @@ __all__ = [
     "point_light_kernel",
     "project_segment",
     "segment_cosines",
+    "segment_exposure_into",
     "segment_exposure_kernel",
     "shadow_scratch",
     "soft_point_exposure_kernel",
@@ -424,9 +425,25 @@ def _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, sampl
 
 
 @njit
-def _segment_exposure(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, samples,
-                      trans, soft, out):  # fmt: skip
-    scratch = shadow_scratch(res)
+def segment_exposure_into(start, end, radius, offsets, frames, u, v, d, res, bias_pixels,
+                          samples, soft, trans, scratch, out):  # fmt: skip
+    """:func:`segment_exposure_kernel` (``soft`` False) or
+    :func:`soft_segment_exposure_kernel` (``soft`` True, per-segment transmissions
+    ``trans``) with the map's scratch given (a :func:`shadow_scratch` of ``res``, left as
+    it was given): a caller that lights many plants at one resolution
+    (:func:`growsim.env.light.segment_light`) keeps one, whose pages stay mapped.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = np.array([[0.0, 1, 0], [0, 0, 0]]); e = np.array([[1.0, 1, 0], [1, 0, 0]])
+    >>> u, v, d = np.array([1.0, 0, 0]), np.array([0.0, 0, -1]), np.array([0.0, -1, 0])
+    >>> r, off = np.full(2, 0.2), np.array([0, 2])
+    >>> f = plant_frames(s, e, r, off, u, v, 64)
+    >>> segment_exposure_into(s, e, r, off, f, u, v, d, 64, 1.5, 1, False, np.empty(0),
+    ...                       shadow_scratch(64), np.empty(2)).tolist()
+    [1.0, 0.0]
+    """
     none = np.empty(0, np.int64)
     expo = _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, samples,
                   np.empty((0, 3)), none, none, trans, soft, np.empty(start.shape[0] * samples),
@@ -460,8 +477,9 @@ def segment_exposure_kernel(start, end, radius, offsets, frames, u, v, d, res, b
     >>> segment_exposure_kernel(s, e, r, off, f, u, v, d, 64, 1.5, 1, np.empty(2)).tolist()
     [1.0, 0.0]
     """
-    return _segment_exposure(start, end, radius, offsets, frames, u, v, d, res, bias_pixels,
-                             samples, np.empty(0), False, out)  # fmt: skip
+    return segment_exposure_into(start, end, radius, offsets, frames, u, v, d, res,
+                                 bias_pixels, samples, False, np.empty(0), shadow_scratch(res),
+                                 out)  # fmt: skip
 
 
 @njit
@@ -483,8 +501,9 @@ def soft_segment_exposure_kernel(start, end, radius, offsets, frames, u, v, d, r
     ...                              np.empty(3)).tolist()
     [1.0, 0.5, 0.25]
     """
-    return _segment_exposure(start, end, radius, offsets, frames, u, v, d, res, bias_pixels,
-                             samples, trans, True, out)  # fmt: skip
+    return segment_exposure_into(start, end, radius, offsets, frames, u, v, d, res,
+                                 bias_pixels, samples, True, trans, shadow_scratch(res),
+                                 out)  # fmt: skip
 
 
 @njit
