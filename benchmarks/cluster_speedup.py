@@ -31,9 +31,8 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=2, help="time each mode N times, keep the min")
     args = ap.parse_args()
 
-    from dask.distributed import LocalCluster
-
     from growsim.experiment import build_fitness, load_config, run
+    from growsim.experiment.executors import local_cluster
 
     overrides = [
         f"ga.population={args.population}",
@@ -77,9 +76,7 @@ def main() -> None:
         timed("serial")
         timed("pool_2", workers=2)
         for n in (1, 2):
-            with LocalCluster(
-                n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None
-            ) as cluster:
+            with local_cluster(n) as cluster:
                 # warm the workers (imports, numba cache loads) as a long-lived cluster is
                 t0 = time.perf_counter()
                 warm = load_config(cfg, ["ga.population=8", "ga.generations=1"])

@@ -56,6 +56,31 @@ def test_dask_local_cluster_matches_serial():
         _same(serial, _run(client.get_executor(pure=False), batch_size=9))
 
 
+def _page_faults_of_churn(_=None):
+    import resource
+
+    r0 = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+    for _ in range(100):
+        a, b = np.ones(200_000), np.ones(50_000)  # 1.6 MB and 0.4 MB, freed again
+        del a, b
+    return resource.getrusage(resource.RUSAGE_SELF).ru_minflt - r0
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="glibc's malloc thresholds")
+def test_local_cluster_workers_keep_freed_memory_mapped():
+    """Dask's default MALLOC_TRIM_THRESHOLD_ makes every large array fault all its pages
+    again (about 49,000 faults here); growsim's local cluster leaves glibc's thresholds
+    alone, even after a cluster with Dask's defaults wrote the variable into os.environ."""
+    distributed = pytest.importorskip("dask.distributed")
+    from growsim.experiment.executors import local_cluster
+
+    os.environ["MALLOC_TRIM_THRESHOLD_"] = "65536"  # as an earlier default cluster leaves it
+    with local_cluster(1) as cluster, distributed.Client(cluster) as client:
+        faults = client.submit(_page_faults_of_churn, pure=False).result()
+    assert "MALLOC_TRIM_THRESHOLD_" not in os.environ
+    assert faults < 10_000, faults
+
+
 # -- checkpoint / resume ---------------------------------------------------------------
 CONFIGS = {
     "bits_islands_meta": dict(
