@@ -5,9 +5,13 @@ a ground plane under a sky, bare and leafy): the photo segmentation's IoU agains
 true silhouette known from the render, then ``growsim fit-image PICTURE --model M`` from
 that one picture (the picture's own model; coarse to fine, 64 -> 128 -> 256 px; a bare and
 a leafy tree fitted, the better kept, ``--leaves auto``), and the fit's NCC against the
-segmented silhouette at every stage, with seconds. Prints JSON.
+segmented silhouette at every stage, with seconds, and the picture's own tree scored the
+same way (what a perfect search would reach). ``--extra`` adds the pictures made after the
+segmentation was settled (``EXTRA_PICTURES``, reported apart). Prints JSON.
 
-    python benchmarks/photo_fit.py --out runs/photo-bench
+    python benchmarks/photo_fit.py --out runs/photo-bench --extra
+    python benchmarks/photo_fit.py --extra --figures cherry_leafy docs/images
+    python benchmarks/photo_fit.py --extra --segmentation-figure docs/images
     python benchmarks/photo_fit.py --only zelkova_bare --ifs-evaluations 5000
 """
 
@@ -24,7 +28,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from make_photos import PICTURES, write_set
+from make_photos import EXTRA_PICTURES, PICTURES, plant_of, write_set
 
 
 def iou(a: np.ndarray, b: np.ndarray) -> float:
@@ -56,10 +60,48 @@ def figures(fit_dir, dest) -> list[Path]:
     return paths
 
 
+def error_figure(photos, dest, names, height: int = 420) -> Path:
+    """``photo_segmentation.png`` in ``dest``: for each picture of ``names`` (in the
+    directory ``photos``, with its ``_truth.png``), its crop around the tree with the
+    segmentation's errors: black where segmentation and truth agree, red the tree pixels
+    missed, blue the background taken for tree; the pictures side by side, each scaled to
+    ``height`` pixels (nearest neighbour, so single pixels stay visible)."""
+    from PIL import Image
+
+    from growsim.files import atomic_write
+    from growsim.photo import load_rgb, segment_photo
+
+    panels = []
+    for name in names:
+        path = Path(photos) / f"{name}.jpg"
+        truth = np.asarray(Image.open(Path(photos) / f"{name}_truth.png")) < 128
+        tree = segment_photo(path).tree
+        out = 0.35 * load_rgb(path) + 0.65
+        out[truth & tree] = 0.0
+        out[truth & ~tree] = (1.0, 0.0, 0.0)
+        out[~truth & tree] = (0.0, 0.2, 1.0)
+        rows, cols = np.nonzero(truth | tree)
+        crop = out[max(rows.min() - 4, 0) : rows.max() + 5, max(cols.min() - 4, 0) : cols.max() + 5]
+        im = Image.fromarray(np.round(255 * crop).astype(np.uint8))
+        k = height / im.height
+        panels.append(im.resize((max(1, round(im.width * k)), height), Image.NEAREST))
+    sheet = Image.new(
+        "RGB", (sum(p.width for p in panels) + 8 * (len(panels) - 1), height), "white"
+    )
+    x = 0
+    for p in panels:
+        sheet.paste(p, (x, 0))
+        x += p.width + 8
+    path = Path(dest) / "photo_segmentation.png"
+    atomic_write(path, lambda fh: sheet.save(fh, format="PNG"))
+    return path
+
+
 def main(argv=None) -> int:
     from PIL import Image
 
     from growsim.cli import main as cli
+    from growsim.objectives.silhouette import SilhouetteObjective
     from growsim.photo import segment_photo
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -76,19 +118,37 @@ def main(argv=None) -> int:
     ap.add_argument("--sizes", default="64,128,256")
     ap.add_argument("--leaves", default="auto", help="fit-image --leaves (default auto)")
     ap.add_argument(
+        "--extra", action="store_true",
+        help="also the EXTRA_PICTURES (made after the segmentation was tuned), reported apart",
+    )  # fmt: skip
+    ap.add_argument(
         "--figures", nargs=2, default=None, metavar=("PICTURE", "DIR"),
         help="write the worked example's images of PICTURE's fit into DIR (docs/images)",
     )  # fmt: skip
+    ap.add_argument(
+        "--segmentation-figure", default=None, metavar="DIR",
+        help="write photo_segmentation.png (the errors of the two worst segmentations) into DIR",
+    )  # fmt: skip
     a = ap.parse_args(argv)  # fmt: skip
     out = Path(a.out)
-    pics = [p for p in PICTURES if a.only is None or p.name in a.only]
+    ap_pics = PICTURES + (EXTRA_PICTURES if a.extra else ())
+    pics = [p for p in ap_pics if a.only is None or p.name in a.only]
     rows = write_set(out / "photos", pics)
     results = []
-    for row in rows:
+    for pic, row in zip(pics, rows):
         truth = np.asarray(Image.open(row["truth"])) < 128
         t = time.perf_counter()
         seg = segment_photo(row["photo"])
         seg_seconds = time.perf_counter() - t
+        # the picture's own tree against the same segmented silhouette: what a perfect
+        # search would reach at each size
+        plant = plant_of(pic)
+        true_tree = {
+            str(s): round(
+                SilhouetteObjective(front=row["photo"], views="front", segmentation="photo",
+                                    line_width="radius", size=s)(plant), 4)
+            for s in (int(v) for v in a.sizes.split(","))
+        }  # fmt: skip
         fit_dir = out / "fits" / row["name"]
         args = ["fit-image", row["photo"], "--model", row["model"], "--out", str(fit_dir)]
         args += ["--quiet", "--seed", str(a.seed), "--sizes", a.sizes, "--leaves", a.leaves]
@@ -106,6 +166,9 @@ def main(argv=None) -> int:
                 "ncc": fit.get("ncc"),
                 "ncc_by_size": {str(s["size"]): round(s["ncc"], 4) for s in fit.get("stages", [])},
                 "seconds": fit.get("seconds"),
+                "true_tree": true_tree,
+                "seed": fit.get("params", {}).get("seed"),
+                "picture_seed": int(plant.meta["params"].get("seed", -1)),
                 "leaves": fit.get("params", {}).get("leaves"),
                 "leaves_chosen": fit.get("leaves", {}).get("chosen"),
                 "ncc_by_leaves": {
@@ -114,20 +177,39 @@ def main(argv=None) -> int:
             }
         )
         print(json.dumps(results[-1]), file=sys.stderr)
+
+    def means(rs):
+        return {
+            "names": [r["picture"] for r in rs],
+            "mean_iou": round(float(np.mean([r["iou"] for r in rs])), 4),
+            "min_iou": round(float(np.min([r["iou"] for r in rs])), 4),
+            "mean_ncc_final": round(float(np.mean([r["ncc"] for r in rs])), 4),
+            "mean_ncc_by_size": {
+                size: round(float(np.mean([r["ncc_by_size"][size] for r in rs])), 4)
+                for size in rs[0]["ncc_by_size"]
+            },
+            "mean_true_tree": {
+                size: round(float(np.mean([r["true_tree"][size] for r in rs])), 4)
+                for size in rs[0]["true_tree"]
+            },
+            "mean_seconds": round(float(np.mean([r["seconds"] for r in rs])), 1),
+        }
+
+    main_set = [r for r in results if r["picture"] in {p.name for p in PICTURES}]
+    extra = [r for r in results if r not in main_set]
     summary = {
         "pictures": results,
-        "mean_iou": round(float(np.mean([r["iou"] for r in results])), 4),
-        "mean_ncc_final": round(float(np.mean([r["ncc"] for r in results])), 4),
-        "mean_ncc_by_size": {
-            size: round(float(np.mean([r["ncc_by_size"][size] for r in results])), 4)
-            for size in results[0]["ncc_by_size"]
-        },
-        "mean_seconds": round(float(np.mean([r["seconds"] for r in results])), 1),
+        **(means(main_set) if main_set else {}),
+        "extra": means(extra) if extra else None,
         "load_average": os.getloadavg(),
     }
     print(json.dumps(summary, indent=1))
     if a.figures is not None:
         figures(out / "fits" / a.figures[0], a.figures[1])
+    if a.segmentation_figure is not None:
+        # the two pictures the segmentation reads worst
+        worst = sorted(results, key=lambda r: r["iou"])[:2]
+        error_figure(out / "photos", a.segmentation_figure, [r["picture"] for r in worst], 830)
     return 0
 
 

@@ -33,9 +33,10 @@ GROUND_MIN_DE = 10.0
 GROUND_STEP_DE = 8.0
 #: rows either side of the horizon whose pixels may blend sky and ground (anti-aliasing)
 HORIZON_ROWS = 3
-#: the tree/background threshold: half the colour difference of the nearest fully covered
-#: tree pixels (a pixel at least half covered by the tree is tree), looked for in a window
-#: of this many pixels, and never under NOISE_K times the background's noise nor MIN_DE
+#: the tree/background threshold: this share of the strongest colour difference within a
+#: window of this many pixels (a thin twig's peak pixel is itself only partly covered, so
+#: the share is under a half), and never under NOISE_K times the background's noise nor
+#: MIN_DE
 LOCAL_WINDOW = 7
 LOCAL_SHARE = 0.3
 #: JPEG compression rings beside a strong edge (up to the far side of its 8 x 8 block):
@@ -44,6 +45,19 @@ LOCAL_SHARE = 0.3
 RINGING = 0.15
 RINGING_WINDOW = 17
 NOISE_K = 5.0
+#: beside a thick part of the tree (pixels fully covered: their whole 3 x 3 neighbourhood
+#: differs from the background) a pixel is tree when it differs by more than this share of
+#: the full difference within LOCAL_WINDOW pixels: a pixel under half covered is not tree
+#: (the 0.3 of a thin twig's own, partly covered, peak would take it)
+THICK_SHARE = 0.4
+#: pieces of foreground this many pixels or less from the tree join it (a twig broken by
+#: a pixel as pale as the sky), before the bounding-box rule
+GAP = 2
+#: the edge of a thick part: a pixel up to this many pixels from the nearest fully
+#: covered one is also tree when its colour is at least half way from its background's
+#: to that pixel's (linear unmixing: at least half covered), even under the thresholds
+#: above (a pale rim beside dark leaves, a shaded edge)
+UNMIX_REACH = 3.0
 MIN_DE = 10.0
 #: refused: the sky's colour varies more than this (robust sigma, Delta E) around a smooth
 #: gradient: not a plain sky (clutter, clouds, a wall with texture)
@@ -176,13 +190,19 @@ def segment_photo(image, *, mask=None, name: str = "image") -> Segmentation:
     2. **sky**: the large smooth region: a quadratic colour gradient fitted to the top
        edge and the side edges above the ground (outliers dropped);
     3. each pixel's **distance** from its background (the sky above the horizon; the
-       nearer of sky and ground below it; near the horizon also their blends), and a
-       local threshold: half the distance of the nearest fully covered tree pixels
-       (:data:`LOCAL_WINDOW`), so a pixel at least half covered by the tree is tree,
-       never under :data:`NOISE_K` times the sky's noise or :data:`MIN_DE`;
+       ground below the horizon's blended rows; in them the nearer of sky, ground and the
+       row's blend), and a local threshold: :data:`LOCAL_SHARE` of the strongest
+       difference within :data:`LOCAL_WINDOW` pixels (a thin twig's own, partly covered,
+       peak), :data:`THICK_SHARE` of the full difference of the nearest fully covered
+       pixels (beside thick parts), the JPEG ringing share (:data:`RINGING`), never
+       under :data:`NOISE_K` times the sky's noise or :data:`MIN_DE`; then the edges of
+       thick parts by linear unmixing (a pixel within :data:`UNMIX_REACH` of a fully
+       covered one, at least half way from its background's colour to that one's);
     4. **connectivity** (:func:`skimage.measure.label`, 8-connected): the tree is the
-       largest piece, standing on the ground, with the pieces inside its bounding box
-       (twigs and leaf clusters cut off by the threshold); other objects are dropped.
+       largest piece, with the pieces up to :data:`GAP` pixels from it (a twig broken by
+       a pixel as pale as the sky) and every piece inside the bounding box of these
+       (twigs and leaf clusters cut off by the threshold), standing on the ground; other
+       objects are dropped.
 
     Refused with :class:`UserInputError` naming ``name`` (a bad segmentation is not
     fitted): a background that is not a plain sky (:data:`MAX_SKY_NOISE`), a tree that
@@ -205,6 +225,7 @@ def segment_photo(image, *, mask=None, name: str = "image") -> Segmentation:
     from scipy import ndimage
     from skimage.color import gray2rgb, rgb2lab
     from skimage.measure import label
+    from skimage.morphology import disk
 
     if isinstance(image, (str, os.PathLike)):
         name = str(image)
@@ -244,6 +265,7 @@ def segment_photo(image, *, mask=None, name: str = "image") -> Segmentation:
     edge = (rr < b) | (cc < b) | (cc >= w - b)
     sky, sky_noise = _sky_model(lab, rr[edge], cc[edge])
     dist = np.linalg.norm(lab - sky, axis=-1)
+    bg = sky.copy()
     ground = np.zeros((h, w), dtype=bool)
     if horizon is not None:
         _, left, right, raw_left, raw_right = band
@@ -257,7 +279,15 @@ def segment_photo(image, *, mask=None, name: str = "image") -> Segmentation:
         g_raw = raw_left[below, None, :] * (1.0 - t) + raw_right[below, None, :] * t
         d_blend = np.linalg.norm(lab[below] - g_raw, axis=-1)
         near = np.arange(lo, h)[:, None] <= horizon + HORIZON_ROWS
-        d_below = np.minimum(np.minimum(dist[below], d_ground), np.where(near, d_blend, np.inf))
+        # below the horizon's blended rows the background is the ground alone (the sky's
+        # model, extrapolated there, would take pale bark on dark ground for sky)
+        d_sky = np.where(near, dist[below], np.inf)
+        cands = np.stack([d_sky, d_ground, np.where(near, d_blend, np.inf)])
+        which = np.argmin(cands, axis=0)
+        d_below = np.take_along_axis(cands, which[None], 0)[0]
+        # each pixel's background colour: the sky's, the ground's or the blended row's
+        bg[below] = np.where((which == 1)[..., None], g, bg[below])
+        bg[below] = np.where((which == 2)[..., None], g_raw, bg[below])
         ground_noise = _robust_sigma(d_ground[horizon + HORIZON_ROWS - lo :])
         ground[below] = d_ground <= d_below + 1e-9
         dist[below] = d_below
@@ -267,7 +297,26 @@ def segment_photo(image, *, mask=None, name: str = "image") -> Segmentation:
     # JPEG rings around strong edges up to the 8 x 8 block's far side
     ringing = ndimage.maximum_filter(dist, size=RINGING_WINDOW, mode="nearest")
     threshold = np.maximum(np.maximum(LOCAL_SHARE * local, RINGING * ringing), floor)
+    # thick parts: the least difference of a 3 x 3 neighbourhood is the full difference of
+    # a fully covered pixel; near them the share is THICK_SHARE of it. A thin twig has no
+    # fully covered pixel (its eroded difference is the sky's) and keeps LOCAL_SHARE of its
+    # own peak, so 1-pixel twigs are not erased.
+    full = ndimage.maximum_filter(
+        ndimage.minimum_filter(dist, size=3, mode="nearest"), size=LOCAL_WINDOW, mode="nearest"
+    )
+    threshold = np.maximum(threshold, THICK_SHARE * full)
     fg = (dist > threshold) & keep
+    # the edges of thick parts, by linear unmixing: the colour c of a pixel covered a share
+    # a by a part of colour f over the background b is about b + a (f - b); f is the
+    # nearest fully covered pixel's colour (the interior of the foreground)
+    interior = ndimage.binary_erosion(fg, np.ones((3, 3), dtype=bool))
+    if interior.any():
+        reach, (ir, ic) = ndimage.distance_transform_edt(~interior, return_indices=True)
+        fb = lab[ir, ic] - bg
+        alpha = np.einsum("ijk,ijk->ij", lab - bg, fb) / np.maximum(
+            np.einsum("ijk,ijk->ij", fb, fb), 1e-9
+        )
+        fg |= (reach <= UNMIX_REACH) & (alpha >= 0.5) & (dist > floor) & keep
     ground &= ~fg
     how = f"photo segmentation, sky noise {sky_noise:.1f}, threshold >= {floor:.1f} Delta E"
     if sky_noise > MAX_SKY_NOISE:
@@ -282,7 +331,12 @@ def segment_photo(image, *, mask=None, name: str = "image") -> Segmentation:
     if sizes.max() == 0:
         raise UserInputError(f"{name}: the silhouette is empty ({how})")
     main = int(np.argmax(sizes))
-    rows, cols = np.nonzero(labels == main)
+    # pieces up to GAP pixels from it join the tree (a twig broken by a pixel as pale as
+    # the sky): the pieces that one component of the foreground grown by GAP holds
+    bridged = label(ndimage.binary_dilation(fg, disk(GAP)), connectivity=2)
+    group = bridged == bridged[labels == main][0]
+    group = np.isin(labels, np.unique(labels[group & fg]))
+    rows, cols = np.nonzero(group)
     r0, r1, c0, c1 = rows.min(), rows.max(), cols.min(), cols.max()
     # pieces inside the tree's bounding box belong to it (twigs, leaf clusters); the box is
     # widened by 5 % of the tree's height, and reaches down into the ground band (the

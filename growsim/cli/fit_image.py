@@ -193,7 +193,7 @@ def register(subparsers) -> None:
         default=None,
         metavar="N",
         help="independent fits (seeds SEED, SEED+1, ...) of each kind of tree, the best at "
-        "the final size kept (default: the model's, honda 2, ifs3d 1)",
+        "the final size kept (default: the model's, honda 4, ifs3d 1)",
     )
     p.add_argument(
         "--workers", type=int, default=None, metavar="N", help="evaluate in N local processes"
