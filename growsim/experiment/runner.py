@@ -59,10 +59,10 @@ def interrupts_deferred(replay: bool = True) -> Iterator[None]:
 
     Examples
     --------
-    >>> import os, signal
+    >>> import signal
     >>> try:
     ...     with interrupts_deferred():
-    ...         os.kill(os.getpid(), signal.SIGINT)
+    ...         signal.raise_signal(signal.SIGINT)  # to this thread, as Ctrl-C would
     ...         print("the block ends")
     ... except KeyboardInterrupt:
     ...     print("then the interrupt")
