@@ -45,7 +45,10 @@ Prints JSON: the set-up, per (dimension, budget) the summary (problems where gro
 as good as each peer and the better GA peer, by both readings; the aggregated ECDF: the
 share of (run, target) pairs reached, COCO's runtime view), and per problem the median
 precisions. ``--out`` saves the per-run table (parquet) and the JSON beside it;
-``--cache`` re-uses the peers' runs of an earlier ``--out`` (growsim is always re-run).
+``--cache`` re-uses the peers' runs of an earlier ``--out`` (growsim is always re-run);
+``--summarise RUNS.parquet`` prints the summary of saved runs. ``halves`` in the JSON
+measures how hard the bar's comparator is: each algorithm's median on half of the seeds
+against the better GA peer's on the other half (a twin of pymoo's GA scores about half).
 """
 
 from __future__ import annotations
@@ -454,6 +457,48 @@ def summarise(runs: pd.DataFrame, budgets: list[int]) -> dict:
     return out
 
 
+def halves(runs: pd.DataFrame, budgets: list[int]) -> dict:
+    """How hard "as good as the better of two peers" is: the runs split by seed into two
+    halves (seeds below / from the median seed); each algorithm's median on one half
+    scored against the better GA peer's on the other half, both ways (wins of the
+    problems). A statistical twin of a peer scores about half of the problems that peer
+    leads, plus those it wins outright."""
+    seeds = sorted(set(runs["seed"]))
+    cut = seeds[len(seeds) // 2]
+    half = {0: runs[runs["seed"] < cut], 1: runs[runs["seed"] >= cut]}
+    out = {}
+    for dim in sorted(set(runs["dim"])):
+        for mult in budgets:
+            b = mult * dim
+            med = {}
+            for h, df in half.items():
+                for (a, f), g in df[df["dim"] == dim].groupby(["alg", "fid"]):
+                    med[(h, a, f)] = float(
+                        np.median(
+                            [
+                                precision_at(e, p, b)
+                                for e, p in zip(g["trace_evals"], g["trace_prec"])
+                            ]
+                        )
+                    )
+            fids = sorted(set(runs.loc[runs["dim"] == dim, "fid"]))
+            row = {}
+            for a in ("growsim", *PEERS):
+                wins = []
+                for h in (0, 1):
+                    if not all(
+                        (h, a, f) in med and all((1 - h, q, f) in med for q in PEERS) for f in fids
+                    ):
+                        break
+                    wins.append(
+                        sum(med[(h, a, f)] <= min(med[(1 - h, q, f)] for q in PEERS) for f in fids)
+                    )
+                if len(wins) == 2:
+                    row[a] = wins
+            out[f"{dim}D@{mult}"] = row
+    return {"seeds_split_at": int(cut), "wins_against_the_other_half": out}
+
+
 def _ints(text: str) -> list[int]:
     out = []
     for part in text.split(","):
@@ -487,7 +532,15 @@ def main(argv=None):
     ap.add_argument("--populations", default="20,50,100", help="bit suite: populations")
     ap.add_argument("--bit-budget", type=int, default=20_000, help="bit suite: evaluations")
     ap.add_argument("--variants", help="bit suite: JSON {label: GA options} beside the defaults")
+    ap.add_argument("--summarise", help="a parquet of an earlier --out: print its summary only")
     args = ap.parse_args(argv)
+    if args.summarise:
+        runs = pd.read_parquet(args.summarise)
+        res = {**summarise(runs, _ints(args.budgets)), "halves": halves(runs, _ints(args.budgets))}
+        if args.quiet:
+            res.pop("problems")
+        print(json.dumps(res, indent=1))
+        return
     if args.suite == "bits":
         load0 = os.getloadavg()[0]
         summary, runs = bit_suite(args)
@@ -570,6 +623,7 @@ def main(argv=None):
             a: round(float(g["seconds"].median()), 4) for a, g in runs.groupby("alg")
         },
         **summarise(runs, budgets),
+        "halves": halves(runs, budgets),
     }
     if args.quiet:
         result.pop("problems")

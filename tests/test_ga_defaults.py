@@ -1,5 +1,6 @@
 """The GA's defaults (issue 15): the generation model per coding, the self-adaptive
-mutation, and the fast bit path (its kernels against their oracles, the same runs)."""
+mutations, the portfolio with the differential crossover, and the fast bit path (its
+kernels against their oracles, the same runs)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import pytest
 from naive import ga as naive_ga
 
 from growsim.errors import UserInputError
-from growsim.ga import GA, MUTATION, Bits, GAOptions, Genome, Real
+from growsim.ga import CROSSOVER, GA, MUTATION, Bits, GAOptions, Genome, Real
 from growsim.ga.crossover import Uniform
 from growsim.ga.options import DEFAULT_MODEL, DEFAULT_OPERATORS
 from growsim.ga.problems import onemax, rastrigin, sphere
@@ -24,6 +25,8 @@ OLD_REAL = {
     "crossover": "sbx",
     "mutation": "polynomial",
 }
+#: the reals' first issue-15 defaults (before the portfolio)
+SA_REAL = {"crossover": "sbx", "mutation": "self_adaptive"}
 
 
 def test_default_model_and_operators_per_coding():
@@ -59,25 +62,31 @@ def rosenbrock(x):
     return (100.0 * (x[:, 1:] - x[:, :-1] ** 2) ** 2 + (1.0 - x[:, :-1]) ** 2).sum(axis=1)
 
 
-@pytest.mark.parametrize("fitness", [sphere, rosenbrock, rastrigin])
-def test_defaults_beat_the_old_ones_at_small_budgets(fitness):
-    # the BBOB finding in miniature: 4,000 evaluations (400 per dimension), population 50
-    # (measured medians of seeds 0-4: sphere 9e-6 vs 1e-3, Rosenbrock 2.7 vs 9.4,
-    # Rastrigin 0.96 vs 2.6)
+@pytest.mark.parametrize(
+    ("fitness", "factor"), [(sphere, 0.5), (rosenbrock, 1.0), (rastrigin, 1.0)]
+)
+def test_defaults_beat_the_old_ones_at_small_budgets(fitness, factor):
+    # the BBOB finding in miniature: 4,000 evaluations (400 per dimension), population 50.
+    # Measured medians of seeds 0-4, portfolio default / first issue-15 default (SBX +
+    # self_adaptive) / before issue 15: sphere 6.3e-5 / 8.8e-6 / 1.2e-3, Rosenbrock 7.8 /
+    # 2.7 / 9.4, Rastrigin 2.0 / 0.96 / 2.6: on these unrotated problems the portfolio
+    # gives back part of the self-adaptive default's lead, for wins on BBOB (docs/ga.md)
     new, old = [], []
     for seed in range(5):
         kw = dict(population=50, maximize=False, seed=seed)
         new.append(GA(R10, fitness, **kw).run(evaluations=4000).best.fitness)
         old.append(GA(R10, fitness, **kw, **OLD_REAL).run(evaluations=4000).best.fitness)
-    assert np.median(new) < 0.5 * np.median(old)
+    assert np.median(new) < factor * np.median(old)
 
 
-def test_self_adaptive_steps_shrink_on_a_sphere_and_reach_its_precision():
-    ga = GA(R10, sphere, population=50, maximize=False, seed=1)
+@pytest.mark.parametrize("options", [{}, SA_REAL])
+def test_self_adaptive_steps_shrink_on_a_sphere_and_reach_its_precision(options):
+    ga = GA(R10, sphere, population=50, maximize=False, seed=1, **options)
     r = ga.run(evaluations=4000)
     assert r.best.fitness < 1e-3
     s = ga.state.strategies[0]
-    assert s.shape == (50,) and np.median(s) < 0.1 * MUTATION["self_adaptive"]().sigma
+    step = s if s.ndim == 1 else s[:, 0]
+    assert len(s) == 50 and np.median(step) < 0.1 * MUTATION["self_adaptive"]().sigma
 
 
 def test_self_adaptive_options_and_errors():
@@ -152,3 +161,128 @@ def test_self_adaptive_kernel_matches_its_oracle(seed):
     want_x, want_s = naive_ga.self_adaptive_mutation(*args, *draws)
     assert np.allclose(out_x, want_x, rtol=0, atol=1e-12) and np.allclose(out_s, want_s)
     assert (out_x >= low).all() and (out_x <= top).all()
+
+
+# -- the portfolio and the differential crossover ------------------------------------------
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_differential_kernel_matches_its_oracle(seed):
+    rng = np.random.default_rng(seed)
+    n, k, p = 12, 9, 5
+    low, high = np.array([-1.0, 0, 0, 2, -5]), np.array([1.0, 1, 3, 4, 5])
+    top = np.nextafter(high, -np.inf)
+    pop = rng.uniform(low, high, (n, p))
+    idx = [rng.integers(0, n, k) for _ in range(4)]
+    u, forced = rng.random((k, p)), rng.integers(0, p, k)
+    out = np.empty((k, p))
+    K.differential_trials(pop, *idx, u, forced, 1.3, 0.6, low, top, out)
+    want = naive_ga.differential_trials(pop, *idx, u, forced, 1.3, 0.6, low, top)
+    assert np.array_equal(out, want)
+    assert (out >= low).all() and (out <= top).all()
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_portfolio_kernel_matches_its_oracle(seed):
+    rng = np.random.default_rng(seed)
+    m, p = 9, 5
+    low, high = np.array([-1.0, 0, 0, 2, -5]), np.array([1.0, 1, 3, 4, 5])
+    top = np.nextafter(high, -np.inf)
+    x = rng.uniform(low, high, (m, p))
+    x[0] = low  # on the bounds
+    x[1] = top
+    strategy = np.stack(
+        [rng.uniform(0.01, 0.3, m), rng.integers(0, 2, m), rng.integers(0, 2, m)], axis=1
+    ).astype(float)
+    draws = [rng.random((m, p)), rng.random((m, p)), rng.standard_normal(m)]
+    draws += [rng.standard_normal((m, p)), rng.random((m, p)), rng.random((2, m)) < 0.3]
+    args = (x, low, high, top, strategy, 0.4, 1e-6, 0.25, 0.3, 20.0)
+    out_x, out_s = np.empty((m, p)), np.empty((m, 3))
+    K.portfolio_mutation(*args, *draws, out_x, out_s)
+    want_x, want_s = naive_ga.portfolio_mutation(*args, *draws)
+    assert np.allclose(out_x, want_x, rtol=0, atol=1e-12) and np.allclose(out_s, want_s)
+    assert (out_x >= low).all() and (out_x <= top).all()
+    assert set(out_s[:, 1]) <= {0.0, 1.0} and set(out_s[:, 2]) <= {0.0, 1.0}
+
+
+def test_differential_trials_take_genes_from_the_donor_or_the_target():
+    g = Genome([Real("x", -100.0, 100.0, size=8)])
+    rng = np.random.default_rng(0)
+    pop = rng.uniform(-1, 1, (30, 8))
+    ia, ib = np.arange(10), np.arange(10, 20)
+    op = CROSSOVER["differential"](share=1.0, cr=0.5, f=0.5)
+    kids = op.cross_pairs(pop, ia, ib, 20, np.random.default_rng(3), g)
+    again = op.cross_pairs(pop, ia, ib, 20, np.random.default_rng(3), g)
+    assert np.array_equal(kids, again)
+    base = np.concatenate([pop[ia], pop[ib]])
+    target = np.concatenate([pop[ib], pop[ia]])
+    from_target = kids == target
+    # at least one gene from the donor; about cr of them
+    assert (~from_target).any(axis=1).all()
+    assert 0.4 < (~from_target).mean() < 0.7
+    # a donor gene is base + f (x_r1 - x_r2): within f * (spread of pop) of the base
+    d = np.abs(kids - base)[~from_target]
+    assert d.max() <= 0.5 * 2.0 + 1e-12
+    # choice picks the trials; the others are SBX children of the same pairs
+    choice = np.zeros(20, bool)
+    choice[:5] = True
+    mixed = op.cross_pairs(pop, ia, ib, 20, np.random.default_rng(3), g, choice=choice)
+    sbx_only = CROSSOVER["differential"](share=0.0).cross_pairs(
+        pop, ia, ib, 20, np.random.default_rng(3), g
+    )
+    assert np.array_equal(mixed[5:], sbx_only[5:])
+    assert not np.array_equal(mixed[:5], sbx_only[:5])
+    with pytest.raises(UserInputError, match="differential"):
+        CROSSOVER["differential"](f=0.0)
+
+
+def test_portfolio_moves_switch_and_drive_the_crossover():
+    g = Genome([Real("x", 0.0, 1.0, size=20)])
+    op = MUTATION["portfolio"](polynomial_rate=0.0, switch=0.0, sigma=0.1)
+    s = op.init_strategy(400, g)
+    assert s.shape == (400, 3) and s[:, 1].sum() == 200 and s[:, 2].sum() == 100
+    x0 = np.full((400, 20), 0.5)
+    x, s2 = op(x0.copy(), np.random.default_rng(1), g, s)
+    moved = (x != 0.5).sum(axis=1)
+    iso, coord = s[:, 1] == 1, s[:, 1] == 0
+    assert (moved[iso] == 20).all()  # isotropic: every gene
+    assert moved[coord].mean() < 2.0  # coordinate-wise: 1/p of them on average
+    # the same step length: per moved gene sqrt(p) times larger along the axes
+    assert 2.5 < np.abs(x - 0.5)[coord][x[coord] != 0.5].std() / np.abs(x - 0.5)[iso].std() < 8
+    assert np.array_equal(s2[:, 1:], s[:, 1:])  # switch 0: moves and crossovers kept
+    flip = MUTATION["portfolio"](switch=1.0)(x0.copy(), np.random.default_rng(1), g, s)[1]
+    assert np.array_equal(flip[:, 1:], 1.0 - s[:, 1:])
+    assert np.array_equal(op.crossover_choice(s), s[:, 2] == 1.0)
+    # in a GA, children of DE crossers are DE trials: with only DE crossers and
+    # coordinate movers, no SBX child and (without polynomial steps) few genes differ
+    # from both parents
+    ga = GA(g, sphere, population=20, maximize=False, seed=0, mutation=op)
+    assert type(ga.operators.crossover).name == "differential"
+    for bad in ({"switch": 2.0}, {"differential_share": -1.0}):
+        with pytest.raises(UserInputError, match="portfolio"):
+            MUTATION["portfolio"](**bad)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_portfolio_shares_follow_success(seed):
+    # a rotated ellipsoid rewards differential trials: their share grows from 1/4
+    # (measured 0.62, 0.58, 0.60 for seeds 0-2)
+    q = np.linalg.qr(np.random.default_rng(5).normal(size=(10, 10)))[0]
+    w = 10.0 ** (6 * np.arange(10) / 9)
+
+    def ellipsoid(x):
+        y = x @ q.T
+        return (w * y * y).sum(axis=1)
+
+    ga = GA(R10, ellipsoid, population=50, maximize=False, seed=seed)
+    ga.run(evaluations=4000)
+    assert ga.state.strategies[0][:, 2].mean() > 0.4
+
+
+def test_portfolio_checkpoint_resume_and_islands(tmp_path):
+    kw = dict(population=12, maximize=False, seed=4, islands=2, migration_interval=2)
+    full = GA(R10, sphere, **kw).run(generations=8)
+    ck = tmp_path / "ck.npz"
+    GA(R10, sphere, **kw).run(generations=4, checkpoint=ck)
+    resumed = GA(R10, sphere, **kw).run(generations=8, checkpoint=ck, resume=True)
+    cols = [c for c in full.history.columns if c != "seconds"]
+    assert full.history[cols].equals(resumed.history[cols])
+    assert full.best.fitness == resumed.best.fitness

@@ -4,9 +4,10 @@ A call ``op(a, b, rng, genome) -> (c1, c2)`` takes the parents ``a``, ``b`` (``(
 raw genomes: uint8 bits or float64 reals) and returns two ``(m, L)`` arrays of children.
 ``rate`` is the probability that a pair is crossed at all (otherwise the children are
 copies of the parents). Cut-point and uniform operators work on any coding; ``mean``,
-``blend`` and ``sbx`` need a real genome. Cut-point crossovers run in the numba kernel
-``cut_crossover``; uniform crossover in ``word_crossover``, which spends one random bit
-(not one random float) per gene.
+``blend``, ``sbx`` and ``differential`` need a real genome. Cut-point crossovers run in
+the numba kernel ``cut_crossover``; uniform crossover in ``word_crossover``, which spends
+one random bit (not one random float) per gene; ``differential`` also reads the
+population (:meth:`Differential.cross_pairs`, through :meth:`Operators.mate`).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ __all__ = [
     "SBX",
     "Blend",
     "Crossover",
+    "Differential",
     "Mean",
     "NPoint",
     "OnePoint",
@@ -372,8 +374,110 @@ class SBX(Crossover):
         return c1, c2
 
 
+class Differential(Crossover):
+    """Differential crossover, the real-coded default: some children are differential-
+    evolution trials (Storn & Price, "Differential evolution: a simple and efficient
+    heuristic for global optimization over continuous spaces"), the others SBX children.
+
+    Children come as in :meth:`Operators.mate`: first the first children of the pairs
+    ``(a, b)``, then the second children, made from ``(b, a)``. The child of ``(a, b)``
+    is a DE trial when chosen: ``b`` with each gene, with probability ``cr`` (and at
+    least one gene), taken from the donor ``a + f (x_r1 - x_r2)``, where ``x_r1``,
+    ``x_r2`` are two random members of the population (the pairs themselves when called
+    without one), clipped to the bounds. Difference vectors follow the population's
+    spread and orientation, so the step shrinks as it converges and points along its
+    valleys, which coordinate-wise SBX cannot do on rotated problems. Which children are
+    trials: those whose ``a`` carries the DE choice of a self-adaptive ``portfolio``
+    mutation (see :class:`~growsim.ga.mutation.Portfolio`), else each with probability
+    ``share``. The others are SBX children (``eta``, ``gene_rate``; pairs crossed with
+    probability ``rate``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from growsim.ga import Genome, Real
+    >>> g = Genome([Real("x", 0, 1, size=4)])
+    >>> pop = np.random.default_rng(0).random((10, 4))
+    >>> op = Differential(share=1.0)
+    >>> kids = op.cross_pairs(pop, np.arange(3), np.arange(3, 6), 5, np.random.default_rng(1), g)
+    >>> kids.shape, bool(((kids >= 0) & (kids < 1)).all())
+    ((5, 4), True)
+    """
+
+    name = "differential"
+    kinds = ("real",)
+    #: :meth:`Operators.mate` hands :meth:`cross_pairs` the mutation's per-child choice
+    takes_choice = True
+
+    def __init__(
+        self,
+        f: float = 0.5,
+        cr: float = 0.9,
+        share: float = 0.5,
+        eta: float = 15.0,
+        gene_rate: float = 0.5,
+        rate: float = 0.9,
+    ):
+        super().__init__(rate)
+        if not 0.0 < float(f) <= 2.0:
+            raise UserInputError(f"crossover 'differential': f must be in (0, 2], got {f}")
+        self.f = float(f)
+        self.cr = _check_prob(self.name, "cr", cr)
+        self.share = _check_prob(self.name, "share", share)
+        self.eta = float(eta)
+        self.gene_rate = _check_prob(self.name, "gene_rate", gene_rate)
+        self._sbx = SBX(eta=eta, gene_rate=gene_rate, rate=rate)
+
+    def __repr__(self) -> str:
+        opts = ", ".join(f"{a}={v!r}" for a, v in vars(self).items() if not a.startswith("_"))
+        return f"{type(self).__name__}({opts})"
+
+    def _trials(self, pool, base, target, rng, genome):
+        """DE trials ``(k, p)``: rows ``target`` of ``pool`` with genes from ``base + f
+        (x_r1 - x_r2)`` (``base``, ``target``: ``(k,)`` row indices; one numba pass)."""
+        k, p = base.shape[0], pool.shape[1]
+        r = rng.integers(0, pool.shape[0], size=(2, k))
+        u = rng.random((k, p))
+        forced = rng.integers(0, p, size=k)  # at least one gene from the donor
+        out = np.empty((k, p))
+        K.differential_trials(
+            np.ascontiguousarray(pool, dtype=np.float64), base, target, r[0], r[1], u,
+            forced, self.f, self.cr, genome.low, np.nextafter(genome.high, -np.inf), out,
+        )  # fmt: skip
+        return out
+
+    def cross_pairs(self, pop, ia, ib, n_off, rng, genome, choice=None):
+        """The ``n_off`` children of the pairs ``(pop[ia], pop[ib])`` (first children,
+        then second children), difference vectors drawn from ``pop``; ``choice``
+        ``(n_off,)`` bool: which are DE trials (None: each with probability ``share``)."""
+        a, b = pop[ia], pop[ib]
+        c1, c2 = self._sbx(a, b, rng, genome)
+        kids = np.concatenate([c1, c2])[:n_off]
+        de = rng.random(n_off) < self.share if choice is None else np.asarray(choice, bool)
+        if de.any():
+            base = np.concatenate([ia, ib])[:n_off][de].astype(np.int64)
+            target = np.concatenate([ib, ia])[:n_off][de].astype(np.int64)
+            kids[de] = self._trials(pop, base, target, rng, genome)
+        return kids
+
+    def _cross(self, a, b, rng, genome):
+        c1, c2 = self._sbx._cross(a, b, rng, genome)
+        m = a.shape[0]
+        de = rng.random(2 * m) < self.share
+        if de.any():
+            pool = np.concatenate([a, b])
+            kids = np.concatenate([c1, c2])
+            rows = np.arange(2 * m, dtype=np.int64)
+            kids[de] = self._trials(pool, rows[de], ((rows + m) % (2 * m))[de], rng, genome)
+            c1, c2 = kids[:m], kids[m:]
+        return c1, c2
+
+
 #: name -> crossover class (construct with the options, e.g. ``CROSSOVER["sbx"](eta=10)``)
 CROSSOVER: Registry[type[Crossover]] = Registry(
     "crossover operator",
-    {c.name: c for c in (OnePoint, TwoPoint, NPoint, Uniform, Switch, Mean, Blend, SBX)},
+    {
+        c.name: c
+        for c in (OnePoint, TwoPoint, NPoint, Uniform, Switch, Mean, Blend, SBX, Differential)
+    },
 )

@@ -97,17 +97,26 @@ class Operators:
     def mate(self, pop, strategy, parents_a, parents_b, n_off: int, genome, rng) -> tuple:
         """Crossover + mutation of the pairs ``(pop[parents_a], pop[parents_b])`` ->
         ``n_off`` children ``(n_off, L)`` and their strategies (each child gets its
-        first parent's; None without self-adaptation)."""
+        first parent's; None without self-adaptation). A crossover with ``takes_choice``
+        gets the mutation's ``crossover_choice`` of the children's strategies."""
+        strat = None
+        if strategy is not None:
+            strat = np.concatenate([strategy[parents_a], strategy[parents_b]])[:n_off]
         fast = getattr(self.crossover, "cross_pairs", None)
-        kids = None if fast is None else fast(pop, parents_a, parents_b, n_off, rng, genome)
+        if fast is None:
+            kids = None
+        elif getattr(self.crossover, "takes_choice", False):
+            # the mutation's per-child choice of crossover (a Portfolio's), if it makes one
+            choose = getattr(self.mutation, "crossover_choice", None)
+            choice = None if choose is None else choose(strat)
+            kids = fast(pop, parents_a, parents_b, n_off, rng, genome, choice=choice)
+        else:
+            kids = fast(pop, parents_a, parents_b, n_off, rng, genome)
         if kids is None:
             c1, c2 = self.crossover(pop[parents_a], pop[parents_b], rng, genome)
             # first children, then second children (one contiguous copy; interleaving them
             # with np.stack cost 0.2 ms more per generation at 1000 x 1000 bits)
             kids = np.concatenate([c1, c2])[:n_off]
-        strat = None
-        if strategy is not None:
-            strat = np.concatenate([strategy[parents_a], strategy[parents_b]])[:n_off]
         if getattr(self.mutation, "self_adaptive", False):
             kids, strat = self.mutation(kids, rng, genome, strat)
         else:

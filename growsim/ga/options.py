@@ -41,7 +41,8 @@ __all__ = ["DEFAULT_MODEL", "DEFAULT_OPERATORS", "GA_OPTIONS_CONFIG", "GAOptions
 #: default operators per genome kind, chosen by ``benchmarks/bbob.py`` (reals) and its bit
 #: suite (bits); see docs/ga.md. Before issue 15 the reals' were a tournament of 4, SBX
 #: (eta 15) and polynomial mutation under the generational model: configs that relied on
-#: them name them.
+#: them name them. The reals' first issue-15 defaults (SBX eta 15 + "self_adaptive") are
+#: named the same way: ``crossover="sbx", mutation="self_adaptive"``.
 DEFAULT_OPERATORS = {
     "bits": {
         "selection": ("tournament", {"size": 4}),
@@ -50,8 +51,8 @@ DEFAULT_OPERATORS = {
     },
     "real": {
         "selection": ("tournament", {"size": 4}),
-        "crossover": ("sbx", {"eta": 15.0}),
-        "mutation": ("self_adaptive", {}),
+        "crossover": ("differential", {}),
+        "mutation": ("portfolio", {}),
     },
 }
 #: default generation model per genome kind (``GAOptions(model=None)``)
@@ -79,7 +80,8 @@ class GAOptions:
     :data:`~growsim.ga.CROSSOVER`, :data:`~growsim.ga.MUTATION`) with their options, or
     operator instances (without options); None takes the defaults of the genome's kind
     (:data:`DEFAULT_OPERATORS`: bits: tournament of 4, uniform crossover, bit-flip 1/L;
-    reals: tournament of 4, SBX eta 15, self-adaptive Gaussian mutation), and options
+    reals: tournament of 4, the differential crossover (DE trials or SBX) and the
+    self-adaptive portfolio mutation), and options
     given with None override the defaults' options. ``model=None`` likewise takes the
     coding's default (:data:`DEFAULT_MODEL`: bits generational, reals mu+lambda).
 
@@ -216,7 +218,7 @@ class GAOptions:
         Examples
         --------
         >>> GAOptions(crossover_options={"eta": 5}).operator("crossover", "real")
-        ('sbx', {'eta': 5})
+        ('differential', {'eta': 5})
         """
         spec, options = getattr(self, role), getattr(self, f"{role}_options")
         if spec is None:

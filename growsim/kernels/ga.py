@@ -283,6 +283,35 @@ def sbx(a, b, low, high, top, eta, gene_rate, r_act, r_u, r_flip, c1, c2):
 
 
 @njit
+def differential_trials(pop, base, target, r1, r2, u, forced, f, cr, low, top, out):
+    """Differential-evolution trials into ``out`` ``(k, p)``: row ``j`` is
+    ``pop[target[j]]`` with gene ``t`` taken from the donor ``pop[base[j]] + f
+    (pop[r1[j]] - pop[r2[j]])`` where ``u[j, t] < cr`` or ``t == forced[j]``, clipped to
+    ``[low, top]``. ``pop`` ``(n, p)``; index arrays ``(k,)``; ``u`` ``(k, p)`` uniforms.
+    """
+    k, p = out.shape
+    for j in range(k):
+        for t in range(p):
+            if u[j, t] < cr or t == forced[j]:
+                v = pop[base[j], t] + f * (pop[r1[j], t] - pop[r2[j], t])
+            else:
+                v = pop[target[j], t]
+            out[j, t] = min(max(v, low[t]), top[t])
+
+
+@njit(inline="always")
+def _polynomial_gene(v, lo, hi, top, span, u, e):
+    """Deb's bounded polynomial step of one gene ``v`` in ``[lo, hi]`` (``e`` = eta + 1)."""
+    if u < 0.5:
+        b = 2.0 * u + (1.0 - 2.0 * u) * (1.0 - (v - lo) / span) ** e
+        dq = b ** (1.0 / e) - 1.0
+    else:
+        b = 2.0 * (1.0 - u) + 2.0 * (u - 0.5) * (1.0 - (hi - v) / span) ** e
+        dq = 1.0 - b ** (1.0 / e)
+    return min(max(v + dq * span, lo), top)
+
+
+@njit
 def self_adaptive_mutation(
     x, low, high, top, strategy, tau, min_sigma, max_sigma, poly_rate, poly_eta, gauss_rate,
     r_hit, r_u, z_tau, z, r_gauss, out_x, out_s,
@@ -306,14 +335,51 @@ def self_adaptive_mutation(
             v = x[i, t]
             span = high[t] - low[t]
             if r_hit[i, t] < poly_rate and span > 0.0:
-                u = r_u[i, t]
-                if u < 0.5:
-                    b = 2.0 * u + (1.0 - 2.0 * u) * (1.0 - (v - low[t]) / span) ** e
-                    dq = b ** (1.0 / e) - 1.0
-                else:
-                    b = 2.0 * (1.0 - u) + 2.0 * (u - 0.5) * (1.0 - (high[t] - v) / span) ** e
-                    dq = 1.0 - b ** (1.0 / e)
-                v = min(max(v + dq * span, low[t]), top[t])
+                v = _polynomial_gene(v, low[t], high[t], top[t], span, r_u[i, t], e)
             if r_gauss[i, t] < gauss_rate:
                 v += z[i, t] * s * span * root
+            out_x[i, t] = min(max(v, low[t]), top[t])
+
+
+@njit
+def portfolio_mutation(
+    x, low, high, top, strategy, tau, min_sigma, max_sigma, poly_rate, poly_eta,
+    r_hit, r_u, z_tau, z, r_axis, flip, out_x, out_s,
+):  # fmt: skip
+    """The portfolio mutation of ``x`` ``(m, p)`` into ``out_x``, ``out_s`` ``(m, 3)``.
+
+    ``strategy`` ``(m, 3)``: step, move (1 isotropic, 0 coordinate-wise), crossover.
+    Per child ``i``: the move and the crossover switch where ``flip[0, i]``,
+    ``flip[1, i]``; the polynomial step and the step size as
+    :func:`self_adaptive_mutation`; then an isotropic mover adds ``z[i, t] s (high - low)
+    / sqrt(p)`` to every gene, a coordinate mover ``(z[i, t] sqrt(p)) s (high - low) /
+    sqrt(p)`` (the same length along fewer axes) to the genes with ``r_axis[i, t] < 1 /
+    p``; clipped to ``[low, top]``. ``flip``: ``(2, m)`` bool; other draws as shaped.
+    """
+    m, p = x.shape
+    e = poly_eta + 1.0
+    root = 1.0 / np.sqrt(p)
+    sqrtp = np.sqrt(p)
+    axis = 1.0 / p
+    for i in range(m):
+        move = strategy[i, 1]
+        if flip[0, i]:
+            move = 1.0 - move
+        cross = strategy[i, 2]
+        if flip[1, i]:
+            cross = 1.0 - cross
+        s = strategy[i, 0] * np.exp(tau * z_tau[i])
+        s = min(max(s, min_sigma), max_sigma)
+        out_s[i, 0] = s
+        out_s[i, 1] = move
+        out_s[i, 2] = cross
+        for t in range(p):
+            v = x[i, t]
+            span = high[t] - low[t]
+            if r_hit[i, t] < poly_rate and span > 0.0:
+                v = _polynomial_gene(v, low[t], high[t], top[t], span, r_u[i, t], e)
+            if move != 0.0:
+                v += z[i, t] * s * span * root
+            elif r_axis[i, t] < axis:
+                v += (z[i, t] * sqrtp) * s * span * root
             out_x[i, t] = min(max(v, low[t]), top[t])

@@ -121,3 +121,36 @@ def self_adaptive_mutation(
     s = np.clip(strategy * np.exp(tau * z_tau), min_sigma, max_sigma)
     y = np.where(r_gauss < gauss_rate, y + z * s[:, None] * span / np.sqrt(p), y)
     return np.clip(y, low, top), s
+
+
+def portfolio_mutation(
+    x, low, high, top, strategy, tau, min_sigma, max_sigma, poly_rate, poly_eta,
+    r_hit, r_u, z_tau, z, r_axis, flip,
+):  # fmt: skip
+    """Per child, in Python: switch the move and crossover, then the polynomial and
+    Gaussian steps of :func:`self_adaptive_mutation` with the move's genes and lengths."""
+    m, p = x.shape
+    out_x = np.empty((m, p))
+    out_s = np.empty((m, 3))
+    for i in range(m):
+        move = 1.0 - strategy[i, 1] if flip[0, i] else strategy[i, 1]
+        cross = 1.0 - strategy[i, 2] if flip[1, i] else strategy[i, 2]
+        iso = move == 1.0
+        hits = np.ones(p) * 0.0 if iso else np.where(r_axis[i] < 1.0 / p, 0.0, 1.0)
+        zi = z[i] if iso else z[i] * np.sqrt(p)
+        y, s = self_adaptive_mutation(
+            x[i : i + 1], low, high, top, strategy[i : i + 1, 0], tau, min_sigma, max_sigma,
+            poly_rate, poly_eta, 0.5, r_hit[i : i + 1], r_u[i : i + 1], z_tau[i : i + 1],
+            zi[None, :], hits[None, :],
+        )  # fmt: skip
+        out_x[i] = y[0]
+        out_s[i] = (s[0], move, cross)
+    return out_x, out_s
+
+
+def differential_trials(pop, base, target, r1, r2, u, forced, f, cr, low, top):
+    """Vectorised: the donors, the genes taken from them, clipped."""
+    donor = pop[base] + f * (pop[r1] - pop[r2])
+    take = u < cr
+    take[np.arange(len(base)), forced] = True
+    return np.clip(np.where(take, donor, pop[target]), low, top)
