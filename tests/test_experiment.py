@@ -589,3 +589,25 @@ def test_the_lock_file_is_removed_when_the_run_ends(tiny_run, tmp_path):
     with rd.lock():  # and the directory can be locked again
         pass
     assert sorted(p.name for p in (tmp_path / "l").iterdir()) == []
+
+
+def test_evaluations_run_on_one_blas_thread(monkeypatch):
+    """A multi-threaded BLAS adds a long dot product's parts in another order: every
+    evaluation runs on one BLAS thread, so serial, pool and Dask runs (Dask's workers
+    have one) give the same sums."""
+    from threadpoolctl import threadpool_info
+
+    from growsim.experiment import load_plan
+    from growsim.experiment.fitness import Fitness
+
+    seen = []
+    real = Fitness._evaluate
+
+    def spy(self, x, seeds):
+        seen.extend(i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas")
+        return real(self, x, seeds)
+
+    monkeypatch.setattr(Fitness, "_evaluate", spy)
+    f = load_plan(QUICK, ["model.params.generations=4"]).fitness()
+    f(np.array([[0.8, 80.0, 5.0, 0.2, 8.0, 4.0]]))
+    assert seen and set(seen) == {1}

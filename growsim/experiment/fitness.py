@@ -11,7 +11,34 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["Fitness", "build_fitness"]
+__all__ = ["Fitness", "build_fitness", "one_blas_thread"]
+
+_BLAS = None
+
+
+def one_blas_thread():
+    """A context in which BLAS (numpy's ``@`` and ``dot``) runs on one thread.
+
+    A multi-threaded BLAS splits a long dot product between its threads and adds the parts
+    in another order, so the last bits of a sum depended on how many threads the process
+    had: Dask starts its workers with ``OPENBLAS_NUM_THREADS=1``, a serial run or a forked
+    pool used both cores, and a fit of big trees gave different histories on Dask
+    (11090.317974392958 against ...969). Every evaluation runs in this context, so the
+    same config and seed give the same numbers on every executor.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> with one_blas_thread():
+    ...     float(np.ones(3) @ np.ones(3))
+    3.0
+    """
+    global _BLAS
+    if _BLAS is None:
+        from threadpoolctl import ThreadpoolController
+
+        _BLAS = ThreadpoolController()
+    return _BLAS.limit(limits=1, user_api="blas")
 
 
 class Fitness:
@@ -105,6 +132,10 @@ class Fitness:
         return out
 
     def __call__(self, x: np.ndarray, seeds: np.ndarray | None = None) -> np.ndarray:
+        with one_blas_thread():
+            return self._evaluate(x, seeds)
+
+    def _evaluate(self, x: np.ndarray, seeds: np.ndarray | None) -> np.ndarray:
         full = self.full_params(x)
         n = len(full)
         mseeds = self.model_seeds(full, seeds)
