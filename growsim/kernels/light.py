@@ -24,8 +24,8 @@ a pixel, as silhouettes use, would darken plants of thin twigs (measured in
 The map is read only where it is queried: each plant's query points (segment samples or
 given points) are listed per pixel first, and a bit is set for each such pixel in
 occupancy words by rows and by columns (:func:`shadow_scratch`). A capsule then visits
-only the pixels that hold queries: a small one (its bounding box at most
-``_BOX_PIXELS`` pixels or ``_BOX_RATIO`` times its area) tests the occupied pixels of
+only the pixels that hold queries (:func:`growsim.kernels.capsule.walk_capsule`): a
+small one (its bounding box at most 64 pixels or 3 times its area) tests the occupied pixels of
 its bounding box against its radius; a larger one is walked line by line along its
 shorter extent (rows, or columns for a segment taller than wide) over exactly the
 pixels of each line's chord of the capsule, computed in closed form, masked by the
@@ -58,15 +58,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba.cpython.unsafe.numbers import trailing_zeros
 
+from growsim.kernels.capsule import walk_capsule
 from growsim.kernels.config import njit
-from growsim.kernels.raster import _iceil, _ifloor
-
-#: a capsule is judged over its bounding box (not line by line) when the box holds at most
-#: this many pixels, or at most ``_BOX_RATIO`` times the capsule's area
-_BOX_PIXELS = 64
-_BOX_RATIO = 3.0
 
 __all__ = [
     "map_depth_kernel",
@@ -153,182 +147,6 @@ def project_segment(start, end, k, u, v, d, ox, oy, inv):
     return ax, ay, bx, by, za, zb
 
 
-@njit(inline="always")
-def _setup(ax, ay, bx, by, rr, res):
-    """The walk of a capsule (axis ``a-b`` in pixels, radius ``rr``) along its shorter
-    extent (fewer lines, each a longer chord): ``tr`` (walk columns: x and y are swapped,
-    and so are the pixel's indices),
-    the swapped ends, the radius, the first and last line, ``dx, dy, 1 / L2`` and the
-    body's chord per line (see :func:`_span`)."""
-    tr = abs(by - ay) > abs(bx - ax)
-    if tr:
-        ax, ay = ay, ax
-        bx, by = by, bx
-    r = rr
-    i0 = max(0, _iceil(min(ay, by) - r - 0.5, res))
-    i1 = min(res - 1, _ifloor(max(ay, by) + r - 0.5, res))
-    dx = bx - ax
-    dy = by - ay
-    L2 = dx * dx + dy * dy
-    inv_L2 = 1.0 / L2 if L2 > 0.0 else 0.0
-    # along the shorter extent |dy| <= |dx|: dy = 0 for a level segment or a point
-    slope = dx / dy if dy != 0.0 else 0.0
-    half = r * math.sqrt(L2) / abs(dy) if dy != 0.0 else -1.0
-    # 0 <= t <= 1 on the line e = yc - ay: e dy in [-(x - ax) dx, L2 - (x - ax) dx]
-    cap = -dy / dx if dx != 0.0 else 0.0
-    cap_w = L2 / dx if dx != 0.0 else 0.0
-    return tr, ax, ay, bx, by, r, i0, i1, dx, dy, L2, inv_L2, slope, half, cap, cap_w
-
-
-@njit(inline="always")
-def _span(i, ax, ay, bx, by, r, dx, dy, L2, slope, half, cap, cap_w, res):
-    """Columns ``j0..j1`` of line ``i`` whose centres lie within ``r`` of the axis (the
-    line's chord of the capsule: the union of the two end discs and the body, an interval
-    because the capsule is convex; ``j0 > j1`` when the line misses it). With
-    ``e = yc - ay`` the body is ``|perpendicular| <= r``: ``x in ax + e dx / dy +- r L /
-    |dy|``, and ``0 <= t <= 1``: ``x`` between ``ax - e dy / dx`` and that plus
-    ``L2 / dx`` (for ``dx = 0``: ``0 <= e dy <= L2``)."""
-    yc = i + 0.5
-    r2 = r * r
-    lo = np.inf
-    hi = -np.inf
-    e = yc - ay
-    if e * e <= r2:
-        w = math.sqrt(r2 - e * e)
-        lo = ax - w
-        hi = ax + w
-    f = yc - by
-    if f * f <= r2:
-        w = math.sqrt(r2 - f * f)
-        lo = min(lo, bx - w)
-        hi = max(hi, bx + w)
-    if half >= 0.0:
-        c = ax + e * slope
-        plo = c - half
-        phi = c + half
-        if dx != 0.0:
-            x0 = ax + e * cap
-            x1 = x0 + cap_w
-            plo = max(plo, min(x0, x1))
-            phi = min(phi, max(x0, x1))
-        elif not (0.0 <= e * dy <= L2):
-            plo = np.inf
-        if plo <= phi:
-            lo = min(lo, plo)
-            hi = max(hi, phi)
-    elif L2 > 0.0 and e * e <= r2:  # a level segment: its body spans ax..bx
-        lo = min(lo, ax, bx)
-        hi = max(hi, ax, bx)
-    if not lo <= hi:
-        return 1, 0
-    return max(0, _iceil(lo - 0.5, res)), min(res - 1, _ifloor(hi - 0.5, res))
-
-
-@njit(inline="always")
-def _bits(lo, hi):
-    """The bits ``lo..hi`` (``0 <= lo <= hi <= 63``) of a 64-bit word."""
-    n = hi - lo + 1
-    m = np.uint64(0xFFFFFFFFFFFFFFFF) if n == 64 else (np.uint64(1) << np.uint64(n)) - np.uint64(1)
-    return m << np.uint64(lo)
-
-
-@njit(inline="always")
-def _meet(px, k, z, head, nxt, qz, qown, bias, soft, trans_k, near_z, near_id, expo):
-    """Segment ``k``, at depth ``z`` over pixel ``px`` (which holds queries): hard shadows
-    keep the pixel's nearest depth and segment in ``near_z``/``near_id`` (the first drawn
-    wins a tie, as in a z-buffer); soft ones multiply the ``expo`` of each of the pixel's
-    queries (a list from ``head[px]`` on, through ``nxt``) that belongs to another segment
-    and lies more than ``bias`` behind ``z`` by ``trans_k``."""
-    if soft:
-        q = head[px]
-        while q >= 0:
-            if qown[q] != k and z < qz[q] - bias:
-                expo[q] *= trans_k
-            q = nxt[q]
-    elif z < near_z[px]:
-        near_z[px] = z
-        near_id[px] = k
-
-
-@njit(inline="always")
-def _walk(k, ax, ay, bx, by, za, zb, rr, res, head, occ, nxt, qz, qown, bias, soft, trans_k,
-          near_z, near_id, expo):  # fmt: skip
-    """Rasterise segment ``k`` (pixel coordinates ``a``, ``b``, depths ``za``, ``zb``,
-    radius ``rr`` pixels) and let it meet (:func:`_meet`) the queries of the pixels it
-    covers: those whose centre lies within the radius of the axis. Only pixels holding
-    queries are visited: ``occ`` holds a bit per such pixel, by rows (``W = (res + 63) //
-    64`` words per row) then by columns, and ``head[pixel]`` the pixel's first query,
-    ``nxt[q]`` the next one (-1: no more). A small capsule tests the pixels of its bounding box
-    that hold queries; a larger one is walked line by line along its shorter extent over
-    exactly the columns of each line's chord (closed form, :func:`_span`)."""
-    W = (res + 63) // 64
-    r = rr
-    dx = bx - ax
-    dy = by - ay
-    L2 = dx * dx + dy * dy
-    inv_L2 = 1.0 / L2 if L2 > 0.0 else 0.0
-    i0 = max(0, _iceil(min(ay, by) - r - 0.5, res))
-    i1 = min(res - 1, _ifloor(max(ay, by) + r - 0.5, res))
-    j0 = max(0, _iceil(min(ax, bx) - r - 0.5, res))
-    j1 = min(res - 1, _ifloor(max(ax, bx) + r - 0.5, res))
-    if i0 > i1 or j0 > j1:
-        return
-    box = (i1 - i0 + 1) * (j1 - j0 + 1)
-    if box <= _BOX_PIXELS or box <= _BOX_RATIO * (2.0 * r * math.sqrt(L2) + math.pi * r * r):
-        r2 = r * r
-        for i in range(i0, i1 + 1):
-            yc = i + 0.5
-            e = (yc - ay) * dy
-            for w in range(j0 >> 6, (j1 >> 6) + 1):
-                bits = occ[i * W + w] & _bits(
-                    max(j0, w * 64) - w * 64, min(j1, w * 64 + 63) - w * 64
-                )
-                while bits != 0:
-                    j = w * 64 + trailing_zeros(bits)
-                    bits &= bits - np.uint64(1)
-                    xc = j + 0.5
-                    t = ((xc - ax) * dx + e) * inv_L2
-                    t = min(1.0, max(0.0, t))
-                    px = ax + t * dx - xc
-                    py = ay + t * dy - yc
-                    if px * px + py * py <= r2:
-                        _meet(i * res + j, k, za + t * (zb - za), head, nxt, qz, qown, bias,
-                              soft, trans_k, near_z, near_id, expo)  # fmt: skip
-        return
-    tr, ax, ay, bx, by, r, i0, i1, dx, dy, L2, inv_L2, slope, half, cap, cap_w = _setup(
-        ax, ay, bx, by, rr, res
-    )
-    # lines whose band chord lies within the body's length (0 <= t <= 1 at both its ends):
-    # their chord is the band's, ax + e dx / dy +- half (the end discs lie inside the band)
-    inv_dy = 1.0 / dy if dy != 0.0 else 0.0
-    slack = abs(half * dx * inv_L2)
-    line = 1 if tr else res  # pixel (i, j) of the walk is i * line + j * step
-    step = res if tr else 1
-    lines = res * W if tr else 0  # the line's occupancy words: by columns or by rows
-    for i in range(i0, i1 + 1):
-        te = (i + 0.5 - ay) * inv_dy
-        if dy != 0.0 and slack <= te <= 1.0 - slack:
-            c = ax + (i + 0.5 - ay) * slope
-            j0 = max(0, math.ceil(c - half - 0.5))
-            j1 = min(res - 1, math.floor(c + half - 0.5))
-        else:
-            j0, j1 = _span(i, ax, ay, bx, by, r, dx, dy, L2, slope, half, cap, cap_w, res)
-        if j0 > j1:
-            continue
-        e = (i + 0.5 - ay) * dy
-        for w in range(j0 >> 6, (j1 >> 6) + 1):
-            bits = occ[lines + i * W + w] & _bits(
-                max(j0, w * 64) - w * 64, min(j1, w * 64 + 63) - w * 64
-            )
-            while bits != 0:
-                j = w * 64 + trailing_zeros(bits)
-                bits &= bits - np.uint64(1)
-                t = ((j + 0.5 - ax) * dx + e) * inv_L2
-                t = min(1.0, max(0.0, t))
-                _meet(i * line + j * step, k, za + t * (zb - za), head, nxt, qz, qown, bias,
-                      soft, trans_k, near_z, near_id, expo)  # fmt: skip
-
-
 @njit
 def _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, samples, query,
            query_offsets, own, trans, soft, expo, depth, seg, scratch):  # fmt: skip
@@ -407,8 +225,9 @@ def _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, sampl
         expo_p = expo[q0:q1]
         for k in range(offsets[p], offsets[p + 1]):
             ax, ay, bx, by, za, zb = project_segment(start, end, k, u, v, d, ox, oy, inv)
-            _walk(k, ax, ay, bx, by, za, zb, radius[k] * inv, res, head, occ, nxt, qz, mine,
-                  bias, soft, trans[k] if soft else 1.0, near_z, near_id, expo_p)  # fmt: skip
+            walk_capsule(k, ax, ay, bx, by, za, zb, radius[k] * inv, res, head, occ, nxt, qz,
+                         mine, bias, soft, trans[k] if soft else 1.0, near_z, near_id,
+                         expo_p)  # fmt: skip
         if not soft:
             for i in range(q1 - q0):
                 z, k = (near_z[pix[i]], near_id[pix[i]]) if pix[i] >= 0 else (np.inf, -1)
