@@ -510,6 +510,22 @@ def _ints(text: str) -> list[int]:
     return out
 
 
+def _report(runs, result: dict, out) -> None:
+    """Print ``result`` as JSON; with ``out``, also write ``runs`` to ``out`` (Parquet)
+    and the JSON beside it (``.json``), each atomically."""
+    text = json.dumps(result, indent=1)
+    if out:
+        from growsim.files import atomic_path
+
+        out = Path(out)
+        out.parent.mkdir(parents=True, exist_ok=True)
+        with atomic_path(out) as tmp:
+            runs.to_parquet(tmp)
+        with atomic_path(out.with_suffix(".json")) as tmp:
+            Path(tmp).write_text(text)
+    print(text)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--dims", default="10,20")
@@ -550,17 +566,7 @@ def main(argv=None):
             "budget": args.bit_budget,
             "load_avg_1min": [load0, os.getloadavg()[0]],
         }
-        text = json.dumps({"setup": setup, "problems": summary}, indent=1)
-        if args.out:
-            from growsim.files import atomic_path
-
-            out = Path(args.out)
-            out.parent.mkdir(parents=True, exist_ok=True)
-            with atomic_path(out) as tmp:
-                runs.to_parquet(tmp)
-            with atomic_path(out.with_suffix(".json")) as tmp:
-                Path(tmp).write_text(text)
-        print(text)
+        _report(runs, {"setup": setup, "problems": summary}, args.out)
         return
     algs = [a.strip() for a in args.algorithms.split(",") if a.strip()]
     bad = sorted(set(algs) - set(RUNNERS))
@@ -627,17 +633,7 @@ def main(argv=None):
     }
     if args.quiet:
         result.pop("problems")
-    text = json.dumps(result, indent=1)
-    if args.out:
-        from growsim.files import atomic_path
-
-        out = Path(args.out)
-        out.parent.mkdir(parents=True, exist_ok=True)
-        with atomic_path(out) as tmp:
-            runs.to_parquet(tmp)
-        with atomic_path(out.with_suffix(".json")) as tmp:
-            Path(tmp).write_text(text)
-    print(text)
+    _report(runs, result, args.out)
 
 
 if __name__ == "__main__":
