@@ -530,28 +530,29 @@ def segment_light(
     if samples < 1:
         raise UserInputError(f"{where}: samples must be >= 1, got {samples}")
     normal = data.get("normal")
-    if normal is None:
-        normal = np.zeros((n, 3))
-        use = np.zeros(n, np.bool_)
+    if normal is None:  # no blades: every segment is a cylinder
+        normal = np.empty((0, 3))
+        use = np.empty(0, np.bool_)
     else:
         normal = checked_array(where, "normal", normal, (3,), n)
         norm = np.linalg.norm(normal, axis=1)
         use = norm > 0 if kind is None else (norm > 0) & (kind == LEAF)
         normal = np.ascontiguousarray(normal / np.where(norm > 0, norm, 1.0)[:, None])
     frames = kernels.plant_frames(s, e, r, off, u, v, res)
-    out = np.empty(n)
-    if backend == "moderngl" and shadows == "hard":
-        from growsim.env.shadow_gl import segment_exposure_gl
-
-        out = segment_exposure_gl(s, e, r, off, frames, u, v, d, res, bias, samples)
-    else:
+    if backend == "numba" or shadows == "soft":
         soft = shadows == "soft"
         trans = _transmissions(where, data, transmission, n) if soft else np.empty(0)
-        kernels.segment_exposure_into(
-            s, e, r, off, frames, u, v, d, res, bias, samples, soft, trans, _scratch(res), out
-        )
-    cos = kernels.segment_cosines(s, e, normal, use, d, np.empty(n))
-    out *= cos
+        # exposure x cos x intensity in one pass
+        return kernels.segment_exposure_into(
+            s, e, r, off, frames, u, v, d, res, bias, samples, soft, trans, _scratch(res),
+            np.empty(n), normal, use, intensity,
+        )  # fmt: skip
+    from growsim.env.shadow_gl import segment_exposure_gl
+
+    out = segment_exposure_gl(s, e, r, off, frames, u, v, d, res, bias, samples)
+    if not len(use):
+        use = np.zeros(n, np.bool_)
+    out *= kernels.segment_cosines(s, e, normal, use, d, np.empty(n))
     out *= intensity
     return out
 

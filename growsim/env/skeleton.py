@@ -86,8 +86,8 @@ def skeleton_arrays(skeleton: Any, who: str, *, topology: bool = True) -> dict[s
     """``start``, ``end``, ``radius``, ``parent``, ``kind`` (``None`` when not given) and
     ``data`` (a Plant's per-segment extras, or the mapping itself) of a Plant or a mapping,
     checked: shapes, finite coordinates and radii, radii >= 0, kinds 0 or 1, parents first.
-    ``topology=False`` (a pass that needs no tree, e.g. the light): ``parent`` is not
-    required (``None`` when not given).
+    ``topology=False`` (a pass that needs no tree, e.g. the light): ``parent`` is neither
+    required nor read (``None``).
 
     Examples
     --------
@@ -125,7 +125,7 @@ def skeleton_arrays(skeleton: Any, who: str, *, topology: bool = True) -> dict[s
     radius = checked_array(who, "radius", get("radius"), (), n)
     if n and radius.min() < 0:
         raise UserInputError(f"{who}: radius: segment {int(np.argmin(radius))} is negative")
-    if get("parent") is None:  # only without topology (checked above)
+    if not topology or get("parent") is None:  # not read (checked above when needed)
         parent = None
     else:
         parent = _parents(who, get("parent"), n)

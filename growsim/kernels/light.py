@@ -245,12 +245,18 @@ def _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, sampl
 
 @njit
 def segment_exposure_into(start, end, radius, offsets, frames, u, v, d, res, bias_pixels,
-                          samples, soft, trans, scratch, out):  # fmt: skip
+                          samples, soft, trans, scratch, out, normal=None, use_normal=None,
+                          intensity=1.0):  # fmt: skip
     """:func:`segment_exposure_kernel` (``soft`` False) or
     :func:`soft_segment_exposure_kernel` (``soft`` True, per-segment transmissions
     ``trans``) with the map's scratch given (a :func:`shadow_scratch` of ``res``, left as
     it was given): a caller that lights many plants at one resolution
     (:func:`growsim.env.light.segment_light`) keeps one, whose pages stay mapped.
+
+    With ``normal`` ``(n, 3)`` and ``use_normal`` ``(n,)`` (or both of length 0: no
+    blades), each segment's exposure is multiplied by its Lambert cosine
+    (:func:`segment_cosines`) and by ``intensity`` in the same pass: ``out[s] = (exposure
+    x cos) x intensity``, the light :func:`growsim.env.light.segment_light` returns.
 
     Examples
     --------
@@ -272,6 +278,9 @@ def segment_exposure_into(start, end, radius, offsets, frames, u, v, d, res, bia
         for i in range(samples):
             acc += expo[s * samples + i]
         out[s] = acc / samples
+        if normal is not None:
+            blade = use_normal.shape[0] > 0 and use_normal[s]
+            out[s] = out[s] * _cosine(start, end, normal, blade, d, s) * intensity
     return out
 
 
@@ -547,16 +556,21 @@ def segment_cosines(start, end, normal, use_normal, d, out):
     [1.0, 0.0]
     """
     for s in range(start.shape[0]):
-        if use_normal[s]:
-            out[s] = abs(normal[s, 0] * d[0] + normal[s, 1] * d[1] + normal[s, 2] * d[2])
-            continue
-        ex = end[s, 0] - start[s, 0]
-        ey = end[s, 1] - start[s, 1]
-        ez = end[s, 2] - start[s, 2]
-        L = math.sqrt(ex * ex + ey * ey + ez * ez)
-        if L > 0.0:
-            ad = (ex * d[0] + ey * d[1] + ez * d[2]) / L
-            out[s] = math.sqrt(max(0.0, 1.0 - ad * ad))
-        else:
-            out[s] = 1.0
+        out[s] = _cosine(start, end, normal, use_normal[s], d, s)
     return out
+
+
+@njit(inline="always")
+def _cosine(start, end, normal, blade, d, s):
+    """Segment ``s``'s Lambert cosine (:func:`segment_cosines`; ``blade``: use its
+    ``normal``)."""
+    if blade:
+        return abs(normal[s, 0] * d[0] + normal[s, 1] * d[1] + normal[s, 2] * d[2])
+    ex = end[s, 0] - start[s, 0]
+    ey = end[s, 1] - start[s, 1]
+    ez = end[s, 2] - start[s, 2]
+    L = math.sqrt(ex * ex + ey * ey + ez * ez)
+    if L > 0.0:
+        ad = (ex * d[0] + ey * d[1] + ez * d[2]) / L
+        return math.sqrt(max(0.0, 1.0 - ad * ad))
+    return 1.0
