@@ -13,8 +13,9 @@ ratios and each plant's first break) and water (``growsim.env.water.transport``:
 demands up, shares down; demand 1 per leaf) and light (``growsim.env.light.segment_light``
 on the whole population, light from above, one shadow map per plant: frames, render,
 every segment's midpoint queried, cosines; hard and soft shadows with numba, hard with
-moderngl; best of 3). ``--only crossover``: moderngl's time over numba's for 1, 10 and 100
-plants per call at 256, 512 and 1024 pixels (when moderngl wins).
+moderngl; best of 10 at up to 256 pixels, else 3: a shared machine's noise is
+one-sided). ``--only crossover``: moderngl's time over numba's for 1, 10 and 100 plants
+per call at 256, 512 and 1024 pixels (when moderngl wins).
 """
 
 from __future__ import annotations
@@ -134,7 +135,7 @@ def light(plants, n_plants: int, n_segments: int, resolutions, backends) -> dict
                     lambda s=shadows, b=backend, r=res: segment_light(
                         plants, offsets=offsets, resolution=r, shadows=s, backend=b
                     ),
-                    3,
+                    10 if res <= 256 else 3,
                 )
             except Exception as exc:  # no GL context: say why, keep the other figures
                 row[f"{shadows}_{backend}"] = f"unavailable: {exc}"

@@ -10,6 +10,9 @@
   ``--repeats``, for populations of the demo genomes (2D, 3D) and of genomes drawn at
   random (what a first generation grows); also ``step_wise``, the same plants grown one
   :func:`growsim.models.hormone.grow` at a time (a Plant built after every step).
+- ``breakdown``: where a module-step's time goes (:func:`breakdown`): per module of a
+  grown 2D and 3D demo plant, a whole step, the light (all its passes; the sun's; one sky
+  direction's) and the hormone step alone.
 - ``generation``: one generation of ``--population`` individuals in 3D at the model's
   default number of steps (40), scored by the ``nutrient`` objective through the
   experiment's fitness, serially and on a process pool of 2: random genomes (generation
@@ -89,6 +92,71 @@ def module_steps(env, repeats: int) -> dict:
     return out
 
 
+def breakdown(env, repeats: int, dims: int = 3) -> dict:
+    """Where a module-step's time goes, per module: the demo plant of ``dims`` grown until it
+    holds its cap of modules (or 60 steps), then one more step timed from copies of that
+    state (CPU time, best of ``repeats`` x 50): in full; with every light's weight 0 (no shadow map
+    is drawn: the rest of the step); with the sun alone and with one sky direction alone
+    (their maps' cost: the time over the step without light); and the hormone step alone
+    (:func:`growsim.kernels.hormone.step_kernel`: synthesis, growth, branching)."""
+    from growsim.kernels import hormone as K
+    from growsim.models import hormone
+
+    p = hormone.resolve_params(hormone.PARAMS, hormone.PRESETS[f"demo_{dims}d"])
+    n, s = hormone.seedling(p, env)
+    for _ in range(60):
+        if n >= s["cap"]:
+            break
+        n, _code = K.grow_step(n, *s.values())
+
+    def copy():  # the scratch is shared, as in growth (left as given by every step)
+        return {
+            k: v.copy() if isinstance(v, np.ndarray) and k != "scratch" else v for k, v in s.items()
+        }
+
+    def timed(fn) -> float:  # CPU time: a busy machine's other jobs do not count
+        fn(copy())  # compile
+        best = np.inf
+        for _ in range(repeats):
+            states = [copy() for _ in range(50)]
+            t0 = time.process_time()
+            for x in states:
+                fn(x)
+            best = min(best, (time.process_time() - t0) / 50)
+        return best
+
+    w = s["light_w"]
+
+    def step(weights):
+        def fn(x):
+            x["light_w"] = weights
+            K.grow_step(n, *x.values())
+
+        return fn
+
+    def hormone_step(x):
+        K.step_kernel(n, x["cap"], x["dims"], x["walls"], x["parent"], x["R"], x["length"],
+                      x["radius"], x["nutrient"], x["chlorophyll"], x["lignin"], x["apex"],
+                      x["laterals"], x["hormone"], x["wall_light"], x["met"], x["genes"],
+                      x["c"])  # fmt: skip
+
+    t = {"full": timed(step(w)), "no_light": timed(step(np.zeros_like(w)))}
+    for j in np.flatnonzero(w):
+        t[f"pass_{j}"] = timed(step(np.where(np.arange(len(w)) == j, w, 0.0)))
+    t["hormone_step"] = timed(hormone_step)
+    us = {k: v / n * 1e6 for k, v in t.items()}
+    return {
+        "modules": n,
+        "walls": s["walls"],
+        "light_passes": int(np.count_nonzero(w)),
+        "us_per_module": {k: round(v, 3) for k, v in us.items()},
+        "light_us_per_module": round(us["full"] - us["no_light"], 3),
+        "pass_us_per_module": [  # the sun's, then each sky direction's
+            round(us[f"pass_{j}"] - us["no_light"], 3) for j in np.flatnonzero(w)
+        ],
+    }
+
+
 def generation(population: int) -> dict:
     from concurrent.futures import ProcessPoolExecutor
 
@@ -129,7 +197,7 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--population", type=int, default=10000)
-    ap.add_argument("--only", choices=["module_steps", "generation"])
+    ap.add_argument("--only", choices=["module_steps", "breakdown", "generation"])
     args = ap.parse_args()
     from growsim.env import Environment
 
@@ -138,6 +206,8 @@ def main() -> None:
     load = os.getloadavg()[0]
     if args.only in (None, "module_steps"):
         out["module_steps"] = module_steps(env, args.repeats)
+    if args.only in (None, "breakdown"):
+        out["breakdown"] = {f"{d}d": breakdown(env, args.repeats, d) for d in (2, 3)}
     if args.only in (None, "generation"):
         out["generation"] = generation(args.population)
     out["load_1min"] = [round(load, 2), round(os.getloadavg()[0], 2)]

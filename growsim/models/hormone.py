@@ -53,6 +53,7 @@ __all__ = [
     "genes",
     "grow",
     "population",
+    "seedling",
 ]
 
 NAME = "hormone"
@@ -204,38 +205,66 @@ def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Pla
 
     p = resolve_params(PARAMS, params, where="hormone.")
     env = env if env is not None else Environment()
-    args = environment_args(env)
+    n, s = seedling(p, env)
+    stopped = ""
+    for step in range(int(p["steps"])):
+        n, code = K.grow_step(n, *s.values())
+        if code != K.STOP_NONE:
+            stopped = K.STOPS[code]
+        yield _plant(p, n, s["origin"], s["R"], s["length"], s["radius"], s["parent"],
+                     s["nutrient"], s["chlorophyll"], s["lignin"], s["light"], s["met"],
+                     step + 1, stopped)  # fmt: skip
+        if code in (K.STOP_NAN, K.STOP_BROKEN):
+            return
+
+
+def seedling(p: Mapping[str, float], env) -> tuple[int, dict]:
+    """A new plant's state as :func:`growsim.kernels.hormone.grow_step` takes it: ``(n,
+    state)``, ``n`` its module count (1) and ``state`` the rest of ``grow_step``'s
+    arguments in their order (module arrays of the cap's length, updated in place by each
+    step; the scratch; genes and constants; the environment's settings), so that ``n, code
+    = grow_step(n, *state.values())`` grows it a step. ``p`` are resolved parameters
+    (:func:`growsim.models.base.resolve_params`).
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> n, state = seedling(resolve_params(PARAMS, PRESETS["demo_3d"]), Environment())
+    >>> n, state["hormone"].shape
+    (1, (300, 6, 10))
+    """
     dims = int(p["dims"])
     walls = 2 if dims == 2 else int(p["walls"])
     cap = int(p["max_modules"])
     c = np.array([p[name] for name, _, _ in CONSTANTS])
     g = genes(p)
-    parent = np.empty(cap, np.int64)
-    R = np.empty((cap, 3, 3))
-    origin = np.empty((cap, 3))
-    length, radius, nutrient, chlorophyll, lignin = (np.empty(cap) for _ in range(5))
-    apex = np.empty(cap, np.bool_)
-    laterals = np.empty(cap, np.int64)
-    hormone = np.empty((cap, walls, g.shape[0]))
-    wall_light = np.zeros((cap, walls))
-    met = np.zeros(cap)
-    light = np.zeros(cap)
-    scratch = shadow_scratch(int(env.light.resolution))
-    n = K.new_plant(parent, R, origin, length, radius, nutrient, chlorophyll, lignin, apex,
-                    laterals, hormone, c)  # fmt: skip
-    stopped = ""
-    for step in range(int(p["steps"])):
-        n, code = K.grow_step(
-            n, cap, dims, walls, parent, R, origin, length, radius, nutrient, chlorophyll,
-            lignin, apex, laterals, hormone, wall_light, met, light, scratch, g, c, *args,
-            float(p["strength_young"]),
-        )  # fmt: skip
-        if code != K.STOP_NONE:
-            stopped = K.STOPS[code]
-        yield _plant(p, n, origin, R, length, radius, parent, nutrient, chlorophyll, lignin,
-                     light, met, step + 1, stopped)  # fmt: skip
-        if code in (K.STOP_NAN, K.STOP_BROKEN):
-            return
+    s = {
+        "cap": cap,
+        "dims": dims,
+        "walls": walls,
+        "parent": np.empty(cap, np.int64),
+        "R": np.empty((cap, 3, 3)),
+        "origin": np.empty((cap, 3)),
+        **{k: np.empty(cap) for k in ("length", "radius", "nutrient", "chlorophyll", "lignin")},
+        "apex": np.empty(cap, np.bool_),
+        "laterals": np.empty(cap, np.int64),
+        "hormone": np.empty((cap, walls, g.shape[0])),
+        "wall_light": np.zeros((cap, walls)),
+        "met": np.zeros(cap),
+        "light": np.zeros(cap),
+        "scratch": shadow_scratch(int(env.light.resolution)),
+        "genes": g,
+        "c": c,
+    }
+    names = ("light_dirs", "light_u", "light_v", "light_w", "resolution", "bias", "soft",
+             "transmission", "supply", "resistance", "lift", "g", "density",
+             "leaf_mass_per_area", "strength")  # fmt: skip
+    s.update(zip(names, environment_args(env)))
+    s["strength_young"] = float(p["strength_young"])
+    n = K.new_plant(s["parent"], s["R"], s["origin"], s["length"], s["radius"], s["nutrient"],
+                    s["chlorophyll"], s["lignin"], s["apex"], s["laterals"], s["hormone"],
+                    c)  # fmt: skip
+    return n, s
 
 
 def _plant(p, n, origin, R, length, radius, parent, nutrient, chlorophyll, lignin, light,
