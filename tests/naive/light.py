@@ -28,13 +28,26 @@ def frame(start, end, radius, u, v, res):
     return x.min() - rmax - pix, y.min() - rmax - pix, pix
 
 
-def _nearest_on_segment(p, a, b):
-    """Parameter ``t`` in [0, 1] of the point of segment ``a-b`` (2-D) nearest to ``p``, and
-    the distance."""
-    ab = b - a
-    L2 = float(ab @ ab)
-    t = 0.0 if L2 == 0 else min(1.0, max(0.0, float((p - a) @ ab) / L2))
-    return t, float(np.linalg.norm(a + t * ab - p))
+def _shading(p, own, start, end, radius, u, v, d, bias, grow, slack):
+    """``(n,)`` bool: which segments ``j != own`` shade point ``p`` (see
+    :func:`shadowed`), every segment at once: the point of ``j``'s projected axis nearest
+    to ``p``'s projection (parameter ``t`` in [0, 1]) within ``radius[j] + grow``, and
+    ``j``'s axis there in front of ``p`` by more than the bias (moved by ``slack``)."""
+    q = np.array([p @ u, p @ v])
+    zp = float(p @ d)
+    a = np.stack([start @ u, start @ v], axis=1)
+    ab = np.stack([end @ u, end @ v], axis=1) - a
+    L2 = (ab * ab).sum(axis=1)
+    safe = np.where(L2 > 0, L2, 1.0)
+    t = np.where(L2 > 0, np.clip(((q - a) * ab).sum(axis=1) / safe, 0.0, 1.0), 0.0)
+    dist = np.hypot(*(a + t[:, None] * ab - q).T)
+    za, zb = start @ d, end @ d
+    proj = np.sqrt(L2)
+    cot = np.abs(zb - za) / np.where(proj > 0, proj, 1.0) * (proj > 0)
+    hit = (dist <= radius + grow) & (za + t * (zb - za) < zp - bias + slack * (1.0 + cot))
+    if own >= 0:
+        hit[own] = False
+    return hit
 
 
 def shadowed(p, own, start, end, radius, u, v, d, bias, grow=0.0, slack=0.0):
@@ -42,42 +55,16 @@ def shadowed(p, own, start, end, radius, u, v, d, bias, grow=0.0, slack=0.0):
     is its own). ``grow`` widens every capsule's shadow by that much (world units) and
     ``slack`` (world units per unit of ``cot`` of the occluder's axis with the light, plus
     one) moves the depth test; both 0 give the exact model."""
-    q = np.array([p @ u, p @ v])
-    zp = float(p @ d)
-    for j in range(len(start)):
-        if j == own:
-            continue
-        a = np.array([start[j] @ u, start[j] @ v])
-        b = np.array([end[j] @ u, end[j] @ v])
-        t, dist = _nearest_on_segment(q, a, b)
-        if dist > radius[j] + grow:
-            continue
-        za, zb = float(start[j] @ d), float(end[j] @ d)
-        proj = float(np.linalg.norm(b - a))
-        cot = abs(zb - za) / proj if proj > 0 else 0.0
-        if za + t * (zb - za) < zp - bias + slack * (1.0 + cot):
-            return True
-    return False
+    return bool(_shading(p, own, start, end, radius, u, v, d, bias, grow, slack).any())
 
 
 def transmitted(p, own, start, end, radius, u, v, d, bias, trans, grow=0.0, slack=0.0):
     """Product of ``trans[j]`` over the segments ``j != own`` that shade ``p`` (as
     :func:`shadowed`, each judged on its own, ``grow`` and ``slack`` as there): the soft
     shadow's exposure."""
-    q = np.array([p @ u, p @ v])
-    zp = float(p @ d)
     e = 1.0
-    for j in range(len(start)):
-        if j == own:
-            continue
-        a = np.array([start[j] @ u, start[j] @ v])
-        b = np.array([end[j] @ u, end[j] @ v])
-        t, dist = _nearest_on_segment(q, a, b)
-        za, zb = float(start[j] @ d), float(end[j] @ d)
-        proj = float(np.linalg.norm(b - a))
-        cot = abs(zb - za) / proj if proj > 0 else 0.0
-        if dist <= radius[j] + grow and za + t * (zb - za) < zp - bias + slack * (1.0 + cot):
-            e *= trans[j]
+    for x in trans[_shading(p, own, start, end, radius, u, v, d, bias, grow, slack)]:
+        e *= x
     return e
 
 
