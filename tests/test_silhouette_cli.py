@@ -73,17 +73,18 @@ def test_fit_config_scales_the_budget_and_keeps_the_split(pictures):
 @pytest.mark.slow
 def test_fit_image_budget_split_is_what_runs(pictures, tmp_path):
     """30 % GA, 70 % CMA-ES polish, read back from the run's history (phase column): of
-    4,000 evaluations the GA spends its 1,200 (up to a generation more: it stops at a
-    generation's end), then the polish exactly its 2,800; at 50,000, 15,000 and 35,000."""
+    1,000 evaluations the GA spends its 300 (up to a generation more: it stops at a
+    generation's end), then the polish exactly its 700; at 50,000, 15,000 and 35,000.
+    One size (64 px): the first stage only."""
     out = tmp_path / "fit"
-    args = ["fit-image", *pictures, "--out", str(out), "--evaluations", "4000", "--quiet"]
-    assert main([*args, "--leaves", "fit"]) == 0  # one run (auto: a bare and a leafy one)
+    args = ["fit-image", *pictures, "--out", str(out), "--evaluations", "1000", "--size", "64"]
+    assert main([*args, "--quiet", "--leaves", "fit"]) == 0  # one run (auto: bare and leafy)
     h = pd.read_parquet(out / "history.parquet")
     assert set(h["phase"]) == {"ga", "polish"}
     ga_evaluations = h.loc[h.phase == "ga", "evaluations"].max()
     polish_evaluations = h["evaluations"].max() - ga_evaluations
-    assert 1_200 <= ga_evaluations < 1_200 + 4 * 100  # islands x population
-    assert polish_evaluations == 2_800
+    assert 300 <= ga_evaluations < 300 + 4 * 100  # islands x population
+    assert polish_evaluations == 700
 
 
 @pytest.mark.slow
