@@ -34,6 +34,10 @@ The bar compares growsim with the **better peer** of each problem among ``deap``
         --out benchmarks/results/bbob.parquet
     python benchmarks/bbob.py --functions 1,8,15 --dims 10 --instances 1 --seeds 0  # quick
     python benchmarks/bbob.py --suite bits --seeds 0-4   # the bit suite (below)
+    # runs not used to choose the defaults (seeds 10-13), all three budgets:
+    P=1:10,2:10,3:10,1:11,2:11,3:11,1:12,2:12,3:12,1:13,2:13,3:13
+    python benchmarks/bbob.py --pairs $P --budgets 100,400,1000 \
+        --algorithms growsim,deap,pymoo-ga --out benchmarks/results/bbob_fresh.parquet
 
 ``--pairs 1:0,1:1,2:0`` runs those (instance, seed) pairs instead of instances x seeds.
 ``--suite bits``: OneMax, LeadingOnes, deceptive traps and an NK landscape on 100 bits

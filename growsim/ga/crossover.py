@@ -432,24 +432,32 @@ class Differential(Crossover):
         opts = ", ".join(f"{a}={v!r}" for a, v in vars(self).items() if not a.startswith("_"))
         return f"{type(self).__name__}({opts})"
 
-    def _trials(self, pool, base, target, rng, genome):
+    def _trials(self, pool, base, target, rng, genome, parameters=None):
         """DE trials ``(k, p)``: rows ``target`` of ``pool`` with genes from ``base + f
-        (x_r1 - x_r2)`` (``base``, ``target``: ``(k,)`` row indices; one numba pass)."""
+        (x_r1 - x_r2)`` (``base``, ``target``: ``(k,)`` row indices; ``parameters``: None
+        or ``(k, 2)`` per-trial ``f``, ``cr``, NaN = this crossover's; one numba pass)."""
         k, p = base.shape[0], pool.shape[1]
         r = rng.integers(0, pool.shape[0], size=(2, k))
         u = rng.random((k, p))
         forced = rng.integers(0, p, size=k)  # at least one gene from the donor
+        f = np.full(k, self.f)
+        cr = np.full(k, self.cr)
+        if parameters is not None:
+            f = np.where(np.isnan(parameters[:, 0]), f, parameters[:, 0])
+            cr = np.where(np.isnan(parameters[:, 1]), cr, parameters[:, 1])
         out = np.empty((k, p))
         K.differential_trials(
             np.ascontiguousarray(pool, dtype=np.float64), base, target, r[0], r[1], u,
-            forced, self.f, self.cr, genome.low, np.nextafter(genome.high, -np.inf), out,
+            forced, f, cr, genome.low, np.nextafter(genome.high, -np.inf), out,
         )  # fmt: skip
         return out
 
-    def cross_pairs(self, pop, ia, ib, n_off, rng, genome, choice=None):
+    def cross_pairs(self, pop, ia, ib, n_off, rng, genome, choice=None, parameters=None):
         """The ``n_off`` children of the pairs ``(pop[ia], pop[ib])`` (first children,
         then second children), difference vectors drawn from ``pop``; ``choice``
-        ``(n_off,)`` bool: which are DE trials (None: each with probability ``share``)."""
+        ``(n_off,)`` bool: which are DE trials (None: each with probability ``share``);
+        ``parameters``: None or ``(n_off, 2)`` each child's own ``f``, ``cr`` (NaN: this
+        crossover's), as an adaptive portfolio mutation carries them."""
         a, b = pop[ia], pop[ib]
         c1, c2 = self._sbx(a, b, rng, genome)
         kids = np.concatenate([c1, c2])[:n_off]
@@ -457,7 +465,8 @@ class Differential(Crossover):
         if de.any():
             base = np.concatenate([ia, ib])[:n_off][de].astype(np.int64)
             target = np.concatenate([ib, ia])[:n_off][de].astype(np.int64)
-            kids[de] = self._trials(pop, base, target, rng, genome)
+            par = None if parameters is None else np.asarray(parameters, np.float64)[de]
+            kids[de] = self._trials(pop, base, target, rng, genome, par)
         return kids
 
     def _cross(self, a, b, rng, genome):

@@ -300,7 +300,9 @@ class Portfolio(SelfAdaptiveGaussian):
     numerical optimization", but carried by the individuals, so it is checkpointed with
     them). The first population has a share ``isotropic_share`` of isotropic movers and
     ``differential_share`` of DE crossers (spread evenly, without random draws). Every
-    child first gets the polynomial mutation of ``polynomial_rate`` of its genes.
+    child first gets the polynomial mutation of ``polynomial_rate`` of its genes. With
+    ``f_redraw`` or ``cr_redraw`` > 0 the individuals also carry their DE scale factor and
+    crossover rate, redrawn jDE-style before each crossover (:meth:`inherit`).
 
     Coordinate moves keep a gene that sits on a bound there while others move (the
     linear slope of BBOB f5) and suit separable problems; isotropic moves suit rotated
@@ -321,8 +323,9 @@ class Portfolio(SelfAdaptiveGaussian):
     """
 
     name = "portfolio"
-    #: the strategy's columns: step, move (1 isotropic), crossover (1 differential)
-    STEP, MOVE, CROSS = 0, 1, 2
+    #: the strategy's columns: step, move (1 isotropic), crossover (1 differential), and
+    #: with an adaptive DE the trials' scale factor and crossover rate
+    STEP, MOVE, CROSS, F, CR = 0, 1, 2, 3, 4
 
     def __init__(
         self,
@@ -335,16 +338,26 @@ class Portfolio(SelfAdaptiveGaussian):
         switch: float = 0.1,
         isotropic_share: float = 0.5,
         differential_share: float = 0.25,
+        f_redraw: float = 0.0,
+        cr_redraw: float = 0.0,
     ):
         super().__init__(sigma, tau, None, min_sigma, max_sigma, polynomial_rate, polynomial_eta)
         del self.rate  # every gene (isotropic) or 1/p of them (coordinate-wise)
         self.switch = _rate(self.name, switch, 0.0)
         self.isotropic_share = _rate(self.name, isotropic_share, 0.0)
         self.differential_share = _rate(self.name, differential_share, 0.0)
+        self.f_redraw = _rate(self.name, f_redraw, 0.0)
+        self.cr_redraw = _rate(self.name, cr_redraw, 0.0)
+
+    @property
+    def adaptive_de(self) -> bool:
+        """True when individuals carry their own DE ``f`` and ``cr`` (jDE)."""
+        return self.f_redraw > 0.0 or self.cr_redraw > 0.0
 
     def init_strategy(self, n: int, genome) -> np.ndarray:
         """``(n, 3)`` float64: steps ``sigma``; moves and crossovers spread evenly over
-        the population at their shares (two low-discrepancy sequences)."""
+        the population at their shares (two low-discrepancy sequences). With an adaptive
+        DE ``(n, 5)``: then ``f`` and ``cr``, NaN (the crossover's own) until redrawn."""
         n = int(n)
         i = np.arange(n, dtype=np.float64)
 
@@ -354,11 +367,37 @@ class Portfolio(SelfAdaptiveGaussian):
 
         # the crossovers along a golden-ratio shuffle, so they do not follow the moves
         shuffled = np.argsort(np.argsort((i * 0.6180339887498949) % 1.0, kind="stable"))
-        s = np.empty((n, 3))
+        s = np.empty((n, 5 if self.adaptive_de else 3))
         s[:, self.STEP] = self.sigma
         s[:, self.MOVE] = spread(i, self.isotropic_share)
         s[:, self.CROSS] = spread(shuffled.astype(np.float64), self.differential_share)
+        if self.adaptive_de:
+            s[:, self.F :] = np.nan  # the crossover's own f and cr until redrawn
         return s
+
+    def inherit(self, strategy, rng) -> np.ndarray:
+        """The children's strategies ``(m, c)`` before their crossover: with an adaptive
+        DE (``f_redraw``, ``cr_redraw`` > 0), each child draws a new ``f`` uniform in
+        [0.1, 1] with probability ``f_redraw`` and a new ``cr`` uniform in [0, 1] with
+        probability ``cr_redraw`` (jDE: Brest et al., "Self-adapting control parameters
+        in differential evolution"); the values that made surviving children spread
+        with them. Otherwise ``strategy`` itself, without a random draw."""
+        if not self.adaptive_de or np.ndim(strategy) != 2 or strategy.shape[1] < 5:
+            return strategy
+        m = strategy.shape[0]
+        hit = rng.random((2, m)) < np.array([[self.f_redraw], [self.cr_redraw]])
+        new = rng.random((2, m))
+        out = np.array(strategy, dtype=np.float64)
+        out[:, self.F] = np.where(hit[0], 0.1 + 0.9 * new[0], out[:, self.F])
+        out[:, self.CR] = np.where(hit[1], new[1], out[:, self.CR])
+        return out
+
+    def crossover_parameters(self, strategy) -> np.ndarray | None:
+        """``(m, 2)`` each child's DE ``f`` and ``cr`` (NaN: the crossover's own), or None
+        when the individuals carry none."""
+        if strategy is None or np.ndim(strategy) != 2 or strategy.shape[1] < 5:
+            return None
+        return np.asarray(strategy)[:, self.F :]
 
     def crossover_choice(self, strategy) -> np.ndarray | None:
         """``(m,)`` bool: which children of parents with ``strategy`` ``(m, 3)`` are DE
@@ -380,7 +419,7 @@ class Portfolio(SelfAdaptiveGaussian):
         r_axis = rng.random((m, p))
         flip = rng.random((2, m)) < self.switch
         out_x = np.empty((m, p))
-        out_s = np.empty((m, 3))
+        out_s = np.empty((m, strategy.shape[1]))
         # one numba pass (the NumPy steps it replaces cost ~0.1 ms per generation at
         # population 20)
         K.portfolio_mutation(

@@ -98,7 +98,8 @@ class Operators:
         """Crossover + mutation of the pairs ``(pop[parents_a], pop[parents_b])`` ->
         ``n_off`` children ``(n_off, L)`` and their strategies (each child gets its
         first parent's; None without self-adaptation). A crossover with ``takes_choice``
-        gets the mutation's ``crossover_choice`` of the children's strategies."""
+        gets the mutation's ``crossover_choice`` of the children's strategies and, if the
+        mutation has them, their ``crossover_parameters`` (after its ``inherit``)."""
         strat = None
         if strategy is not None:
             strat = np.concatenate([strategy[parents_a], strategy[parents_b]])[:n_off]
@@ -106,10 +107,18 @@ class Operators:
         if fast is None:
             kids = None
         elif getattr(self.crossover, "takes_choice", False):
-            # the mutation's per-child choice of crossover (a Portfolio's), if it makes one
+            # the mutation's per-child choice of crossover and its parameters (an adaptive
+            # Portfolio's), if it makes them; the children's inherited values may be
+            # redrawn first (jDE), so each child carries the parameters that made it
+            inherit = getattr(self.mutation, "inherit", None)
+            if inherit is not None and strat is not None:
+                strat = inherit(strat, rng)
             choose = getattr(self.mutation, "crossover_choice", None)
             choice = None if choose is None else choose(strat)
-            kids = fast(pop, parents_a, parents_b, n_off, rng, genome, choice=choice)
+            params = getattr(self.mutation, "crossover_parameters", None)
+            par = None if params is None else params(strat)
+            kw = {"choice": choice} if par is None else {"choice": choice, "parameters": par}
+            kids = fast(pop, parents_a, parents_b, n_off, rng, genome, **kw)
         else:
             kids = fast(pop, parents_a, parents_b, n_off, rng, genome)
         if kids is None:

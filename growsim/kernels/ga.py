@@ -285,15 +285,18 @@ def sbx(a, b, low, high, top, eta, gene_rate, r_act, r_u, r_flip, c1, c2):
 @njit
 def differential_trials(pop, base, target, r1, r2, u, forced, f, cr, low, top, out):
     """Differential-evolution trials into ``out`` ``(k, p)``: row ``j`` is
-    ``pop[target[j]]`` with gene ``t`` taken from the donor ``pop[base[j]] + f
-    (pop[r1[j]] - pop[r2[j]])`` where ``u[j, t] < cr`` or ``t == forced[j]``, clipped to
-    ``[low, top]``. ``pop`` ``(n, p)``; index arrays ``(k,)``; ``u`` ``(k, p)`` uniforms.
+    ``pop[target[j]]`` with gene ``t`` taken from the donor ``pop[base[j]] + f[j]
+    (pop[r1[j]] - pop[r2[j]])`` where ``u[j, t] < cr[j]`` or ``t == forced[j]``, clipped to
+    ``[low, top]``. ``pop`` ``(n, p)``; index arrays and ``f``, ``cr`` ``(k,)`` (one scale
+    factor and crossover rate per trial); ``u`` ``(k, p)`` uniforms.
     """
     k, p = out.shape
     for j in range(k):
+        fj = f[j]
+        crj = cr[j]
         for t in range(p):
-            if u[j, t] < cr or t == forced[j]:
-                v = pop[base[j], t] + f * (pop[r1[j], t] - pop[r2[j], t])
+            if u[j, t] < crj or t == forced[j]:
+                v = pop[base[j], t] + fj * (pop[r1[j], t] - pop[r2[j], t])
             else:
                 v = pop[target[j], t]
             out[j, t] = min(max(v, low[t]), top[t])
@@ -346,9 +349,10 @@ def portfolio_mutation(
     x, low, high, top, strategy, tau, min_sigma, max_sigma, poly_rate, poly_eta,
     r_hit, r_u, z_tau, z, r_axis, flip, out_x, out_s,
 ):  # fmt: skip
-    """The portfolio mutation of ``x`` ``(m, p)`` into ``out_x``, ``out_s`` ``(m, 3)``.
+    """The portfolio mutation of ``x`` ``(m, p)`` into ``out_x``, ``out_s`` ``(m, c)``.
 
-    ``strategy`` ``(m, 3)``: step, move (1 isotropic, 0 coordinate-wise), crossover.
+    ``strategy`` ``(m, c)``: step, move (1 isotropic, 0 coordinate-wise), crossover, then
+    ``c - 3`` columns copied unchanged (the DE parameters of an adaptive portfolio).
     Per child ``i``: the move and the crossover switch where ``flip[0, i]``,
     ``flip[1, i]``; the polynomial step and the step size as
     :func:`self_adaptive_mutation`; then an isotropic mover adds ``z[i, t] s (high - low)
@@ -373,6 +377,8 @@ def portfolio_mutation(
         out_s[i, 0] = s
         out_s[i, 1] = move
         out_s[i, 2] = cross
+        for c in range(3, strategy.shape[1]):
+            out_s[i, c] = strategy[i, c]
         for t in range(p):
             v = x[i, t]
             span = high[t] - low[t]

@@ -131,7 +131,7 @@ def portfolio_mutation(
     Gaussian steps of :func:`self_adaptive_mutation` with the move's genes and lengths."""
     m, p = x.shape
     out_x = np.empty((m, p))
-    out_s = np.empty((m, 3))
+    out_s = np.array(strategy, dtype=np.float64)  # columns past the third are copied
     for i in range(m):
         move = 1.0 - strategy[i, 1] if flip[0, i] else strategy[i, 1]
         cross = 1.0 - strategy[i, 2] if flip[1, i] else strategy[i, 2]
@@ -144,12 +144,15 @@ def portfolio_mutation(
             zi[None, :], hits[None, :],
         )  # fmt: skip
         out_x[i] = y[0]
-        out_s[i] = (s[0], move, cross)
+        out_s[i, :3] = (s[0], move, cross)
     return out_x, out_s
 
 
 def differential_trials(pop, base, target, r1, r2, u, forced, f, cr, low, top):
-    """Vectorised: the donors, the genes taken from them, clipped."""
+    """Vectorised: the donors, the genes taken from them, clipped (``f``, ``cr``: scalars
+    or one per trial)."""
+    f = np.broadcast_to(np.asarray(f, np.float64), base.shape)[:, None]
+    cr = np.broadcast_to(np.asarray(cr, np.float64), base.shape)[:, None]
     donor = pop[base] + f * (pop[r1] - pop[r2])
     take = u < cr
     take[np.arange(len(base)), forced] = True
