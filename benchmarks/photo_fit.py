@@ -7,12 +7,18 @@ that one picture (the picture's own model; coarse to fine, 64 -> 128 -> 256 px; 
 a leafy tree fitted, the better kept, ``--leaves auto``), and the fit's NCC against the
 segmented silhouette at every stage, with seconds, and the picture's own tree scored the
 same way (what a perfect search would reach). ``--extra`` adds the pictures made after the
-segmentation was settled (``EXTRA_PICTURES``, reported apart). Prints JSON.
+segmentation was settled (``EXTRA_PICTURES``, reported apart); ``--arrange``, ``--blur``,
+``--restarts`` are passed to ``fit-image`` (``--arrange 0 --blur 0``: the fit before the
+arrangement search and the blurred score). Prints JSON.
 
     python benchmarks/photo_fit.py --out runs/photo-bench --extra
     python benchmarks/photo_fit.py --extra --figures cherry_leafy docs/images
     python benchmarks/photo_fit.py --extra --segmentation-figure docs/images
     python benchmarks/photo_fit.py --only zelkova_bare --ifs-evaluations 5000
+    python benchmarks/photo_fit.py --out runs/photo-before --extra --arrange 0 --blur 0
+
+``comparison_figure`` draws the fits of two such runs side by side
+(``docs/images/fitting_arrangement.png``).
 """
 
 from __future__ import annotations
@@ -97,6 +103,43 @@ def error_figure(photos, dest, names, height: int = 420) -> Path:
     return path
 
 
+def comparison_figure(fits, before, dest, names) -> Path:
+    """``fitting_arrangement.png`` in ``dest``: for each picture of ``names`` one row of
+    three silhouettes at the final size: the target, the fit of the run in ``before`` (a
+    ``photo_fit.py --out`` directory, e.g. with ``--arrange 0 --blur 0``) and the fit of
+    the run in ``fits``, each with its NCC; cut from the fits' ``silhouettes.png``."""
+    from PIL import Image, ImageDraw
+
+    from growsim.files import atomic_write
+
+    rows = []
+    for name in names:
+        new, old = Path(fits) / "fits" / name, Path(before) / "fits" / name
+        ims = [Image.open(d / "silhouettes.png").convert("RGB") for d in (new, old)]
+        w = ims[0].width // 2
+        ncc = [json.loads((d / "fit.json").read_text())["ncc"] for d in (old, new)]
+        panels = [ims[0].crop((0, 0, w, ims[0].height)), ims[1].crop((w, 0, 2 * w, ims[1].height)),
+                  ims[0].crop((w, 0, 2 * w, ims[0].height))]  # fmt: skip
+        labels = [f"{name}: target", f"before: NCC {ncc[0]:.3f}", f"arranged: NCC {ncc[1]:.3f}"]
+        row = Image.new("RGB", (3 * w + 16, ims[0].height), "white")
+        for k, (panel, label) in enumerate(zip(panels, labels)):
+            row.paste(panel, (k * (w + 8), 0))
+            draw = ImageDraw.Draw(row)
+            draw.rectangle((k * (w + 8), 0, k * (w + 8) + w - 1, 12), fill="white")
+            draw.text((k * (w + 8) + 2, 0), label, fill="black")
+        rows.append(row)
+    sheet = Image.new("RGB", (rows[0].width, sum(r.height for r in rows) + 8 * (len(rows) - 1)),
+                      "white")  # fmt: skip
+    y = 0
+    for r in rows:
+        sheet.paste(r, (0, y))
+        y += r.height + 8
+    sheet = sheet.resize((sheet.width // 2, sheet.height // 2), Image.LANCZOS)
+    path = Path(dest) / "fitting_arrangement.png"
+    atomic_write(path, lambda fh: sheet.save(fh, format="PNG"))
+    return path
+
+
 def main(argv=None) -> int:
     from PIL import Image
 
@@ -117,6 +160,9 @@ def main(argv=None) -> int:
     ap.add_argument("--honda-evaluations", type=int, default=None)
     ap.add_argument("--sizes", default="64,128,256")
     ap.add_argument("--leaves", default="auto", help="fit-image --leaves (default auto)")
+    ap.add_argument("--arrange", default=None, help="fit-image --arrange (default: the model's)")
+    ap.add_argument("--blur", default=None, help="fit-image --blur (default: the model's)")
+    ap.add_argument("--restarts", default=None, help="fit-image --restarts (default: the model's)")
     ap.add_argument(
         "--extra", action="store_true",
         help="also the EXTRA_PICTURES (made after the segmentation was tuned), reported apart",
@@ -155,6 +201,9 @@ def main(argv=None) -> int:
         budget = a.ifs_evaluations if row["model"] == "ifs3d" else a.honda_evaluations
         if budget is not None:
             args += ["--evaluations", str(budget)]
+        for opt in ("arrange", "blur", "restarts"):
+            if getattr(a, opt) is not None:
+                args += [f"--{opt}", getattr(a, opt)]
         code = cli(args)
         fit = json.loads((fit_dir / "fit.json").read_text()) if code == 0 else {}
         results.append(
@@ -164,7 +213,12 @@ def main(argv=None) -> int:
                 "iou": round(iou(seg.tree, truth), 4),
                 "segmentation_seconds": round(seg_seconds, 3),
                 "ncc": fit.get("ncc"),
+                # the NCC at the end of each size (after its arrangement, if any)
                 "ncc_by_size": {str(s["size"]): round(s["ncc"], 4) for s in fit.get("stages", [])},
+                "stages": [
+                    {k: (round(v, 4) if isinstance(v, float) else v) for k, v in st.items()}
+                    for st in fit.get("stages", [])
+                ],
                 "seconds": fit.get("seconds"),
                 "true_tree": true_tree,
                 "seed": fit.get("params", {}).get("seed"),

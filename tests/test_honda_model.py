@@ -300,3 +300,35 @@ def test_develop_output_passes_plant_validation(name):
             assert np.array_equal(a, b)
         for k, arr in t.data.items():
             assert arr.shape[0] == t.n_segments, k
+
+
+def test_draws_override_the_arrangement_only_where_given():
+    """``develop(draws=...)``: the given rows replace the seed's draws of the first
+    branchings, the rest stay the seed's; without it the tree is the seed's, bit for bit."""
+    p = {**honda.PRESETS["zelkova"], "leaves": 2}
+    own = honda.develop(p)
+    d = honda.draws(p)
+    assert d.shape == ((own.n_stems - 1) // 2, N_DRAWS)
+    assert np.array_equal(d, np.random.default_rng(3).random(d.shape))
+    assert np.array_equal(honda.MODEL.draws(p, seed=9), honda.draws({**p, "seed": 9}))
+    # the seed's own draws, or a longer array: the same tree
+    for rows in (d, np.concatenate([d, np.full((5, N_DRAWS), 0.5)])):
+        t = honda.develop(p, draws=rows)
+        assert np.array_equal(t.start, own.start) and np.array_equal(t.end, own.end)
+        assert np.array_equal(t.radius, own.radius)
+    # the kernel with the override's uniforms: the first two rows changed, the rest the seed's
+    new = d.copy()
+    new[:2] = [[0.1, 0.9, 0.5, 0.5, 0.2, 0.8, 0.3, 1.0, 0.0]] * 2
+    t = honda.MODEL.develop(p, draws=new[:2])
+    n, _ = honda.count_topology(p["f"], int(p["generations"]))
+    U = new.copy()
+    U[1, 7] = np.nextafter(1.0, 0.0)  # a 1 read as the largest draw below 1
+    U[0, 7] = np.nextafter(1.0, 0.0)
+    pos = grow_kernel(p["f"], int(p["generations"]), honda._geo(p), U, n + 1)[0]
+    np.testing.assert_array_equal(t.end[: own.n_stems], pos[1:])
+    assert not np.array_equal(t.end[: own.n_stems], own.end[: own.n_stems])
+    assert t.n_stems == own.n_stems and t.n_leaves == own.n_leaves
+    with pytest.raises(UserInputError, match="draws must be an"):
+        honda.develop(p, draws=np.zeros((3, 4)))
+    with pytest.raises(UserInputError, match=r"\[0, 1\]"):
+        honda.develop(p, draws=np.full((1, N_DRAWS), 1.5))

@@ -215,10 +215,24 @@ def test_fit_image_one_photo_coarse_to_fine(photo, tmp_path, capsys):
     out = tmp_path / "fit"
     args = ["fit-image", str(path), "--model", "honda", "--out", str(out), "--quiet"]
     args += ["--evaluations", "200", "--sizes", "32,64", "--refine", "40", "--restarts", "2"]
+    args += ["--arrange", "40", "--blur", "0.7"]
     assert main(args) == 0
     fit = json.loads((out / "fit.json").read_text())
-    assert [s["size"] for s in fit["stages"]] == [32, 64] and fit["size"] == 64
-    assert fit["stages"][1]["ncc"] >= fit["stages"][1]["ncc_start"]
+    stages = [(s["size"], s["stage"]) for s in fit["stages"]]
+    assert stages == [(32, "ga"), (32, "arrange"), (64, "refine"), (64, "arrange")]
+    assert fit["size"] == 64
+    # blurred searches report their score and the binary NCC; the last size is binary
+    st = fit["stages"][1]
+    assert st["score"] >= st["score_start"] and 0.0 < st["ncc"] <= 1.0
+    assert fit["stages"][2]["ncc"] >= fit["stages"][2]["ncc_start"]
+    assert fit["stages"][3]["ncc"] >= fit["stages"][3]["ncc_start"] == fit["stages"][2]["ncc"]
+    # the fitted arrangement regrows the fitted tree
+    draws = np.array(fit["draws"])
+    assert draws.shape[1] == 9
+    tree = honda.develop(fit["params"], draws=draws)
+    obj = SilhouetteObjective(front=str(path), views="front", segmentation="photo", size=64,
+                              line_width="radius")  # fmt: skip
+    assert obj(tree) == pytest.approx(fit["ncc"], abs=1e-12)
     assert 0.3 < fit["ncc"] <= 1.0 and fit["views"] == ["front"]
     for name in ("tree.glb", "silhouettes.png", "silhouette_front.png", "segmentation_front.png",
                  "bare-0/best.json", "bare-0/history.parquet", "leafy-1/best.json"):  # fmt: skip
@@ -237,7 +251,39 @@ def test_fit_image_one_photo_coarse_to_fine(photo, tmp_path, capsys):
     used = np.asarray(Image.open(out / "silhouette_front.png")) < 128
     assert np.array_equal(used, segment_photo(path).tree)  # the silhouette used, as is
     text = capsys.readouterr().out
-    assert "mean NCC" in text and "64 px refine" in text
+    assert "mean NCC" in text and "64 px refine" in text and "64 px arrange" in text
+
+
+def test_arrange_places_the_limbs_where_the_picture_has_them():
+    """The search over Honda's random draws: a tree whose arrangement (seed 7) is not the
+    fit's (seed 3) is matched better, the score never falls, the draws regrow the score;
+    a model without the ``draws`` capability is left as it is; refine holds the draws."""
+    from growsim.experiment import load_plan
+    from growsim.fitting import arrange, exact_score, refine
+
+    small = {"generations": 7, "leaves": 0}
+    cfg = {"model": {"kind": "honda", "preset": "zelkova", "evolve": {"f": [0.9, 1.0]},
+                     "params": small},
+           "objective": [{"kind": "silhouette", "target_model": "honda",
+                          "target_preset": "zelkova", "views": "front", "size": 48,
+                          "line_width": "radius",
+                          "target_params": {**small, "seed": 7}}]}  # fmt: skip
+    plan = load_plan(cfg)
+    x = np.array([0.95])
+    draws, score, start = arrange(plan, x, evaluations=300, seed=1)
+    assert start == pytest.approx(exact_score(plan, x)) and score > start + 0.05
+    assert score == pytest.approx(exact_score(plan, x, draws))
+    # refining with the draws held starts where the arrangement ended
+    _, s2, s2_start = refine(plan, x, evaluations=20, draws=draws)
+    assert s2_start == pytest.approx(score) and s2 >= s2_start
+    # continuing from given draws never ends worse
+    again, s3, s3_start = arrange(plan, x, draws, evaluations=30, seed=2)
+    assert s3_start == pytest.approx(score) and s3 >= score and again.shape == draws.shape
+    ifs = {"model": {"kind": "ifs3d", "preset": "table1", "evolve": {"s_1": True}},
+           "objective": [{"kind": "silhouette", "target_model": "ifs3d",
+                          "target_preset": "table1", "size": 32}]}  # fmt: skip
+    none, s4, s5 = arrange(load_plan(ifs), np.array([0.5]), evaluations=10)
+    assert none is None and s4 == s5
 
 
 def test_fit_image_refuses_a_bad_photo_before_evolving(tmp_path, capsys):
@@ -255,3 +301,13 @@ def test_fit_image_refuses_a_bad_photo_before_evolving(tmp_path, capsys):
     Image.fromarray(mask).save(mpath)
     cfg = fit_config(bad, model="honda", mask_front=mpath)
     assert cfg["objective"][0]["mask_front"] == str(mpath.absolute())
+
+
+def test_fit_image_refuses_bad_arrange_and_blur(photo, tmp_path, capsys):
+    path, _ = photo
+    base = ["fit-image", str(path), "--model", "honda", "--out", str(tmp_path / "x")]
+    assert main([*base, "--arrange", "-1"]) == 2
+    assert "--arrange: at least 0" in capsys.readouterr().err
+    assert main([*base, "--blur", "9"]) == 2  # 18 px at 128 (the next-to-last size)
+    assert "--blur: expected 0 or more pixels, at most 16" in capsys.readouterr().err
+    assert not (tmp_path / "x").exists()

@@ -9,15 +9,21 @@ refinement of the best at each finer size (128, 256 px), so branch structure cou
 ``--leaves auto`` (the default) a bare and a leafy tree are both fitted and the leafy one
 is kept only if clearly better (:data:`LEAF_MARGIN`), so a winter tree is fitted by a bare
 tree; each kind is fitted ``--restarts`` times (GA seeds), the best at the final size
-kept. Every model is one :class:`FitSetup` in :data:`FIT_SETUPS` (its tables, the
-parameters of its leaves and of a bare tree, the views it has, its restarts): adding a
-model is adding an entry. With one picture a 3D model's front view is fitted and its side
-is left free (the silhouette objective's ``views = "front"``).
+kept. For a model with random draws (Honda's ``draws`` capability) the arrangement of the
+branches is fitted too, after the GA and after each refinement (``--arrange``,
+:func:`growsim.fitting.arrange`): a picture's tree never has the model's random
+arrangement. The searches before the last size score views blurred by ``--blur`` pixels
+(partial credit for a branch near its place); every stage reports the binary NCC. Every
+model is one :class:`FitSetup` in :data:`FIT_SETUPS` (its tables, the parameters of its
+leaves and of a bare tree, the views it has, its restarts, its arrangement search and
+blur): adding a model is adding an entry. With one picture a 3D model's front view is
+fitted and its side is left free (the silhouette objective's ``views = "front"``).
 
 Writes into ``--out``: the first stage's run results (``config.toml``, ``history.parquet``,
 ``best.json``, ...; with several fits, one directory each: ``bare-0``, ``leafy-1``, ...),
 ``fit.json`` (every stage of the kept fit: size, evaluations, seconds, NCC; the final
-parameters; ``leaves``: which fit was kept and every fit's final NCC), ``tree.glb`` (the
+parameters and the fitted arrangement, ``draws``; ``leaves``: which fit was kept and every
+fit's final NCC), ``tree.glb`` (the
 fitted tree), ``silhouette_<view>.png`` (the silhouette used, at the picture's size) and
 ``segmentation_<view>.png`` (it over the picture), and ``silhouettes.png`` (target and
 fit, framed, at the final size).
@@ -34,7 +40,16 @@ from pathlib import Path
 import numpy as np
 
 from growsim.errors import UserInputError
-from growsim.fitting import FIT_SETUPS, LEAF_MARGIN, LEAF_MODES, SIZES, fit_config, refine
+from growsim.fitting import (
+    FIT_SETUPS,
+    LEAF_MARGIN,
+    LEAF_MODES,
+    SIZES,
+    arrange,
+    exact_score,
+    fit_config,
+    refine,
+)
 
 __all__ = ["register"]
 
@@ -88,7 +103,8 @@ def register(subparsers) -> None:
         "cut off, no contrast, other objects); --segmentation threshold reads clean "
         "drawings by a grey threshold. The model is fitted coarse to fine (--sizes, default "
         "64,128,256: the GA at the first, a refinement at each next), with its leaves (a "
-        "bare tree is fitted by a bare tree). Writes the run's results, fit.json (NCC and "
+        "bare tree is fitted by a bare tree) and, for Honda, the arrangement of its branches "
+        "(where the limbs go). Writes the run's results, fit.json (NCC and "
         "seconds per stage), tree.glb, the silhouettes used (silhouette_<view>.png, "
         "segmentation_<view>.png) and silhouettes.png (target against fit) into --out.",
     )
@@ -185,6 +201,24 @@ def register(subparsers) -> None:
         "honda 1,000, ifs3d 600)",
     )
     p.add_argument(
+        "--arrange",
+        type=int,
+        default=None,
+        metavar="N",
+        help="evaluations of the search for the arrangement of the branches at each size "
+        "(where the limbs go: the model's random draws fitted to the picture; default: the "
+        "model's, honda 2,000; 0: the model's own random arrangement)",
+    )
+    p.add_argument(
+        "--blur",
+        type=float,
+        default=None,
+        metavar="SIGMA",
+        help="search on views blurred by SIGMA pixels at the first size (scaled with the "
+        "size; partial credit for a branch near its place: helps sparse trees of thin "
+        "twigs), the binary NCC at the last size (default 0: the binary NCC throughout)",
+    )
+    p.add_argument(
         "--seed", type=int, default=0, metavar="N", help="random seed of the run (default 0)"
     )
     p.add_argument(
@@ -225,13 +259,20 @@ def _write_masks(objective, out: Path, pictures: dict) -> list[str]:
     return written
 
 
-def _fit_chain(plan, config, sizes, args, setup, refine_evaluations, out, seed) -> dict:
+def _fit_chain(plan, config, sizes, args, setup, budgets, out, seed) -> dict:
     """One coarse-to-fine fit: the setup's GA on ``plan`` (compiled at ``sizes[0]``), run
-    into ``out``, then a refinement at each finer size (``config(size)``: the fit's config
-    at that size). Returns the last plan, the evolved parameters ``x``, the stages (size,
-    evaluations, seconds, exact NCC) and the run's directory."""
+    into ``out``, then a refinement at each finer size; ``config(size, blur)``: the fit's
+    config at that size, its score blurred by ``blur`` pixels. ``budgets`` ``(refine,
+    arrange, blur)``: the evaluations of each refinement and of the search for the
+    branches' arrangement (:func:`growsim.fitting.arrange`) that follows the GA and each
+    refinement (0: none), and the blur at the first size (scaled with the size; the
+    searches at the last size are on the binary NCC). Returns the last plan
+    (binary NCC), the evolved parameters ``x``, the arrangement ``draws`` (``None``: the
+    model's own), the stages (size, evaluations, seconds, binary NCC) and the run's
+    directory."""
     from growsim.experiment import load_plan, run
 
+    refine_evaluations, arrange_evaluations, blur = budgets
     t0 = time.perf_counter()
     result = run(plan, out=out, workers=args.workers, progress=not args.quiet)
     fitness = plan.fitness()
@@ -242,28 +283,45 @@ def _fit_chain(plan, config, sizes, args, setup, refine_evaluations, out, seed) 
             "stage": "ga",
             "evaluations": int(result.summary["evaluations"]),
             "seconds": round(time.perf_counter() - t0, 3),
-            "ncc": float(result.best_fitness),
+            "ncc": exact_score(plan, x) if blur > 0 else float(result.best_fitness),
         }
     ]
-    for k, size in enumerate(sizes[1:], start=1):
+    if blur > 0:
+        stages[0]["score"] = float(result.best_fitness)
+    draws = None
+    can_arrange = arrange_evaluations > 0 and getattr(plan.model, "draws", None) is not None
+
+    def stage(name, plan, size, k, evaluations, search):
+        nonlocal x, draws
         t = time.perf_counter()
-        fine = load_plan(config(size))
-        x, score, start = refine(
-            fine, x, evaluations=refine_evaluations, sigma=setup.refine_sigma,
-            seed=seed * 1000 + k,
-        )  # fmt: skip
-        stages.append(
-            {
-                "size": size,
-                "stage": "refine",
-                "evaluations": refine_evaluations,
-                "seconds": round(time.perf_counter() - t, 3),
-                "ncc_start": start,
-                "ncc": score,
-            }
-        )
-        plan = fine
-    return {"plan": plan, "x": x, "stages": stages, "out": Path(result.out)}
+        if name == "refine":
+            x, score, start = search(plan, x, evaluations=evaluations, sigma=setup.refine_sigma,
+                                     seed=seed * 1000 + k, draws=draws)  # fmt: skip
+        else:
+            draws, score, start = search(
+                plan, x, draws, evaluations=evaluations, seed=seed * 1000 + 500 + k
+            )
+        row = {"size": size, "stage": name, "evaluations": evaluations}
+        row["seconds"] = round(time.perf_counter() - t, 3)
+        if getattr(plan.objectives[0], "blur", 0.0) > 0:
+            row["score_start"], row["score"] = start, score
+            row["ncc"] = exact_score(plan, x, draws)
+        else:
+            row["ncc_start"], row["ncc"] = start, score
+        stages.append(row)
+
+    last = len(sizes) - 1
+    for k, size in enumerate(sizes):
+        # blurred at every size but the last, whose searches are on the score reported
+        sigma = blur * size / sizes[0] if k < last else 0.0
+        if k > 0:
+            plan = load_plan(config(size, sigma))
+            stage("refine", plan, size, k, refine_evaluations, refine)
+        elif blur > 0 and sigma == 0:  # one size: the GA's score was blurred
+            plan = load_plan(config(size, 0.0))
+        if can_arrange:
+            stage("arrange", plan, size, k, arrange_evaluations, arrange)
+    return {"plan": plan, "x": x, "draws": draws, "stages": stages, "out": Path(result.out)}
 
 
 def _main(args) -> int:
@@ -282,6 +340,16 @@ def _main(args) -> int:
     setup = FIT_SETUPS.get(args.model)
     sizes = (args.size,) if args.size is not None else tuple(args.sizes)
     refine_evaluations = setup.refine if args.refine is None else args.refine
+    arrange_evaluations = setup.arrange if args.arrange is None else args.arrange
+    if arrange_evaluations < 0:
+        raise UserInputError(f"--arrange: at least 0, got {arrange_evaluations}")
+    blur = setup.blur if args.blur is None else args.blur
+    widest = blur * (sizes[-2] if len(sizes) > 1 else sizes[0]) / sizes[0]
+    if not (0.0 <= blur and widest <= 16.0):
+        raise UserInputError(
+            f"--blur: expected 0 or more pixels, at most 16 at the next-to-last size "
+            f"(the blur grows with the size), got {blur:g} ({widest:g} at that size)"
+        )
     options = ("model", "threshold", "polarity", "mask_front", "mask_side", "line_width")
     options += ("evaluations", "segmentation")
     kw = {k: getattr(args, k) for k in options}
@@ -299,11 +367,11 @@ def _main(args) -> int:
     out_dir = Path(args.out)
     t0 = time.perf_counter()
 
-    def config(size, m, seed):
-        return fit_config(args.front, args.side, size=size, leaves=m, seed=seed, **kw)
+    def config(size, m, seed, sigma=0.0):
+        return fit_config(args.front, args.side, size=size, leaves=m, seed=seed, blur=sigma, **kw)
 
     # compiling builds the objective once: bad pictures fail here, before any evolution
-    first = {run_: load_plan(config(sizes[0], *run_)) for run_ in runs}
+    first = {run_: load_plan(config(sizes[0], *run_, blur)) for run_ in runs}
     fits = {}
     for m, seed in runs:
         name = label[m] if m != "keep" else "run"
@@ -311,8 +379,8 @@ def _main(args) -> int:
             name += f"-{seed}"
         run_out = out_dir / name if len(runs) > 1 else out_dir
         fits[m, seed] = _fit_chain(
-            first[m, seed], lambda size, m=m, seed=seed: config(size, m, seed), sizes, args,
-            setup, refine_evaluations, run_out, seed,
+            first[m, seed], lambda size, sigma, m=m, seed=seed: config(size, m, seed, sigma),
+            sizes, args, setup, (refine_evaluations, arrange_evaluations, blur), run_out, seed,
         )  # fmt: skip
     # per kind of tree its best restart at the final size, then bare or leafy
     best = {}
@@ -324,6 +392,7 @@ def _main(args) -> int:
         bare, leafy = best["bare"]["stages"][-1]["ncc"], best["fit"]["stages"][-1]["ncc"]
         chosen = "fit" if leafy > bare + LEAF_MARGIN else "bare"
     plan, x, stages = best[chosen]["plan"], best[chosen]["x"], best[chosen]["stages"]
+    draws = best[chosen]["draws"]
     objective = plan.objectives[0]
     out = Path(best[chosen]["out"]) if len(runs) == 1 else out_dir
     out.mkdir(parents=True, exist_ok=True)
@@ -342,7 +411,13 @@ def _main(args) -> int:
     params = fitness.param_dict(row)
     for n in plan.int_names:
         params[n] = round(params[n])
-    plant = fitness.develop(row, int(fitness.model_seeds(row[None, :], None)[0]))
+    seed = int(fitness.model_seeds(row[None, :], None)[0])
+    if draws is None:
+        plant = fitness.develop(row, seed)
+    else:  # the arrangement fitted to the picture
+        plant = fitness.model.develop(
+            fitness.param_dict(row), seed=seed, env=fitness.env, draws=draws
+        )
     views = objective.view_scores(plant)
     # a 2D model (ifs2d) has no mesh: its picture instead
     shape = "tree.glb" if plant.phenotype == "plant" else "attractor.png"
@@ -369,6 +444,9 @@ def _main(args) -> int:
         "stages": stages,
         "leaves": leaves_summary,
         "params": params,
+        # the arrangement of the branches fitted to the picture (None: the model's own):
+        # model.develop(params, draws=np.array(draws)) grows the fitted tree
+        "draws": None if draws is None else draws.tolist(),
         "files": [shape, "silhouettes.png", *[Path(w).name for w in written]],
     }
     text = json.dumps(jsonable(summary), indent=1)

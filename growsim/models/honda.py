@@ -20,7 +20,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from growsim.errors import ResourceError
+from growsim.errors import ResourceError, UserInputError
 from growsim.kernels.honda import (
     N_DRAWS,
     grow_kernel,
@@ -40,6 +40,7 @@ __all__ = [
     "SAG_MAX_BEND",
     "count_topology",
     "develop",
+    "draws",
     "leaf_bearing",
 ]
 
@@ -171,12 +172,43 @@ def _geo(p: Mapping[str, float]) -> np.ndarray:
     )
 
 
-def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None) -> Plant:
+def _draws_shape(p: Mapping[str, float]) -> tuple[int, int]:
+    n_stems, _ = count_topology(p["f"], int(p["generations"]))
+    return (n_stems - 1) // 2, N_DRAWS
+
+
+def draws(params: Mapping[str, float] | None = None, *, seed=None) -> np.ndarray:
+    """The random draws a tree grows with: ``(n_branchings, N_DRAWS)`` float64 uniforms in
+    ``[0, 1)``, row ``b`` used by the ``b``-th branching in birth order, one column per
+    draw (:data:`growsim.kernels.honda.N_DRAWS`: theta of the continuation and of the
+    lateral, their fall-backs beyond 90 degrees, which child turns which way, the two
+    azimuth turns, the two lengths, spares). What ``params["seed"]`` (or ``seed``) gives;
+    :func:`develop`'s ``draws`` replaces them (the fit chooses the arrangement of a
+    picture's branches this way: ``growsim.fitting.arrange``).
+
+    Examples
+    --------
+    >>> d = draws(PRESETS["zelkova"])
+    >>> d.shape
+    (62, 9)
+    >>> bool((develop(PRESETS["zelkova"], draws=d).end == develop(PRESETS["zelkova"]).end).all())
+    True
+    """
+    p = resolve_params(PARAMS, params, where="honda.")
+    if seed is not None:
+        p["seed"] = Param("seed", 0, 2**63 - 1, 0, kind="int").check(seed, "honda.")
+    return np.random.default_rng(int(p["seed"])).random(_draws_shape(p))
+
+
+def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None, draws=None) -> Plant:
     """Grow one Honda tree.
 
     ``params``: any subset of :data:`PARAMS` (defaults fill the rest; values are checked).
     ``seed``: overrides ``params["seed"]`` when given. ``env`` is unused (the seed's tree
-    has no environment). Returns a :class:`growsim.plant.Plant` whose first
+    has no environment). ``draws``: optional ``(m, N_DRAWS)`` uniforms in ``[0, 1]``
+    replacing the seed's draws of the first ``m`` branchings (the arrangement of the
+    branches: see :func:`draws`; rows beyond the tree's branchings are ignored; without
+    it, the tree is the seed's, bit for bit). Returns a :class:`growsim.plant.Plant` whose first
     ``n_stems`` segments are the stems in the seed's vertex order (segment ``v - 1`` ends
     at vertex ``v``), followed by the leaves (``kind == LEAF``). ``data`` holds
     ``generation``, ``depth``, ``main`` (bool) and ``radius_end``.
@@ -191,6 +223,10 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None) -
     (125, 63, 62)
     >>> develop({"f": 1.0, "generations": 3}).n_stems
     15
+    >>> d = draws(PRESETS["zelkova"])
+    >>> d[0, 5] = 0.9  # the first node's branches turned further round the trunk
+    >>> bool((develop(PRESETS["zelkova"], draws=d).end == develop(PRESETS["zelkova"]).end).all())
+    False
     """
     p = resolve_params(PARAMS, params, where="honda.")
     if seed is not None:
@@ -207,6 +243,8 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None) -
     n_branch = (n_stems - 1) // 2
     rng = np.random.default_rng(int(p["seed"]))
     U = rng.random((n_branch, N_DRAWS))
+    if draws is not None:
+        U = _override(U, draws)
     pos, vpar, depth, order, gen, main, _theta, _phi = grow_kernel(
         float(p["f"]), gens, _geo(p), U, n_stems + 1
     )
@@ -267,6 +305,22 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None) -
     )
 
 
+def _override(U: np.ndarray, given) -> np.ndarray:
+    """``U`` with its first rows replaced by ``given`` (checked: ``(m, N_DRAWS)`` in
+    ``[0, 1]``; a 1 is taken as the largest float below 1, as the seed's draws are)."""
+    given = np.asarray(given, dtype=np.float64)
+    if given.ndim != 2 or given.shape[1] != N_DRAWS:
+        raise UserInputError(
+            f"honda: draws must be an (m, {N_DRAWS}) array, got shape {given.shape}"
+        )
+    if not np.all((given >= 0.0) & (given <= 1.0)):
+        raise UserInputError("honda: draws must lie in [0, 1]")
+    m = min(given.shape[0], U.shape[0])
+    U = U.copy()
+    U[:m] = np.minimum(given[:m], np.nextafter(1.0, 0.0))
+    return U
+
+
 class Honda(Model):
     """Honda's tree under the model contract (:class:`growsim.models.base.Model`):
     :data:`PARAMS`, :data:`PRESETS` and :func:`develop` of this module.
@@ -282,9 +336,13 @@ class Honda(Model):
     params = PARAMS
     presets = PRESETS
 
-    def develop(self, params=None, *, seed=None, env=None) -> Plant:
+    def develop(self, params=None, *, seed=None, env=None, draws=None) -> Plant:
         """See :func:`develop`."""
-        return develop(params, seed=seed, env=env)
+        return develop(params, seed=seed, env=env, draws=draws)
+
+    def draws(self, params=None, *, seed=None) -> np.ndarray:
+        """See :func:`draws` (a capability: ``growsim.fitting.arrange`` fits them)."""
+        return draws(params, seed=seed)
 
 
 #: The registered model (``growsim.models.MODELS["honda"]``).
