@@ -539,22 +539,18 @@ def segment_light(
         use = norm > 0 if kind is None else (norm > 0) & (kind == LEAF)
         normal = np.ascontiguousarray(normal / np.where(norm > 0, norm, 1.0)[:, None])
     frames = kernels.plant_frames(s, e, r, off, u, v, res)
-    if backend == "numba" or shadows == "soft":
+    if backend == "moderngl" and shadows == "hard":
+        from growsim.env.shadow_gl import segment_exposure_gl
+
+        out = segment_exposure_gl(s, e, r, off, frames, u, v, d, res, bias, samples)
+    else:
         soft = shadows == "soft"
         trans = _transmissions(where, data, transmission, n) if soft else np.empty(0)
-        # exposure x cos x intensity in one pass
-        return kernels.segment_exposure_into(
+        out = kernels.segment_exposure_into(
             s, e, r, off, frames, u, v, d, res, bias, samples, soft, trans, _scratch(res),
-            np.empty(n), normal, use, intensity,
+            np.empty(n),
         )  # fmt: skip
-    from growsim.env.shadow_gl import segment_exposure_gl
-
-    out = segment_exposure_gl(s, e, r, off, frames, u, v, d, res, bias, samples)
-    if not len(use):
-        use = np.zeros(n, np.bool_)
-    out *= kernels.segment_cosines(s, e, normal, use, d, np.empty(n))
-    out *= intensity
-    return out
+    return kernels.apply_cosines(s, e, normal, use, d, intensity, out)
 
 
 def point_light(
