@@ -145,15 +145,22 @@ def test_decode_into_a_buffer_and_a_fitness_that_keeps_its_arrays():
     assert all(np.array_equal(x, c) for x, c in zip(kept, copies))
 
 
-@pytest.mark.parametrize("seed", [0, 1, 2])
-def test_self_adaptive_kernel_matches_its_oracle(seed):
-    rng = np.random.default_rng(seed)
-    m, p = 7, 5
+def _box_genomes(rng, m, p):
+    """Bounds ``low, high``, the largest genes inside them ``top`` and ``m`` random genomes
+    in the box ``(m, p)``, the first on the lower bounds and the second on ``top``."""
     low, high = np.array([-1.0, 0, 0, 2, -5]), np.array([1.0, 1, 3, 4, 5])
     top = np.nextafter(high, -np.inf)
     x = rng.uniform(low, high, (m, p))
     x[0] = low  # on the bounds
     x[1] = top
+    return low, high, top, x
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_self_adaptive_kernel_matches_its_oracle(seed):
+    rng = np.random.default_rng(seed)
+    m, p = 7, 5
+    low, high, top, x = _box_genomes(rng, m, p)
     draws = [rng.random((m, p)), rng.random((m, p)), rng.standard_normal(m)]
     draws += [rng.standard_normal((m, p)), rng.random((m, p))]
     args = (x, low, high, top, rng.uniform(0.01, 0.3, m), 0.4, 1e-6, 0.25, 0.3, 20.0, 0.7)
@@ -189,11 +196,7 @@ def test_differential_kernel_matches_its_oracle(seed):
 def test_portfolio_kernel_matches_its_oracle(seed):
     rng = np.random.default_rng(seed)
     m, p = 9, 5
-    low, high = np.array([-1.0, 0, 0, 2, -5]), np.array([1.0, 1, 3, 4, 5])
-    top = np.nextafter(high, -np.inf)
-    x = rng.uniform(low, high, (m, p))
-    x[0] = low  # on the bounds
-    x[1] = top
+    low, high, top, x = _box_genomes(rng, m, p)
     strategy = np.stack(
         [rng.uniform(0.01, 0.3, m), rng.integers(0, 2, m), rng.integers(0, 2, m)], axis=1
     ).astype(float)
