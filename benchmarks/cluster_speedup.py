@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import multiprocessing
 import os
 import tempfile
 import time
@@ -26,6 +27,41 @@ ROOT = Path(__file__).resolve().parents[1]
 QUICK = ROOT / "experiments" / "quickstart.toml"
 
 
+def _timed_alone(job):
+    """Run ``cfg`` serially ``repeat`` times in this (spawned) process after a warm-up run,
+    starting at the wall-clock time ``start``; the GA seconds of each run."""
+    cfg, out, start, repeat = job
+    from growsim.experiment import run
+
+    run(cfg, Path(out) / "warm", progress=False)  # imports, numba cache loads
+    while time.time() < start:
+        time.sleep(0.01)
+    return [
+        run(cfg, Path(out) / f"r{k}", progress=False).summary["ga_seconds"] for k in range(repeat)
+    ]
+
+
+def machine_ceiling(cfg, tmp: Path, repeat: int) -> dict:
+    """The most any 2-worker executor can give on this machine: the same serial run alone
+    in one process, then two copies at once in two processes that share nothing (started
+    together, after their warm-up). ``2 * alone / together`` is the throughput two
+    processes reach when nothing is scheduled, sent or gathered; on a machine whose cores
+    slow each other down (shared caches, memory bandwidth, a host's other tenants) it is
+    below 2."""
+    ctx = multiprocessing.get_context("spawn")
+    with ctx.Pool(1) as pool:
+        alone = pool.map(_timed_alone, [(cfg, tmp / "alone", time.time() + 1, repeat)])[0]
+    with ctx.Pool(2) as pool:
+        start = time.time() + 20  # both warmed up by then
+        both = pool.map(_timed_alone, [(cfg, tmp / f"both{k}", start, repeat) for k in (0, 1)])
+    together = [max(a, b) for a, b in zip(*both)]
+    return {
+        "alone_ga_seconds": alone,
+        "two_at_once_ga_seconds": [list(b) for b in both],
+        "ceiling_2_vs_1": round(2 * min(alone) / min(together), 2),
+    }
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--population", type=int, default=64)
@@ -35,6 +71,9 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=2, help="time each mode N times, keep the min")
     ap.add_argument("--config", type=Path, default=QUICK, help="the experiment (TOML)")
     ap.add_argument("--set", nargs="*", default=[], help="more KEY=VALUE overrides")
+    ap.add_argument(
+        "--ceiling", action="store_true", help="also measure two independent serial runs at once"
+    )
     args = ap.parse_args()
 
     from growsim.experiment import build_fitness, load_config, run
@@ -97,6 +136,7 @@ def main() -> None:
                 )
                 results[f"dask_{n}_warmup"] = round(time.perf_counter() - t0, 3)
                 timed(f"dask_{n}", scheduler=cluster.scheduler_address)
+        ceiling = machine_ceiling(cfg, Path(tmp), args.repeat) if args.ceiling else None
     ref = histories["serial_0"]
     differing = sorted(k for k, h in histories.items() if not h.equals(ref))
     print(
@@ -115,6 +155,7 @@ def main() -> None:
                 "speedup_dask_1_to_2_ga": round(ga_results["dask_1"] / ga_results["dask_2"], 2),
                 "speedup_pool_2_vs_serial": round(results["serial"] / results["pool_2"], 2),
                 "speedup_dask_2_vs_serial": round(results["serial"] / results["dask_2"], 2),
+                "machine_ceiling": ceiling,
                 "identical_histories": not differing,
                 "differing_histories": differing,
                 "cpu_count": os.cpu_count(),

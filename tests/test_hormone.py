@@ -287,3 +287,22 @@ def test_same_plants_serially_in_a_pool_and_on_dask():
     np.testing.assert_array_equal(np.concatenate(parts), serial)
     one = [f(x[i : i + 1])[0] for i in range(3)]  # one plant at a time: the same numbers
     np.testing.assert_array_equal(one, serial[:3])
+
+
+def test_census_counts_the_same_on_a_pool():
+    # why the final population stopped: counted in tasks on the run's executor, summed
+    from types import SimpleNamespace
+
+    from growsim.experiment import load_plan
+    from growsim.experiment.runner import _census
+
+    sets = ["model.params.max_modules=20", "model.params.upkeep=100",
+            'model.evolve={"strength_young"=true}']  # fmt: skip
+    plan = load_plan("experiments/hormone_3d.toml", sets)
+    f = plan.fitness()
+    result = SimpleNamespace(population=np.geomspace(1e3, 1e6, 10)[:, None])
+    serial = _census(f, result, [])
+    assert serial == {"population": 10, "broken": 5, "cap": 5}  # weak plants break
+    warnings: list[str] = []
+    pooled = _census(f, result, warnings, executor=2)
+    assert list(pooled.items()) == list(serial.items()) and not warnings

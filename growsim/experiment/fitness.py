@@ -6,6 +6,7 @@ objective (or an objective's population fast path), weights and sums.
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Sequence
 from typing import Any
 
@@ -34,11 +35,13 @@ def one_blas_thread():
     3.0
     """
     global _BLAS
-    if _BLAS is None:
+    # the BLAS libraries loaded so far, found again after any import (scipy brings its
+    # own OpenBLAS; a controller made before it was loaded would leave it at 2 threads)
+    if _BLAS is None or _BLAS[0] != len(sys.modules):
         from threadpoolctl import ThreadpoolController
 
-        _BLAS = ThreadpoolController()
-    return _BLAS.limit(limits=1, user_api="blas")
+        _BLAS = (len(sys.modules), ThreadpoolController())
+    return _BLAS[1].limit(limits=1, user_api="blas")
 
 
 class Fitness:

@@ -28,6 +28,7 @@ from growsim.experiment.executors import check_executor_args, executor_workers, 
 from growsim.experiment.plan import ExperimentPlan
 from growsim.experiment.schema import Config
 from growsim.files import jsonable
+from growsim.ga.evaluate import open_executor
 
 __all__ = [
     "Progress",
@@ -332,23 +333,56 @@ def _build(plan: ExperimentPlan, executor):
     return fitness, plan.build_ga(fitness, batch_size=batch)
 
 
-def _census(fitness, result, warnings: list[str]) -> dict[str, int]:
-    """Why the final population's individuals stopped growing, for a model with a
-    population path that reports it (the hormone model: ``cap``, ``broken``, ``nan``;
-    ``growing`` for the rest): ``{"population": n, reason: count}``, else ``{}``."""
-    fast = getattr(fitness.model, "population", None)
-    population = getattr(result, "population", None)
-    if fast is None or population is None or not len(population):
-        return {}
-    try:
-        table = fast(fitness.full_params(population), fitness.names, None, env=fitness.env)
-    except Exception as exc:  # a census must not lose the run
-        warnings.append(f"counting the final population's stops failed: {exc}")
-        return {}
+def _stop_counts(fitness, params: np.ndarray) -> dict[str, int]:
+    """``{reason: count}`` of why the plants of ``params`` (full rows) stopped growing, by
+    the model's population path; ``{}`` when it reports no ``stopped`` column."""
+    fast = fitness.model.population
+    table = fast(params, fitness.names, None, env=fitness.env)
     if table is None or "stopped" not in table:
         return {}
     counts = table["stopped"].replace("", "growing").value_counts()
-    return {"population": len(table), **{str(k): int(v) for k, v in counts.items()}}
+    return {str(k): int(v) for k, v in counts.items()}
+
+
+def _census(fitness, result, warnings: list[str], executor=None) -> dict[str, int]:
+    """Why the final population's individuals stopped growing, for a model with a
+    population path that reports it (the hormone model: ``cap``, ``broken``, ``nan``;
+    ``growing`` for the rest): ``{"population": n, reason: count}``, else ``{}``.
+
+    The population is grown again in 4 tasks per worker of ``executor`` (None: serially;
+    an int: a process pool of that size, as the GA's): a census of 10,000 3D plants costs
+    as much as a generation."""
+    population = getattr(result, "population", None)
+    if getattr(fitness.model, "population", None) is None or population is None:
+        return {}
+    if not len(population):
+        return {}
+    try:
+        params = fitness.full_params(population)
+        ex, owned = open_executor(executor)
+        try:
+            if ex is None:
+                parts = [_stop_counts(fitness, params)]
+            else:
+                tasks = min(len(params), 4 * (executor_workers(ex) or 1))
+                futures = [
+                    ex.submit(_stop_counts, fitness, part) for part in np.array_split(params, tasks)
+                ]
+                parts = [f.result() for f in futures]
+        finally:
+            if owned:
+                ex.shutdown(wait=True, cancel_futures=True)
+    except Exception as exc:  # a census must not lose the run
+        warnings.append(f"counting the final population's stops failed: {exc}")
+        return {}
+    if not any(parts):
+        return {}
+    counts: dict[str, int] = {}
+    for part in parts:
+        for k, v in part.items():
+            counts[k] = counts.get(k, 0) + v
+    ordered = sorted(counts.items(), key=lambda kv: (-kv[1], kv[0]))  # most common first
+    return {"population": len(params), **dict(ordered)}
 
 
 def _run_locked(
@@ -427,7 +461,7 @@ def _run_locked(
         "history_seconds": float(history["seconds"].max()) if "seconds" in history else None,
         "stop_reason": str(result.stop_reason),
         "failures": int(history["failures"].sum()) if "failures" in history else 0,
-        "stops": _census(fitness, result, warnings),
+        "stops": _census(fitness, result, warnings, executor),
         "resumed": bool(resume),
         "started": started,
         "finished": time.strftime("%Y-%m-%dT%H:%M:%S%z"),

@@ -23,7 +23,14 @@ import numpy as np
 
 from growsim.errors import UserInputError
 
-__all__ = ["EvalOutcome", "Evaluator", "evaluate_batch", "evaluation_seeds", "wants_seeds"]
+__all__ = [
+    "EvalOutcome",
+    "Evaluator",
+    "evaluate_batch",
+    "evaluation_seeds",
+    "open_executor",
+    "wants_seeds",
+]
 
 log = logging.getLogger("growsim.ga")
 
@@ -144,6 +151,34 @@ def evaluate_batch(fitness, x, seeds, vectorized: bool, with_seeds: bool):
     return values, errors
 
 
+def open_executor(executor) -> tuple[Executor | None, bool]:
+    """``(executor, owned)`` for an executor argument: None (serial) and any
+    ``concurrent.futures.Executor`` pass through (``owned`` False); an int ``n`` starts a
+    local process pool of ``n`` workers that the caller shuts down (``owned`` True).
+
+    Examples
+    --------
+    >>> ex, owned = open_executor(2)
+    >>> ex.submit(sum, [1, 2]).result(), owned
+    (3, True)
+    >>> ex.shutdown()
+    >>> open_executor(None)
+    (None, False)
+    """
+    if executor is None or isinstance(executor, Executor):
+        return executor, False
+    if isinstance(executor, (int, np.integer)) and not isinstance(executor, bool):
+        if executor < 1:
+            raise UserInputError(f"executor: need >= 1 worker processes, got {executor}")
+        from concurrent.futures import ProcessPoolExecutor
+
+        return ProcessPoolExecutor(int(executor)), True
+    raise UserInputError(
+        "executor must be None, a number of processes or a "
+        f"concurrent.futures.Executor, got {executor!r}"
+    )
+
+
 @dataclass
 class EvalOutcome:
     """Fitness values of a population and its failures.
@@ -186,21 +221,7 @@ class Evaluator:
         self.fitness = fitness
         self.vectorized = bool(vectorized)
         self.with_seeds = wants_seeds(fitness)
-        self._own = False
-        if executor is None or isinstance(executor, Executor):
-            self.executor = executor
-        elif isinstance(executor, (int, np.integer)) and not isinstance(executor, bool):
-            if executor < 1:
-                raise UserInputError(f"executor: need >= 1 worker processes, got {executor}")
-            from concurrent.futures import ProcessPoolExecutor
-
-            self.executor = ProcessPoolExecutor(int(executor))
-            self._own = True
-        else:
-            raise UserInputError(
-                "executor must be None, a number of processes or a "
-                f"concurrent.futures.Executor, got {executor!r}"
-            )
+        self.executor, self._own = open_executor(executor)
         if batch_size is not None and (int(batch_size) != batch_size or batch_size < 1):
             raise UserInputError(f"batch_size must be an integer >= 1, got {batch_size}")
         self.batch_size = None if batch_size is None else int(batch_size)
