@@ -124,9 +124,11 @@ def _camera(pl, bounds, size_px: int, eye: float, fov: float) -> float:
     return dist
 
 
-def make_photo(picture: Picture, plant=None, *, size: int = 512):
+def make_photo(picture: Picture, plant=None, *, size: int = 512, supersample: int = 2):
     """Render ``picture`` (its tree, or ``plant``) as a JPEG-compressed ``size x size``
     photo; returns ``(rgb (size, size, 3) uint8, truth (size, size) bool, jpeg bytes)``.
+    Each pixel is the mean of ``supersample x supersample`` samples, and the truth is the
+    pixels at least half covered by them.
 
     Examples
     --------
@@ -149,7 +151,8 @@ def make_photo(picture: Picture, plant=None, *, size: int = 512):
         sel = tris[kind[tris[:, 0]] == value]
         if sel.shape[0]:
             parts.append((pv.PolyData.from_regular_faces(mesh.points, sel), colour))
-    big = 2 * size
+    f = int(supersample)
+    big = f * size
     height = float(mesh.bounds[3])
     # the ground reaches far behind the tree (its far edge is the horizon)
     far = (
@@ -173,12 +176,12 @@ def make_photo(picture: Picture, plant=None, *, size: int = 512):
         pl.add_mesh(mesh, color="black", lighting=False)
         _camera(pl, mesh.bounds, big, picture.eye, picture.fov)
         cover = np.asarray(pl.screenshot(return_img=True))[..., 0] < 128
-    # 2 x 2 box filter: anti-aliased colour, coverage of the tree
-    rgb = colour.reshape(size, 2, size, 2, 3).mean(axis=(1, 3))
+    # box filter: anti-aliased colour, coverage of the tree
+    rgb = colour.reshape(size, f, size, f, 3).mean(axis=(1, 3))
     # a camera's sensor noise (sigma 1.5 of 255), seeded by the picture's name
     rng = np.random.default_rng(sum(picture.name.encode()))
     rgb = np.clip(rgb + rng.normal(0.0, 1.5, rgb.shape), 0, 255)
-    truth = cover.reshape(size, 2, size, 2).mean(axis=(1, 3)) >= 0.5
+    truth = cover.reshape(size, f, size, f).mean(axis=(1, 3)) >= 0.5
     buf = io.BytesIO()
     Image.fromarray(np.round(rgb).astype(np.uint8)).save(
         buf, format="JPEG", quality=picture.quality
