@@ -156,7 +156,7 @@ def save_png(fig, path: Path | None = None) -> bytes:
     from growsim.files import atomic_write
 
     buf = io.BytesIO()
-    fig.savefig(buf, format="png")
+    fig.savefig(buf, format="png", bbox_inches="tight")  # titles of any length kept
     plt.close(fig)
     data = buf.getvalue()
     if path is not None:
