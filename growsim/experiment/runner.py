@@ -350,8 +350,8 @@ def _census(fitness, result, warnings: list[str], executor=None) -> dict[str, in
     ``growing`` for the rest): ``{"population": n, reason: count}``, else ``{}``.
 
     The population is grown again in 4 tasks per worker of ``executor`` (None: serially;
-    an int: a process pool of that size, as the GA's): a census of 10,000 3D plants costs
-    as much as a generation."""
+    an int: a process pool of that size, as the GA's): it costs about as much as one or
+    two generations' evaluations (the final population's plants are the grown ones)."""
     population = getattr(result, "population", None)
     if getattr(fitness.model, "population", None) is None or population is None:
         return {}
