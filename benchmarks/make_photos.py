@@ -3,13 +3,17 @@
 Each picture is a pyvista render of a growsim tree standing on a ground plane under a sky
 (a colour gradient), lit and shaded by pyvista's light kit, seen through a long lens
 (:data:`FOV`, 5 degrees: the tree about 14 of its heights away, as a whole tree is
-photographed to be fitted) with the camera a little above the ground, anti-aliased
-(rendered at twice the size and averaged over 2 x 2 pixels), with a little sensor noise,
-then JPEG-compressed: what a user's photo of a tree against the sky looks like, with the
-ground strip along the bottom. The same camera renders the tree alone (black, unlit, on
-white, no ground) for the true silhouette: the pixels at least half covered by the tree.
+photographed to be fitted) with the camera a little above the ground, anti-aliased as a
+camera's sensor integrates light (rendered at 5 times the size and averaged over 5 x 5
+samples in linear light: :data:`SUPERSAMPLE`, :data:`LINEAR`), with a little sensor
+noise, then JPEG-compressed: what a user's photo of a tree against the sky looks like,
+with the ground strip along the bottom. The same camera renders the tree alone (black,
+unlit, on white, no ground) for the true silhouette: the pixels at least half covered by
+the tree.
 
     python benchmarks/make_photos.py --out runs/photos   # PICTURES and EXTRA_PICTURES
+    python benchmarks/make_photos.py --supersample 2 --mix srgb   # the pictures before
+    python benchmarks/make_photos.py --lens-blur 0.5   # and a lens's blur
 
 :data:`PICTURES` is the benchmark's set (``benchmarks/photo_fit.py``): several species and
 parameter sets of Honda's model and of the IFS tree, bare and leafy, pale bark on a pale
@@ -27,7 +31,20 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["EXTRA_PICTURES", "PICTURES", "Picture", "make_photo", "plant_of", "write_set"]
+__all__ = [
+    "EXTRA_PICTURES",
+    "LINEAR",
+    "PICTURES",
+    "SUPERSAMPLE",
+    "Picture",
+    "add_camera_options",
+    "camera_of",
+    "make_photo",
+    "plant_of",
+    "render",
+    "true_colours",
+    "write_set",
+]
 
 
 #: The camera's vertical view angle, degrees: a long lens from a distance (about a 300 mm
@@ -35,6 +52,14 @@ __all__ = ["EXTRA_PICTURES", "PICTURES", "Picture", "make_photo", "plant_of", "w
 #: photographed to be fitted: nearly orthographic, as the fit's views are. ``fov = 25``
 #: (a normal lens close by) shows the perspective's cost (docs/models/fitting.md).
 FOV = 5.0
+#: The anti-aliasing, as a camera's sensor integrates light: each pixel the mean of
+#: SUPERSAMPLE x SUPERSAMPLE samples, in linear light (LINEAR). Odd, so that no pixel is
+#: covered exactly half (the truth, "covered at least half", is then decided by no tie);
+#: 25 samples, coverage in steps of 0.04. Until issue 16's fourth round the pictures were
+#: made with 2 x 2 samples averaged as sRGB values (``--supersample 2 --mix srgb``: those
+#: pictures bit for bit), whose coverage takes only the levels 0, 1/4, 1/2, 3/4, 1.
+SUPERSAMPLE = 5
+LINEAR = True
 
 
 @dataclass(frozen=True)
@@ -124,35 +149,23 @@ def _camera(pl, bounds, size_px: int, eye: float, fov: float) -> float:
     return dist
 
 
-def make_photo(picture: Picture, plant=None, *, size: int = 512, supersample: int = 2):
-    """Render ``picture`` (its tree, or ``plant``) as a JPEG-compressed ``size x size``
-    photo; returns ``(rgb (size, size, 3) uint8, truth (size, size) bool, jpeg bytes)``.
-    Each pixel is the mean of ``supersample x supersample`` samples, and the truth is the
-    pixels at least half covered by them.
-
-    Examples
-    --------
-    >>> rgb, truth, jpeg = make_photo(PICTURES[0], size=64)  # doctest: +SKIP
-    >>> rgb.shape, truth.dtype  # doctest: +SKIP
-    ((64, 64, 3), dtype('bool'))
-    """
+def _views(picture: Picture, plant, big: int, tree: bool = True):
+    """The scene at ``big x big`` pixels, one sample each: ``(colour (big, big, 3) in [0,
+    255], tree (big, big) bool)``; ``tree=False``: the colour of the scene without the
+    tree (its background)."""
     import pyvista as pv
-    from PIL import Image
 
     from growsim.mesh import plant_mesh
     from growsim.viz import offscreen_plotter
 
-    plant = plant_of(picture) if plant is None else plant
     mesh = plant_mesh(plant, sides=8)
     kind = np.asarray(mesh.point_data["kind"])
     tris = mesh.regular_faces
     parts = []
     for value, colour in ((0, picture.bark), (1, picture.leaf)):
         sel = tris[kind[tris[:, 0]] == value]
-        if sel.shape[0]:
+        if sel.shape[0] and tree:
             parts.append((pv.PolyData.from_regular_faces(mesh.points, sel), colour))
-    f = int(supersample)
-    big = f * size
     height = float(mesh.bounds[3])
     # the ground reaches far behind the tree (its far edge is the horizon)
     far = (
@@ -176,12 +189,99 @@ def make_photo(picture: Picture, plant=None, *, size: int = 512, supersample: in
         pl.add_mesh(mesh, color="black", lighting=False)
         _camera(pl, mesh.bounds, big, picture.eye, picture.fov)
         cover = np.asarray(pl.screenshot(return_img=True))[..., 0] < 128
+    return colour, cover
+
+
+def render(picture: Picture, plant=None, *, size: int = 512, supersample: int = SUPERSAMPLE,
+           blur: float = 0.0, linear: bool = LINEAR):  # fmt: skip
+    """The camera's view of ``picture`` before its sensor: ``(colour (size, size, 3)
+    float64 in [0, 255], coverage (size, size))``, each pixel the mean of ``supersample x
+    supersample`` samples (a box filter; ``coverage``: the share of them on the tree).
+    ``blur`` > 0: a lens blur, a Gaussian of that sigma in pixels on the colour before
+    the box filter (``coverage`` stays the tree's own, unblurred). ``linear``: the samples
+    are averaged in linear light (sRGB decoded, averaged, encoded again), as a camera's
+    sensor integrates light; otherwise their sRGB values are averaged.
+
+    Examples
+    --------
+    >>> colour, cover = render(PICTURES[0], size=64, supersample=4)  # doctest: +SKIP
+    >>> sorted(set(np.unique(cover)) - set(np.arange(17) / 16))  # doctest: +SKIP
+    []
+    """
+    from growsim.photo import linear_to_srgb, srgb_to_linear
+
+    plant = plant_of(picture) if plant is None else plant
+    f = int(supersample)
+    colour, cover = _views(picture, plant, f * size)
+    if linear:
+        colour = srgb_to_linear(colour / 255.0)
+    if blur > 0:
+        from scipy import ndimage
+
+        colour = ndimage.gaussian_filter(colour, (f * blur, f * blur, 0), mode="nearest")
     # box filter: anti-aliased colour, coverage of the tree
     rgb = colour.reshape(size, f, size, f, 3).mean(axis=(1, 3))
+    if linear:
+        rgb = 255.0 * linear_to_srgb(rgb)
+    return rgb, cover.reshape(size, f, size, f).mean(axis=(1, 3))
+
+
+def true_colours(picture: Picture, plant=None, *, size: int = 512,
+                 supersample: int = SUPERSAMPLE, linear: bool = LINEAR):  # fmt: skip
+    """What a segmentation would need to know to unmix each pixel exactly: ``(tree
+    (size, size, 3), background (size, size, 3))``, the mean colour of the samples of each
+    pixel on the tree (a pixel the tree does not touch: the nearest one's) and of the
+    scene without the tree, in ``[0, 1]``, in linear light when ``linear`` (else sRGB
+    values): the mixing space of :func:`render`.
+
+    Examples
+    --------
+    >>> tree, back = true_colours(PICTURES[0], size=64)  # doctest: +SKIP
+    >>> tree.shape, back.shape  # doctest: +SKIP
+    ((64, 64, 3), (64, 64, 3))
+    """
+    from scipy import ndimage
+
+    from growsim.photo import srgb_to_linear
+
+    plant = plant_of(picture) if plant is None else plant
+    f = int(supersample)
+    colour, cover = _views(picture, plant, f * size)
+    back, _ = _views(picture, plant, f * size, tree=False)
+    space = srgb_to_linear if linear else (lambda v: v)
+    colour, back = space(colour / 255.0), space(back / 255.0)
+
+    def box(x):
+        return x.reshape(size, f, size, f, *x.shape[2:]).sum(axis=(1, 3))
+
+    n = box(cover.astype(np.float64))
+    tree = box(colour * cover[..., None]) / np.maximum(n, 1.0)[..., None]
+    _, (ir, ic) = ndimage.distance_transform_edt(n == 0, return_indices=True)
+    return tree[ir, ic], box(back) / (f * f)
+
+
+def make_photo(picture: Picture, plant=None, *, size: int = 512,
+               supersample: int = SUPERSAMPLE, blur: float = 0.0,
+               linear: bool = LINEAR):  # fmt: skip
+    """Render ``picture`` (its tree, or ``plant``) as a JPEG-compressed ``size x size``
+    photo; returns ``(rgb (size, size, 3) uint8, truth (size, size) bool, jpeg bytes)``.
+    Each pixel is the mean of ``supersample x supersample`` samples (:func:`render`, with
+    its lens ``blur``), and the truth is the pixels at least half covered by them.
+
+    Examples
+    --------
+    >>> rgb, truth, jpeg = make_photo(PICTURES[0], size=64)  # doctest: +SKIP
+    >>> rgb.shape, truth.dtype  # doctest: +SKIP
+    ((64, 64, 3), dtype('bool'))
+    """
+    from PIL import Image
+
+    rgb, cover = render(picture, plant, size=size, supersample=supersample, blur=blur,
+                        linear=linear)  # fmt: skip
     # a camera's sensor noise (sigma 1.5 of 255), seeded by the picture's name
     rng = np.random.default_rng(sum(picture.name.encode()))
     rgb = np.clip(rgb + rng.normal(0.0, 1.5, rgb.shape), 0, 255)
-    truth = cover.reshape(size, f, size, f).mean(axis=(1, 3)) >= 0.5
+    truth = cover >= 0.5
     buf = io.BytesIO()
     Image.fromarray(np.round(rgb).astype(np.uint8)).save(
         buf, format="JPEG", quality=picture.quality
@@ -191,9 +291,10 @@ def make_photo(picture: Picture, plant=None, *, size: int = 512, supersample: in
     return rgb8, truth, jpeg
 
 
-def write_set(out, pictures=PICTURES, size: int = 512) -> list[dict]:
+def write_set(out, pictures=PICTURES, size: int = 512, **camera) -> list[dict]:
     """Write each picture as ``<name>.jpg`` and its true silhouette as ``<name>_truth.png``
     into ``out``; returns one dict per picture (name, paths, model, preset, params).
+    ``camera``: :func:`make_photo`'s ``supersample``, ``blur``, ``linear``.
 
     Examples
     --------
@@ -207,7 +308,7 @@ def write_set(out, pictures=PICTURES, size: int = 512) -> list[dict]:
     out.mkdir(parents=True, exist_ok=True)
     rows = []
     for pic in pictures:
-        _, truth, jpeg = make_photo(pic, size=size)
+        _, truth, jpeg = make_photo(pic, size=size, **camera)
         photo = out / f"{pic.name}.jpg"
         atomic_write(photo, lambda fh, b=jpeg: fh.write(b))
         mask = out / f"{pic.name}_truth.png"
@@ -220,14 +321,53 @@ def write_set(out, pictures=PICTURES, size: int = 512) -> list[dict]:
     return rows
 
 
+def add_camera_options(ap: argparse.ArgumentParser) -> None:
+    """The camera's options of the command lines (``--supersample``, ``--mix``,
+    ``--lens-blur``); :func:`camera_of` turns them into :func:`make_photo`'s arguments.
+
+    Examples
+    --------
+    >>> ap = argparse.ArgumentParser(); add_camera_options(ap)
+    >>> a = ap.parse_args([]); (a.supersample, a.mix, a.lens_blur)
+    (5, 'linear', 0.0)
+    """
+    ap.add_argument(
+        "--supersample",
+        type=int,
+        default=SUPERSAMPLE,
+        help=f"anti-aliasing samples per pixel side (default {SUPERSAMPLE})",
+    )
+    ap.add_argument(
+        "--mix",
+        choices=("linear", "srgb"),
+        default="linear" if LINEAR else "srgb",
+        help="average the samples in linear light (a camera) or as sRGB values",
+    )
+    ap.add_argument("--lens-blur", type=float, default=0.0,
+                    help="a Gaussian lens blur of this sigma in pixels (default 0)")  # fmt: skip
+
+
+def camera_of(a) -> dict:
+    """:func:`make_photo`'s camera arguments from :func:`add_camera_options`' options.
+
+    Examples
+    --------
+    >>> ap = argparse.ArgumentParser(); add_camera_options(ap)
+    >>> camera_of(ap.parse_args(["--supersample", "2", "--mix", "srgb"]))
+    {'supersample': 2, 'blur': 0.0, 'linear': False}
+    """
+    return {"supersample": a.supersample, "blur": a.lens_blur, "linear": a.mix == "linear"}
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", default="runs/photos")
     ap.add_argument("--size", type=int, default=512)
     ap.add_argument("--only", nargs="*", default=None, help="picture names")
+    add_camera_options(ap)
     a = ap.parse_args(argv)
     pics = [p for p in PICTURES + EXTRA_PICTURES if a.only is None or p.name in a.only]
-    print(json.dumps(write_set(a.out, pics, a.size), indent=1))
+    print(json.dumps(write_set(a.out, pics, a.size, **camera_of(a)), indent=1))
     return 0
 
 

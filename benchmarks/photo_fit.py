@@ -7,7 +7,8 @@ that one picture (the picture's own model; coarse to fine, 64 -> 128 -> 256 px; 
 a leafy tree fitted, the better kept, ``--leaves auto``), and the fit's NCC against the
 segmented silhouette at every stage, with seconds, and the picture's own tree scored the
 same way (what a perfect search would reach). ``--extra`` adds the pictures made after the
-segmentation was settled (``EXTRA_PICTURES``, reported apart); ``--arrange``, ``--blur``,
+segmentation was settled (``EXTRA_PICTURES``, reported apart); ``--supersample``,
+``--mix``, ``--lens-blur`` set the pictures' camera (``make_photos.py``); ``--arrange``, ``--blur``,
 ``--restarts`` are passed to ``fit-image`` (``--arrange 0 --blur 0``: the fit before the
 arrangement search and the blurred score). Prints JSON.
 
@@ -16,6 +17,7 @@ arrangement search and the blurred score). Prints JSON.
     python benchmarks/photo_fit.py --extra --segmentation-figure docs/images
     python benchmarks/photo_fit.py --only zelkova_bare --ifs-evaluations 5000
     python benchmarks/photo_fit.py --out runs/photo-before --extra --arrange 0 --blur 0
+    python benchmarks/photo_fit.py --extra --segmentation-only --supersample 3 --mix srgb
 
 ``comparison_figure`` draws the fits of two such runs side by side
 (``docs/images/fitting_arrangement.png``).
@@ -34,12 +36,53 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from make_photos import EXTRA_PICTURES, PICTURES, plant_of, write_set
+from make_photos import (
+    EXTRA_PICTURES,
+    PICTURES,
+    add_camera_options,
+    camera_of,
+    make_photo,
+    plant_of,
+    true_colours,
+    write_set,
+)
 
 
 def iou(a: np.ndarray, b: np.ndarray) -> float:
     """Intersection over union of two boolean masks."""
     return float((a & b).sum() / max((a | b).sum(), 1))
+
+
+def segmentation_table(pictures, camera: dict, limit: bool = True) -> dict:
+    """The photo segmentation alone: each picture made with ``camera``
+    (:func:`make_photo`'s ``supersample``, ``blur``, ``linear``), its IoU against the true
+    silhouette, and (``limit``) the IoU of the per-pixel decision at half coverage with
+    the true colours (:func:`true_colours`: each pixel unmixed against the tree's and the
+    background's own colours, so the JPEG's noise and the blur are all that is left);
+    the mean and the least of both, and the segmentation's seconds."""
+    from growsim.photo import segment_photo, srgb_to_linear, unmix
+
+    rows = []
+    for pic in pictures:
+        rgb8, truth, _ = make_photo(pic, **camera)
+        t = time.perf_counter()
+        seg = segment_photo(rgb8 / 255.0, name=pic.name)
+        row = {"picture": pic.name, "iou": round(iou(seg.tree, truth), 4),
+               "seconds": round(time.perf_counter() - t, 3)}  # fmt: skip
+        if limit:
+            tree, back = true_colours(pic, supersample=camera["supersample"],
+                                      linear=camera["linear"])  # fmt: skip
+            seen = srgb_to_linear(rgb8 / 255.0) if camera["linear"] else rgb8 / 255.0
+            best = (unmix(seen, back, tree) >= 0.5) & (np.linalg.norm(tree - back, axis=-1) > 0.03)
+            row["limit"] = round(iou(best, truth), 4)
+        rows.append(row)
+        print(json.dumps(row), file=sys.stderr)
+    out = {"camera": camera, "pictures": rows}
+    for key in ("iou", "limit") if limit else ("iou",):
+        out[f"mean_{key}"] = round(float(np.mean([r[key] for r in rows])), 4)
+        out[f"min_{key}"] = round(float(np.min([r[key] for r in rows])), 4)
+    out["load_average"] = os.getloadavg()
+    return out
 
 
 def figures(fit_dir, dest) -> list[Path]:
@@ -175,11 +218,19 @@ def main(argv=None) -> int:
         "--segmentation-figure", default=None, metavar="DIR",
         help="write photo_segmentation.png (the errors of the two worst segmentations) into DIR",
     )  # fmt: skip
+    ap.add_argument(
+        "--segmentation-only", action="store_true",
+        help="only the segmentation's IoU and its per-pixel limit (no fits, no files)",
+    )  # fmt: skip
+    add_camera_options(ap)
     a = ap.parse_args(argv)  # fmt: skip
     out = Path(a.out)
     ap_pics = PICTURES + (EXTRA_PICTURES if a.extra else ())
     pics = [p for p in ap_pics if a.only is None or p.name in a.only]
-    rows = write_set(out / "photos", pics)
+    if a.segmentation_only:
+        print(json.dumps(segmentation_table(pics, camera_of(a)), indent=1))
+        return 0
+    rows = write_set(out / "photos", pics, **camera_of(a))
     results = []
     for pic, row in zip(pics, rows):
         truth = np.asarray(Image.open(row["truth"])) < 128
@@ -255,6 +306,7 @@ def main(argv=None) -> int:
         "pictures": results,
         **(means(main_set) if main_set else {}),
         "extra": means(extra) if extra else None,
+        "camera": camera_of(a),
         "load_average": os.getloadavg(),
     }
     print(json.dumps(summary, indent=1))

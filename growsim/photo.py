@@ -17,7 +17,14 @@ import numpy as np
 from growsim.errors import UserInputError
 from growsim.images import SPECK, check_silhouette, load_gray, over_white, read_picture
 
-__all__ = ["Segmentation", "load_rgb", "segment_photo"]
+__all__ = [
+    "Segmentation",
+    "linear_to_srgb",
+    "load_rgb",
+    "segment_photo",
+    "srgb_to_linear",
+    "unmix",
+]
 
 # What segment_photo refuses and how it decides. Measured on the benchmark's pictures
 # (benchmarks/make_photos.py: JPEG renders of growsim trees on a ground plane under a sky)
@@ -33,10 +40,9 @@ GROUND_MIN_DE = 10.0
 GROUND_STEP_DE = 8.0
 #: rows either side of the horizon whose pixels may blend sky and ground (anti-aliasing)
 HORIZON_ROWS = 3
-#: the tree/background threshold: this share of the strongest colour difference within a
-#: window of this many pixels (a thin twig's peak pixel is itself only partly covered, so
-#: the share is under a half), and never under NOISE_K times the background's noise nor
-#: MIN_DE
+#: Fully covered pixels (the interior of the tree's thick parts) are found first by local
+#: thresholds on the colour difference: this share of the strongest difference within a
+#: window of this many pixels, never under NOISE_K times the background's noise nor MIN_DE
 LOCAL_WINDOW = 7
 LOCAL_SHARE = 0.3
 #: JPEG compression rings beside a strong edge (up to the far side of its 8 x 8 block):
@@ -45,19 +51,19 @@ LOCAL_SHARE = 0.3
 RINGING = 0.15
 RINGING_WINDOW = 17
 NOISE_K = 5.0
-#: beside a thick part of the tree (pixels fully covered: their whole 3 x 3 neighbourhood
-#: differs from the background) a pixel is tree when it differs by more than this share of
-#: the full difference within LOCAL_WINDOW pixels: a pixel under half covered is not tree
-#: (the 0.3 of a thin twig's own, partly covered, peak would take it)
+#: beside a thick part (pixels whose whole 3 x 3 neighbourhood differs from the
+#: background) a pixel differing by less than this share of the full difference within
+#: LOCAL_WINDOW pixels is background
 THICK_SHARE = 0.4
 #: pieces of foreground this many pixels or less from the tree join it (a twig broken by
 #: a pixel as pale as the sky), before the bounding-box rule
 GAP = 2
-#: the edge of a thick part: a pixel up to this many pixels from the nearest fully
-#: covered one is also tree when its colour is at least half way from its background's
-#: to that pixel's (linear unmixing: at least half covered), even under the thresholds
-#: above (a pale rim beside dark leaves, a shaded edge)
+#: every pixel's coverage by linear unmixing in linear light: the tree's colour at a pixel
+#: is the nearest fully covered pixel's up to this many pixels from it, the median of
+#: the fully covered pixels beyond (thin twigs); a pixel is tree when covered at least
+#: half (COVERAGE), as the true silhouette is defined
 UNMIX_REACH = 3.0
+COVERAGE = 0.5
 MIN_DE = 10.0
 #: refused: the sky's colour varies more than this (robust sigma, Delta E) around a smooth
 #: gradient: not a plain sky (clutter, clouds, a wall with texture)
@@ -95,9 +101,11 @@ class Segmentation:
     """What :func:`segment_photo` found: ``tree`` ``(H, W)`` bool (the silhouette),
     ``ground`` ``(H, W)`` bool, ``horizon`` (the first row of the ground band, ``None``
     without ground), ``distance`` ``(H, W)`` (each pixel's colour difference from its
-    background, Delta E), ``threshold`` (the least one taken as tree, Delta E),
-    ``sky_noise`` (robust sigma of the sky around its smooth model, Delta E) and
-    ``contrast`` (the tree's median difference from its background, Delta E)."""
+    background, Delta E), ``threshold`` (the least one a fully covered pixel has, Delta E),
+    ``sky_noise`` (robust sigma of the sky around its smooth model, Delta E),
+    ``contrast`` (the tree's median difference from its background, Delta E) and
+    ``coverage`` ``(H, W)`` (each pixel's estimated share covered by the tree, by linear
+    unmixing; ``tree`` is where it is at least :data:`COVERAGE`, before connectivity)."""
 
     tree: np.ndarray
     ground: np.ndarray
@@ -106,6 +114,7 @@ class Segmentation:
     threshold: float
     sky_noise: float
     contrast: float
+    coverage: np.ndarray | None = None
 
     def describe(self) -> str:
         """One line: what was found (for messages and logs)."""
@@ -114,6 +123,50 @@ class Segmentation:
             f"photo segmentation: {ground}, sky noise {self.sky_noise:.1f}, tree/background "
             f"threshold {self.threshold:.1f}, contrast {self.contrast:.1f} (Delta E)"
         )
+
+
+def srgb_to_linear(v):
+    """sRGB values in ``[0, 1]`` to linear light (IEC 61966-2-1), where colours mix as
+    light does: a pixel a camera sees half covered by a branch has the mean of the
+    branch's and the sky's linear colours, not of their sRGB values.
+
+    Examples
+    --------
+    >>> round(float(srgb_to_linear(0.5)), 4), float(srgb_to_linear(1.0))
+    (0.214, 1.0)
+    """
+    v = np.clip(np.asarray(v, dtype=np.float64), 0.0, 1.0)
+    return np.where(v <= 0.04045, v / 12.92, ((v + 0.055) / 1.055) ** 2.4)
+
+
+def linear_to_srgb(v):
+    """Linear light in ``[0, 1]`` to sRGB values, the inverse of :func:`srgb_to_linear`.
+
+    Examples
+    --------
+    >>> round(float(linear_to_srgb(srgb_to_linear(0.3))), 6)
+    0.3
+    """
+    v = np.clip(np.asarray(v, dtype=np.float64), 0.0, 1.0)
+    return np.where(v <= 0.0031308, 12.92 * v, 1.055 * v ** (1 / 2.4) - 0.055)
+
+
+def unmix(colour, background, tree) -> np.ndarray:
+    """Linear unmixing: the share ``a`` of each pixel covered by the tree, from
+    ``colour = background + a (tree - background)`` (least squares over the channels);
+    ``(H, W, C)`` arrays in one colour space (linear light for a camera's picture).
+
+    Examples
+    --------
+    >>> sky, bark = np.array([0.8, 0.9, 1.0]), np.array([0.2, 0.15, 0.1])
+    >>> px = (0.3 * bark + 0.7 * sky)[None, None]
+    >>> round(float(unmix(px, sky[None, None], bark[None, None])[0, 0]), 6)
+    0.3
+    """
+    fb = tree - background
+    return np.einsum("ijk,ijk->ij", colour - background, fb) / np.maximum(
+        np.einsum("ijk,ijk->ij", fb, fb), 1e-12
+    )
 
 
 def _quadratic_basis(r, c, h, w) -> np.ndarray:
@@ -191,14 +244,20 @@ def segment_photo(image, *, mask=None, name: str = "image") -> Segmentation:
        edge and the side edges above the ground (outliers dropped);
     3. each pixel's **distance** from its background (the sky above the horizon; the
        ground below the horizon's blended rows; in them the nearer of sky, ground and the
-       row's blend), and a local threshold: :data:`LOCAL_SHARE` of the strongest
-       difference within :data:`LOCAL_WINDOW` pixels (a thin twig's own, partly covered,
-       peak), :data:`THICK_SHARE` of the full difference of the nearest fully covered
-       pixels (beside thick parts), the JPEG ringing share (:data:`RINGING`), never
-       under :data:`NOISE_K` times the sky's noise or :data:`MIN_DE`; then the edges of
-       thick parts by linear unmixing (a pixel within :data:`UNMIX_REACH` of a fully
-       covered one, at least half way from its background's colour to that one's);
-    4. **connectivity** (:func:`skimage.measure.label`, 8-connected): the tree is the
+       row's blend); the **fully covered** pixels: the interior (3 x 3 erosion) of those
+       over a local threshold (:data:`LOCAL_SHARE` of the strongest difference within
+       :data:`LOCAL_WINDOW` pixels, :data:`THICK_SHARE` of the full difference of the
+       nearest thick part, the JPEG ringing share :data:`RINGING`, never under
+       :data:`NOISE_K` times the sky's noise or :data:`MIN_DE`);
+    4. each pixel's **coverage** by linear unmixing in linear light (a camera's pixel
+       sums the light of what it sees): its colour is its background's plus the coverage
+       times the tree's colour minus the background's; the tree's colour is the nearest
+       fully covered pixel's (within :data:`UNMIX_REACH`), or the median of them all (a
+       thin twig, never fully covered), or the colour of a pixel of its 3 x 3 farther from
+       the background than that (a part's rim is darker than its inside). A pixel is
+       tree when covered at least :data:`COVERAGE` (a half, as the true silhouette of a
+       render is defined) and more than the sky's noise, or fully covered;
+    5. **connectivity** (:func:`skimage.measure.label`, 8-connected): the tree is the
        largest piece, with the pieces up to :data:`GAP` pixels from it (a twig broken by
        a pixel as pale as the sky) and every piece inside the bounding box of these
        (twigs and leaf clusters cut off by the threshold), standing on the ground; other
@@ -301,22 +360,45 @@ def segment_photo(image, *, mask=None, name: str = "image") -> Segmentation:
     # a fully covered pixel; near them the share is THICK_SHARE of it. A thin twig has no
     # fully covered pixel (its eroded difference is the sky's) and keeps LOCAL_SHARE of its
     # own peak, so 1-pixel twigs are not erased.
-    full = ndimage.maximum_filter(
+    thick = ndimage.maximum_filter(
         ndimage.minimum_filter(dist, size=3, mode="nearest"), size=LOCAL_WINDOW, mode="nearest"
     )
-    threshold = np.maximum(threshold, THICK_SHARE * full)
+    threshold = np.maximum(threshold, THICK_SHARE * thick)
     fg = (dist > threshold) & keep
-    # the edges of thick parts, by linear unmixing: the colour c of a pixel covered a share
-    # a by a part of colour f over the background b is about b + a (f - b); f is the
-    # nearest fully covered pixel's colour (the interior of the foreground)
-    interior = ndimage.binary_erosion(fg, np.ones((3, 3), dtype=bool))
-    if interior.any():
-        reach, (ir, ic) = ndimage.distance_transform_edt(~interior, return_indices=True)
-        fb = lab[ir, ic] - bg
-        alpha = np.einsum("ijk,ijk->ij", lab - bg, fb) / np.maximum(
-            np.einsum("ijk,ijk->ij", fb, fb), 1e-9
+    # fully covered pixels: the interior of what the thresholds take (a drawing's lines
+    # one or two pixels wide have none: then those lines themselves)
+    full = ndimage.binary_erosion(fg, np.ones((3, 3), dtype=bool))
+    interior = full.copy()
+    if not full.any():
+        full = fg
+    coverage = np.zeros((h, w))
+    if full.any():
+        # every pixel's coverage by linear unmixing in linear light (a camera's pixel
+        # sums the light of the tree and of the sky it sees): colour = background + a
+        # (tree - background), the tree's colour the nearest fully covered pixel's, or,
+        # beyond UNMIX_REACH (a thin twig, never fully covered), the median of them all
+        from skimage.color import lab2rgb
+
+        light = srgb_to_linear(rgb)
+        back = srgb_to_linear(lab2rgb(bg))
+        reach, (ir, ic) = ndimage.distance_transform_edt(~full, return_indices=True)
+        colour = np.where(
+            (reach <= UNMIX_REACH)[..., None], light[ir, ic], np.median(light[full], axis=0)
         )
-        fg |= (reach <= UNMIX_REACH) & (alpha >= 0.5) & (dist > floor) & keep
+        coverage = unmix(light, back, colour)
+        # a part's rim is darker (or paler) than its inside: where a pixel of the 3 x 3
+        # is farther from the background than that colour, its colour is the tree's
+        pad = np.pad(coverage, 1, mode="edge")
+        lpad = np.pad(light, ((1, 1), (1, 1), (0, 0)), mode="edge")
+        best = np.ones((h, w))
+        for dy in range(3):
+            for dx in range(3):
+                a = pad[dy : dy + h, dx : dx + w]
+                better = a > best
+                best = np.where(better, a, best)
+                colour = np.where(better[..., None], lpad[dy : dy + h, dx : dx + w], colour)
+        coverage = unmix(light, back, colour)
+        fg = ((coverage >= COVERAGE) & (dist > NOISE_K * sky_noise) | interior) & keep
     ground &= ~fg
     how = f"photo segmentation, sky noise {sky_noise:.1f}, threshold >= {floor:.1f} Delta E"
     if sky_noise > MAX_SKY_NOISE:
@@ -351,7 +433,7 @@ def segment_photo(image, *, mask=None, name: str = "image") -> Segmentation:
     others[ids] = 0
     other_share = float(others[others >= SPECK].sum()) / max(float(sizes.sum()), 1.0)
     contrast = float(np.median(dist[tree]))
-    seg = Segmentation(tree, ground, horizon, dist, floor, sky_noise, contrast)
+    seg = Segmentation(tree, ground, horizon, dist, floor, sky_noise, contrast, coverage)
     if contrast < MIN_CONTRAST:
         raise UserInputError(
             f"{name}: the tree hardly differs from its background: median colour difference "
