@@ -194,7 +194,7 @@ def test_cosines_match_oracle():
     normal /= np.linalg.norm(normal, axis=1)[:, None]
     use = rng.random(50) < 0.5
     d = random_direction(rng)
-    got = kernels.segment_cosines(start, end, normal, use, d, np.empty(50))
+    got = kernels.apply_cosines(start, end, normal, use, d, 1.0, np.ones(50))
     np.testing.assert_allclose(got, naive.segment_cosines(start, end, normal, use, d), rtol=1e-12)
 
 
@@ -431,7 +431,7 @@ def test_kept_scratch_gives_fresh_answers_in_any_thread():
         expo = kernels.segment_exposure_kernel(s, e, r, off, frames, u, v, d, res, 0.1, 1,
                                                np.empty(n))  # fmt: skip
         flat = np.zeros((n, 3)), np.zeros(n, np.bool_)
-        return expo * kernels.segment_cosines(s, e, *flat, d, np.empty(n))
+        return kernels.apply_cosines(s, e, *flat, d, 1.0, expo)
 
     jobs = [(t, res) for res in (32, 128) for t in trees]
     want = [fresh(t, res) for t, res in jobs]

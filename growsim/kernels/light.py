@@ -70,7 +70,6 @@ __all__ = [
     "point_light_into",
     "point_light_kernel",
     "project_segment",
-    "segment_cosines",
     "segment_exposure_into",
     "segment_exposure_kernel",
     "shadow_scratch",
@@ -534,29 +533,12 @@ def map_depth_kernel(start, end, radius, offsets, frames, points, point_offsets,
 
 
 @njit
-def segment_cosines(start, end, normal, use_normal, d, out):
-    """Lambert's cosine per segment for the light travelling along unit ``d``:
-    ``|normal . d|`` where ``use_normal`` (a blade with a unit ``normal``, two-sided), else
-    the side of a cylinder, ``sqrt(1 - (axis . d)^2)`` (1 for a segment of no length).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> s = np.zeros((2, 3)); e = np.array([[1.0, 0, 0], [0, 1, 0]])
-    >>> segment_cosines(s, e, np.zeros((2, 3)), np.zeros(2, np.bool_), np.array([0.0, -1, 0]),
-    ...                 np.empty(2)).tolist()
-    [1.0, 0.0]
-    """
-    for s in range(start.shape[0]):
-        out[s] = _cosine(start, end, normal, use_normal[s], d, s)
-    return out
-
-
-@njit
 def apply_cosines(start, end, normal, use_normal, d, intensity, out):
     """``out[s] = (out[s] x cos_s) x intensity`` in place, ``cos_s`` segment ``s``'s
-    Lambert cosine (:func:`segment_cosines`; ``use_normal`` and ``normal`` may both have
-    length 0: no blades): exposures into light, as
+    Lambert cosine for the light travelling along unit ``d``: ``|normal . d|`` where
+    ``use_normal`` (a blade with a unit ``normal``, two-sided), else the side of a
+    cylinder, ``sqrt(1 - (axis . d)^2)`` (1 for a segment of no length); ``use_normal`` and
+    ``normal`` may both have length 0 (no blades). Exposures into light, as
     :func:`growsim.env.light.segment_light` returns it. (A pass of its own: folded into
     :func:`segment_exposure_into`'s last loop it slowed the whole kernel by 15 %.)
 
@@ -576,7 +558,7 @@ def apply_cosines(start, end, normal, use_normal, d, intensity, out):
 
 @njit(inline="always")
 def _cosine(start, end, normal, blade, d, s):
-    """Segment ``s``'s Lambert cosine (:func:`segment_cosines`; ``blade``: use its
+    """Segment ``s``'s Lambert cosine (:func:`apply_cosines`; ``blade``: use its
     ``normal``)."""
     if blade:
         return abs(normal[s, 0] * d[0] + normal[s, 1] * d[1] + normal[s, 2] * d[2])

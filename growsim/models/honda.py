@@ -172,9 +172,17 @@ def _geo(p: Mapping[str, float]) -> np.ndarray:
     )
 
 
-def _draws_shape(p: Mapping[str, float]) -> tuple[int, int]:
-    n_stems, _ = count_topology(p["f"], int(p["generations"]))
-    return (n_stems - 1) // 2, N_DRAWS
+def _resolved(params: Mapping[str, float] | None, seed) -> dict:
+    """Every parameter, checked, ``seed`` (when given) in place of ``params["seed"]``."""
+    p = resolve_params(PARAMS, params, where="honda.")
+    if seed is not None:
+        p["seed"] = Param("seed", 0, 2**63 - 1, 0, kind="int").check(seed, "honda.")
+    return p
+
+
+def _seed_draws(p: Mapping[str, float], n_branch: int) -> np.ndarray:
+    """The seed's ``(n_branch, N_DRAWS)`` uniforms, one row per branching."""
+    return np.random.default_rng(int(p["seed"])).random((n_branch, N_DRAWS))
 
 
 def draws(params: Mapping[str, float] | None = None, *, seed=None) -> np.ndarray:
@@ -194,10 +202,9 @@ def draws(params: Mapping[str, float] | None = None, *, seed=None) -> np.ndarray
     >>> bool((develop(PRESETS["zelkova"], draws=d).end == develop(PRESETS["zelkova"]).end).all())
     True
     """
-    p = resolve_params(PARAMS, params, where="honda.")
-    if seed is not None:
-        p["seed"] = Param("seed", 0, 2**63 - 1, 0, kind="int").check(seed, "honda.")
-    return np.random.default_rng(int(p["seed"])).random(_draws_shape(p))
+    p = _resolved(params, seed)
+    n_stems, _ = count_topology(p["f"], int(p["generations"]))
+    return _seed_draws(p, (n_stems - 1) // 2)
 
 
 def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None, draws=None) -> Plant:
@@ -228,9 +235,7 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None, d
     >>> bool((develop(PRESETS["zelkova"], draws=d).end == develop(PRESETS["zelkova"]).end).all())
     False
     """
-    p = resolve_params(PARAMS, params, where="honda.")
-    if seed is not None:
-        p["seed"] = Param("seed", 0, 2**63 - 1, 0, kind="int").check(seed, "honda.")
+    p = _resolved(params, seed)
     gens = int(p["generations"])
     n_stems, n_tips = count_topology(p["f"], gens)
     n_leaf_max = int(p["leaves"]) * n_tips * 2  # tips and their parents at most
@@ -241,8 +246,7 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None, d
             "(growsim.models.honda.MAX_SEGMENTS): lower generations or f"
         )
     n_branch = (n_stems - 1) // 2
-    rng = np.random.default_rng(int(p["seed"]))
-    U = rng.random((n_branch, N_DRAWS))
+    U = _seed_draws(p, n_branch)
     if draws is not None:
         U = _override(U, draws)
     pos, vpar, depth, order, gen, main, _theta, _phi = grow_kernel(

@@ -69,7 +69,8 @@ def transmitted(p, own, start, end, radius, u, v, d, bias, trans, grow=0.0, slac
 
 
 def segment_cosines(start, end, normal, use_normal, d):
-    """Mirror of :func:`growsim.kernels.light.segment_cosines` (without ``out``)."""
+    """Lambert's cosine per segment: :func:`growsim.kernels.light.apply_cosines` on
+    ``out`` = ones and ``intensity`` 1."""
     out = np.empty(len(start))
     for s in range(len(start)):
         if use_normal[s]:
