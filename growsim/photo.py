@@ -64,6 +64,16 @@ GAP = 2
 #: half (COVERAGE), as the true silhouette is defined
 UNMIX_REACH = 3.0
 COVERAGE = 0.5
+#: a round part's surface turns away from the light toward its outline (Lambert's cosine
+#: law), so a partly covered pixel at its rim sees a darker tree than the nearest fully
+#: covered pixel inside: that colour darkened by this share in linear light. A Lambert
+#: cylinder lit from the camera's side with a fifth ambient light gives 0.4 on the outer
+#: quarter of its width; 0.3 allows for light from other sides.
+RIM_SHADE = 0.3
+#: a thin twig (no fully covered pixel within UNMIX_REACH) takes the colour of its most
+#: covered pixel up to this many pixels along it (its best-centred pixel recurs every few
+#: pixels along a slanted twig); near thick parts, of its 3 x 3 only
+THIN_WINDOW = 3
 MIN_DE = 10.0
 #: refused: the sky's colour varies more than this (robust sigma, Delta E) around a smooth
 #: gradient: not a plain sky (clutter, clouds, a wall with texture)
@@ -252,9 +262,10 @@ def segment_photo(image, *, mask=None, name: str = "image") -> Segmentation:
     4. each pixel's **coverage** by linear unmixing in linear light (a camera's pixel
        sums the light of what it sees): its colour is its background's plus the coverage
        times the tree's colour minus the background's; the tree's colour is the nearest
-       fully covered pixel's (within :data:`UNMIX_REACH`), or the median of them all (a
-       thin twig, never fully covered), or the colour of a pixel of its 3 x 3 farther from
-       the background than that (a part's rim is darker than its inside). A pixel is
+       fully covered pixel's (within :data:`UNMIX_REACH`) darkened by :data:`RIM_SHADE`
+       (a round part's rim is darker than its inside), or the median of them all (a thin
+       twig, never fully covered), or the colour of a pixel of its 3 x 3 (of its
+       :data:`THIN_WINDOW` on a thin twig) farther from the background than that. A pixel is
        tree when covered at least :data:`COVERAGE` (a half, as the true silhouette of a
        render is defined) and more than the sky's noise, or fully covered;
     5. **connectivity** (:func:`skimage.measure.label`, 8-connected): the tree is the
@@ -385,16 +396,23 @@ def segment_photo(image, *, mask=None, name: str = "image") -> Segmentation:
         colour = np.where(
             (reach <= UNMIX_REACH)[..., None], light[ir, ic], np.median(light[full], axis=0)
         )
+        rim = (reach > 0) & (reach <= UNMIX_REACH)
+        colour = np.where(rim[..., None], (1.0 - RIM_SHADE) * colour, colour)
         coverage = unmix(light, back, colour)
-        # a part's rim is darker (or paler) than its inside: where a pixel of the 3 x 3
-        # is farther from the background than that colour, its colour is the tree's
-        pad = np.pad(coverage, 1, mode="edge")
-        lpad = np.pad(light, ((1, 1), (1, 1), (0, 0)), mode="edge")
+        # a part's rim may be darker (or paler) still: where a pixel of the 3 x 3 (of the
+        # THIN_WINDOW around a thin twig's pixel) is farther from the background than that
+        # colour, its colour is the tree's
+        k = THIN_WINDOW
+        thin = reach > UNMIX_REACH
+        pad = np.pad(coverage, k, mode="edge")
+        lpad = np.pad(light, ((k, k), (k, k), (0, 0)), mode="edge")
         best = np.ones((h, w))
-        for dy in range(3):
-            for dx in range(3):
+        for dy in range(2 * k + 1):
+            for dx in range(2 * k + 1):
                 a = pad[dy : dy + h, dx : dx + w]
                 better = a > best
+                if max(abs(dy - k), abs(dx - k)) > 1:
+                    better &= thin
                 best = np.where(better, a, best)
                 colour = np.where(better[..., None], lpad[dy : dy + h, dx : dx + w], colour)
         coverage = unmix(light, back, colour)
