@@ -119,6 +119,65 @@ EXTRA_PICTURES: tuple[Picture, ...] = (
 )  # fmt: skip
 
 
+#: The skies of :func:`random_pictures` (top, bottom): clear blue, white haze, deep blue,
+#: overcast grey, warm evening, light blue.
+SKIES = (
+    ((0.80, 0.87, 0.97), (0.96, 0.97, 0.98)),
+    ((0.93, 0.94, 0.95), (0.99, 0.99, 0.99)),
+    ((0.55, 0.70, 0.92), (0.85, 0.90, 0.96)),
+    ((0.70, 0.72, 0.75), (0.84, 0.85, 0.86)),
+    ((0.93, 0.72, 0.52), (0.99, 0.90, 0.74)),
+    ((0.62, 0.75, 0.95), (0.90, 0.93, 0.97)),
+)
+
+
+def random_pictures(n: int = 12, seed: int = 20261124) -> tuple[Picture, ...]:
+    """``n`` pictures drawn at random, for checking that a change of the segmentation
+    holds beyond the pictures it was measured on: every fourth an IFS tree, the rest
+    Honda species with random arrangements (seeds 100-9999) and trunk radii; bare or
+    leafy; a sky of :data:`SKIES`; bark from dark to pale, leaf and ground colours
+    jittered; the camera's height 0.1-0.25 of the tree's; JPEG quality 70-91.
+
+    Examples
+    --------
+    >>> [p.name for p in random_pictures(2)]
+    ['r00_cherry_leafy', 'r01_zelkova_bare']
+    """
+    rng = np.random.default_rng(seed)
+    honda = ("zelkova", "cherry", "ginkgo", "plane", "f_dome", "g_tall_trunk", "h_columnar")
+    pics = []
+    for i in range(n):
+        if i % 4 == 3:
+            model, preset = "ifs3d", ("table1", "seed_gradient")[i % 2]
+            leafy = bool(rng.integers(2)) and preset != "table1"
+            params = {"leaves": 3, "leaf_radius": 0.03} if leafy else {}
+        else:
+            model, preset = "honda", honda[rng.integers(len(honda))]
+            leafy = bool(rng.integers(2))
+            params = (
+                {"leaves": int(rng.integers(2, 5)), "leaf_radius": float(rng.uniform(1.0, 1.5))}
+                if leafy
+                else {"leaves": 0}
+            )
+            params["seed"] = int(rng.integers(100, 10000))
+            if rng.random() < 0.4:
+                params["radius"] = float(rng.uniform(0.6, 1.0))
+        top, bottom = SKIES[rng.integers(len(SKIES))]
+        pale = rng.uniform(0.2, 0.8)
+        bark = np.clip(np.array([1.0, 0.92, 0.82]) * pale + rng.normal(0, 0.02, 3), 0, 1)
+        leaf = np.clip(np.array([0.3, 0.5, 0.2]) + rng.normal(0, 0.08, 3), 0, 1)
+        ground = np.clip(np.array([0.4, 0.5, 0.28]) + rng.normal(0, 0.05, 3), 0, 1)
+        pics.append(
+            Picture(
+                f"r{i:02d}_{preset}_{'leafy' if leafy else 'bare'}", model, preset, params,
+                sky_top=top, sky_bottom=bottom, ground=tuple(ground.round(3).tolist()),
+                bark=tuple(bark.round(3).tolist()), leaf=tuple(leaf.round(3).tolist()),
+                eye=float(rng.uniform(0.1, 0.25)), quality=int(rng.integers(70, 92)),
+            )
+        )  # fmt: skip
+    return tuple(pics)
+
+
 def plant_of(picture: Picture):
     """The tree of a :class:`Picture` (its model's preset with ``params`` over it).
 

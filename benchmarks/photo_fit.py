@@ -7,7 +7,9 @@ that one picture (the picture's own model; coarse to fine, 64 -> 128 -> 256 px; 
 a leafy tree fitted, the better kept, ``--leaves auto``), and the fit's NCC against the
 segmented silhouette at every stage, with seconds, and the picture's own tree scored the
 same way (what a perfect search would reach). ``--extra`` adds the pictures made after the
-segmentation was settled (``EXTRA_PICTURES``, reported apart); ``--supersample``,
+segmentation was settled (``EXTRA_PICTURES``, reported apart); ``--random N`` with
+``--segmentation-only`` adds N pictures drawn at random (``random_pictures``: other
+species, arrangements, skies and bark, reported apart); ``--supersample``,
 ``--mix``, ``--lens-blur`` set the pictures' camera (``make_photos.py``); ``--arrange``, ``--blur``,
 ``--restarts`` are passed to ``fit-image`` (``--arrange 0 --blur 0``: the fit before the
 arrangement search and the blurred score). Prints JSON.
@@ -18,6 +20,7 @@ arrangement search and the blurred score). Prints JSON.
     python benchmarks/photo_fit.py --only zelkova_bare --ifs-evaluations 5000
     python benchmarks/photo_fit.py --out runs/photo-before --extra --arrange 0 --blur 0
     python benchmarks/photo_fit.py --extra --segmentation-only --supersample 3 --mix srgb
+    python benchmarks/photo_fit.py --extra --segmentation-only --random 12
 
 ``comparison_figure`` draws the fits of two such runs side by side
 (``docs/images/fitting_arrangement.png``).
@@ -43,6 +46,7 @@ from make_photos import (
     camera_of,
     make_photo,
     plant_of,
+    random_pictures,
     true_colours,
     write_set,
 )
@@ -78,9 +82,12 @@ def segmentation_table(pictures, camera: dict, limit: bool = True) -> dict:
         rows.append(row)
         print(json.dumps(row), file=sys.stderr)
     out = {"camera": camera, "pictures": rows}
-    for key in ("iou", "limit") if limit else ("iou",):
-        out[f"mean_{key}"] = round(float(np.mean([r[key] for r in rows])), 4)
-        out[f"min_{key}"] = round(float(np.min([r[key] for r in rows])), 4)
+    random = {p.name for p in pictures if p.name.startswith("r") and p.name[1:3].isdigit()}
+    for prefix, sel in (("", [r for r in rows if r["picture"] not in random]),
+                        ("random_", [r for r in rows if r["picture"] in random])):  # fmt: skip
+        for key in ("iou", "limit") if limit and sel else ("iou",) if sel else ():
+            out[f"{prefix}mean_{key}"] = round(float(np.mean([r[key] for r in sel])), 4)
+            out[f"{prefix}min_{key}"] = round(float(np.min([r[key] for r in sel])), 4)
     out["load_average"] = os.getloadavg()
     return out
 
@@ -219,6 +226,11 @@ def main(argv=None) -> int:
         help="write photo_segmentation.png (the errors of the two worst segmentations) into DIR",
     )  # fmt: skip
     ap.add_argument(
+        "--random", type=int, default=0, metavar="N",
+        help="with --segmentation-only: also N random pictures (make_photos.random_pictures), "
+        "reported apart (random_mean_iou ...)",
+    )  # fmt: skip
+    ap.add_argument(
         "--segmentation-only", action="store_true",
         help="only the segmentation's IoU and its per-pixel limit (no fits, no files)",
     )  # fmt: skip
@@ -228,6 +240,7 @@ def main(argv=None) -> int:
     ap_pics = PICTURES + (EXTRA_PICTURES if a.extra else ())
     pics = [p for p in ap_pics if a.only is None or p.name in a.only]
     if a.segmentation_only:
+        pics += [p for p in random_pictures(a.random) if a.only is None or p.name in a.only]
         print(json.dumps(segmentation_table(pics, camera_of(a)), indent=1))
         return 0
     rows = write_set(out / "photos", pics, **camera_of(a))

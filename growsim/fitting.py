@@ -3,9 +3,11 @@
 Every fittable model is one :class:`FitSetup` in :data:`FIT_SETUPS` (its config tables,
 the parameters of its leaves and of a bare tree, the views it has, its restarts): adding a
 model is adding an entry. :func:`fit_config` builds the experiment config of one fit (the
-pictures as the silhouette objective's target), and :func:`refine` refines a fit's best at
-a finer raster size (coarse to fine). The command itself (arguments, the chain of sizes,
-bare and leafy fits, the files written) is :mod:`growsim.cli.fit_image`.
+pictures as the silhouette objective's target), :func:`refine` refines a fit's best at
+a finer raster size (coarse to fine), :func:`sweep_discrete` tries every value of its
+discrete parameters and :func:`arrange` searches its branches' arrangement. The command
+itself (arguments, the chain of sizes, bare and leafy fits, the files written) is
+:mod:`growsim.cli.fit_image`.
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ __all__ = [
     "exact_score",
     "fit_config",
     "refine",
+    "sweep_discrete",
 ]
 
 #: The package data file holding the best ifs3d setup (see docs/models/ifs3d.md for how it
@@ -124,9 +127,10 @@ class FitSetup:
     "side")`` for a 3D tree; a 2D model has only ``("front",)`` and takes one picture);
     ``refine``: evaluations of the local refinement at each finer size, and its step
     (``sigma``, unit box); ``restarts``: independent fits (GA seeds) of each kind of tree,
-    the best kept at the final size (``--restarts``); ``arrange``: evaluations of the
-    search for the arrangement of the branches (:func:`arrange`) at each size, for a
-    model with the ``draws`` capability (``--arrange``; 0: the model's own random
+    the best kept at the final size (``--restarts``); ``carry``: how many of them, the
+    best after the GA, go on to the finer sizes (``--carry``; 0: all); ``arrange``:
+    evaluations of the search for the arrangement of the branches (:func:`arrange`) at
+    each size, for a model with the ``draws`` capability (``--arrange``; 0: the model's own random
     arrangement, as its seed gives it); ``blur``: the search's score at the first size is
     the NCC of views blurred by this sigma (pixels, scaled with the size; ``--blur``), the
     searches at the final size on the binary NCC (0: binary throughout).
@@ -146,6 +150,7 @@ class FitSetup:
     refine: int = 1000
     refine_sigma: float = 0.03
     restarts: int = 1
+    carry: int = 0
     arrange: int = 0
     blur: float = 0.0
 
@@ -183,10 +188,12 @@ FIT_SETUPS: Registry[FitSetup] = Registry(
             bare={"leaves": 0},
             refine=600,
         ),
-        # four restarts: the GA at 64 px often ends in a crown that scores alike there and
-        # differs at 256 px (the tall-trunk photo: 0.81 or 0.93 by the GA's seed; the plane
-        # and the cherry photos: 0.74 and 0.83 with two restarts, 0.90 and 0.88 with four,
-        # docs/models/fitting.md). The arrangement search: the photos whose tree was not
+        # eight restarts, the two best after the GA carried on: the GA at 64 px ends in
+        # crowns of different quality by its seed (the plane's photo: 0.70-0.87 at 256 px
+        # over twelve fits) and its score at 64 px foretells the final one (the fits that
+        # scored best there ended best), so more GA runs and refining only the best gives
+        # better fits for about the time of four whole fits (docs/models/fitting.md).
+        # The arrangement search: the photos whose tree was not
         # grown with the fit's seed 0.68 -> 0.76 at 256 px (ginkgo 0.39 -> 0.51), mean of
         # eight 0.842 -> 0.861. No blur: 1 px lifts the ginkgo to 0.58 but drops the plane
         # and the columnar tree (mean of eight 0.860, of the two extras 0.81 for 0.82).
@@ -194,7 +201,8 @@ FIT_SETUPS: Registry[FitSetup] = Registry(
             _honda_tables,
             leaves={"leaves": True, "leaf_radius": [0.3, 4.0]},
             bare={"leaves": 0},
-            restarts=4,
+            restarts=8,
+            carry=2,
             arrange=2000,
         ),
         # a 2D IFS code fitted to one picture of an attractor (docs/models/ifs2d.md)
@@ -360,6 +368,58 @@ def refine(plan, x0, *, evaluations: int, sigma: float = 0.03, seed: int = 0, dr
     except StopIteration:
         pass
     return best_x, best, start
+
+
+#: :func:`sweep_discrete`: a discrete parameter with more values than this is left to the
+#: other searches
+SWEEP_MAX_VALUES = 32
+
+
+def sweep_discrete(plan, x, draws=None, *, passes: int = 2):
+    """Try every value of each discrete evolved parameter of ``x`` ``(k,)`` on ``plan`` (a
+    compiled fit; an integer or a categorical of at most :data:`SWEEP_MAX_VALUES` values:
+    Honda's leaves per branch), the others fixed, each tree grown with ``draws``
+    (:func:`arrange`); keep the best value and go on to the next parameter, ``passes``
+    rounds or until a round changes nothing. The GA and :func:`refine` cross an integer
+    only by chance (a refinement's step of 0.03 of the unit box seldom leaves one), and a
+    fit's other parameters adapt to a wrong count of leaves: a sweep finds the count the
+    picture has (the plane's picture: 4 leaves, where the GA ended at 7). Never ends worse
+    than it starts. Returns ``(x, fitness, start_fitness, evaluations)``.
+
+    Examples
+    --------
+    >>> from growsim.experiment import load_plan
+    >>> cfg = {"model": {"kind": "honda", "preset": "cherry", "evolve": {"leaves": True}},
+    ...        "objective": [{"kind": "silhouette", "target_model": "honda",
+    ...                       "target_preset": "cherry", "target_seed": 3, "size": 64}]}
+    >>> plan = load_plan(cfg)     # the target: cherry's 3 leaves per branch
+    >>> x, score, start, n = sweep_discrete(plan, np.array([7.0]))
+    >>> x.tolist(), round(score, 6), score > start, n
+    ([3.0], 1.0, True, 9)
+    """
+    scorer = _Scorer(plan, draws)
+    genome = plan.genome
+    x = np.asarray(x, dtype=np.float64).copy()
+    best = start = float(scorer(x[None, :])[0])
+    low, high = genome.param_low, genome.param_high
+    genes = [j for j in np.flatnonzero(genome.discrete) if 1 <= high[j] - low[j] < SWEEP_MAX_VALUES]
+    evaluations = 1
+    for _ in range(passes if genes else 0):
+        changed = False
+        for j in genes:
+            values = np.arange(low[j], high[j] + 1.0)
+            values = values[values != x[j]]
+            trials = np.repeat(x[None, :], len(values), axis=0)
+            trials[:, j] = values
+            scores = np.asarray(scorer(trials), dtype=np.float64)
+            scores = np.where(np.isfinite(scores), scores, -np.inf)
+            evaluations += len(values)
+            i = int(np.argmax(scores))
+            if scores[i] > best:
+                x, best, changed = trials[i].copy(), float(scores[i]), True
+        if not changed or len(genes) == 1:  # one parameter: a second round repeats the first
+            break
+    return x, best, start, evaluations
 
 
 #: :func:`arrange`: the step of a draw's normal perturbation (the draws are uniforms in

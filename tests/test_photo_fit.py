@@ -252,14 +252,18 @@ def test_fit_image_one_photo_coarse_to_fine(photo, tmp_path, capsys):
     args += ["--arrange", "40", "--blur", "0.7"]
     assert main(args) == 0
     fit = json.loads((out / "fit.json").read_text())
-    stages = [(s["size"], s["stage"]) for s in fit["stages"]]
+    stages = [(s["size"], s["stage"]) for s in fit["stages"] if s["stage"] != "discrete"]
     assert stages == [(32, "ga"), (32, "arrange"), (64, "refine"), (64, "arrange")]
     assert fit["size"] == 64
+    # a leafy tree's count of leaves is swept at every size, before the arrangement
+    swept = [(s["size"], s["evaluations"]) for s in fit["stages"] if s["stage"] == "discrete"]
+    assert swept == ([(32, 9), (64, 9)] if fit["params"]["leaves"] else [])
+    main_stages = [s for s in fit["stages"] if s["stage"] != "discrete"]
     # blurred searches report their score and the binary NCC; the last size is binary
-    st = fit["stages"][1]
+    st = main_stages[1]
     assert st["score"] >= st["score_start"] and 0.0 < st["ncc"] <= 1.0
-    assert fit["stages"][2]["ncc"] >= fit["stages"][2]["ncc_start"]
-    assert fit["stages"][3]["ncc"] >= fit["stages"][3]["ncc_start"] == fit["stages"][2]["ncc"]
+    assert main_stages[2]["ncc"] >= main_stages[2]["ncc_start"]
+    assert main_stages[3]["ncc"] >= main_stages[3]["ncc_start"] >= main_stages[2]["ncc"]
     # the fitted arrangement regrows the fitted tree
     draws = np.array(fit["draws"])
     assert draws.shape[1] == 9
@@ -286,6 +290,25 @@ def test_fit_image_one_photo_coarse_to_fine(photo, tmp_path, capsys):
     assert np.array_equal(used, segment_photo(path).tree)  # the silhouette used, as is
     text = capsys.readouterr().out
     assert "mean NCC" in text and "64 px refine" in text and "64 px arrange" in text
+
+
+def test_fit_image_carries_the_best_restarts_past_the_first_size(photo, tmp_path, capsys):
+    """--carry N: of each kind's restarts, the N whose GA scored best at the first size go
+    on to the finer sizes; every restart's first-size NCC is reported."""
+    path, _ = photo
+    out = tmp_path / "fit"
+    args = ["fit-image", str(path), "--model", "honda", "--out", str(out), "--quiet"]
+    args += ["--evaluations", "200", "--sizes", "32,64", "--refine", "20", "--restarts", "3"]
+    args += ["--arrange", "10", "--carry", "1"]
+    assert main(args) == 0
+    leaves = json.loads((out / "fit.json").read_text())["leaves"]
+    first = leaves["first_size"]
+    assert len(first) == 6 and len(leaves["runs"]) == 2
+    for kind in ("bare", "leafy"):
+        best = max((k for k in first if k.startswith(kind)), key=first.get)
+        assert [k for k in leaves["runs"] if k.startswith(kind)] == [best]
+    assert main([*args[:-2], "--carry", "-1"]) == 2
+    assert "--carry: at least 0" in capsys.readouterr().err
 
 
 def test_arrange_places_the_limbs_where_the_picture_has_them():
@@ -318,6 +341,32 @@ def test_arrange_places_the_limbs_where_the_picture_has_them():
                           "target_preset": "table1", "size": 32}]}  # fmt: skip
     none, s4, s5 = arrange(load_plan(ifs), np.array([0.5]), evaluations=10)
     assert none is None and s4 == s5
+
+
+def test_sweep_discrete_finds_the_count_of_leaves():
+    """Every value of a discrete parameter is tried, the others fixed: a fit stuck at the
+    wrong count of leaves finds the picture's; the score never falls; a fit without
+    discrete parameters is left as it is."""
+    from growsim.experiment import load_plan
+    from growsim.fitting import exact_score, sweep_discrete
+
+    small = {"generations": 7}
+    cfg = {"model": {"kind": "honda", "preset": "cherry", "params": small,
+                     "evolve": {"leaves": True, "leaf_radius": [0.5, 3.0]}},
+           "objective": [{"kind": "silhouette", "target_model": "honda", "size": 48,
+                          "target_preset": "cherry", "line_width": "radius", "target_seed": 3,
+                          "target_params": {**small, "leaves": 5,
+                                            "leaf_radius": 1.5}}]}  # fmt: skip
+    plan = load_plan(cfg)
+    x, score, start, n = sweep_discrete(plan, np.array([1.0, 1.5]))
+    assert x.tolist() == [5.0, 1.5] and score == pytest.approx(1.0) and start < 0.95
+    assert n == 9 and score == pytest.approx(exact_score(plan, x))
+    # already best: unchanged, never worse
+    x2, s2, s2_start, _ = sweep_discrete(plan, x)
+    assert x2.tolist() == x.tolist() and s2 == s2_start == pytest.approx(score)
+    bare = {**cfg, "model": {**cfg["model"], "evolve": {"leaf_radius": [0.5, 3.0]}}}
+    x3, s3, s3_start, n3 = sweep_discrete(load_plan(bare), np.array([1.0]))
+    assert x3.tolist() == [1.0] and s3 == s3_start and n3 == 1
 
 
 def test_fit_image_refuses_a_bad_photo_before_evolving(tmp_path, capsys):

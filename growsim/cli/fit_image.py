@@ -8,9 +8,12 @@ to fine: the setup's GA (and polish) at the first of ``--sizes`` (64 px), then a
 refinement of the best at each finer size (128, 256 px), so branch structure counts. With
 ``--leaves auto`` (the default) a bare and a leafy tree are both fitted and the leafy one
 is kept only if clearly better (:data:`LEAF_MARGIN`), so a winter tree is fitted by a bare
-tree; each kind is fitted ``--restarts`` times (GA seeds), the best at the final size
-kept. For a model with random draws (Honda's ``draws`` capability) the arrangement of the
-branches is fitted too, after the GA and after each refinement (``--arrange``,
+tree; each kind is fitted ``--restarts`` times (GA seeds), the ``--carry`` whose GA
+scored best at the first size go on to the finer sizes, and the best at the final size is
+kept. Every value of a discrete parameter (the leaves per branch) is tried at every
+size (:func:`growsim.fitting.sweep_discrete`): the GA and the refinement seldom step
+across an integer. For a model with random draws (Honda's ``draws`` capability) the
+arrangement of the branches is fitted too, after the GA and after each refinement (``--arrange``,
 :func:`growsim.fitting.arrange`): a picture's tree never has the model's random
 arrangement. The searches before the last size score views blurred by ``--blur`` pixels
 (partial credit for a branch near its place); every stage reports the binary NCC. Every
@@ -49,6 +52,7 @@ from growsim.fitting import (
     exact_score,
     fit_config,
     refine,
+    sweep_discrete,
 )
 
 __all__ = ["register"]
@@ -227,7 +231,15 @@ def register(subparsers) -> None:
         default=None,
         metavar="N",
         help="independent fits (seeds SEED, SEED+1, ...) of each kind of tree, the best at "
-        "the final size kept (default: the model's, honda 4, ifs3d 1)",
+        "the final size kept (default: the model's, honda 8, ifs3d 1)",
+    )
+    p.add_argument(
+        "--carry",
+        type=int,
+        default=None,
+        metavar="N",
+        help="restarts of each kind of tree carried past the first size: the N whose GA "
+        "scored best there (default: the model's, honda 2; 0: all)",
     )
     p.add_argument(
         "--workers", type=int, default=None, metavar="N", help="evaluate in N local processes"
@@ -259,37 +271,51 @@ def _write_masks(objective, out: Path, pictures: dict) -> list[str]:
     return written
 
 
-def _fit_chain(plan, config, sizes, args, setup, budgets, out, seed) -> dict:
-    """One coarse-to-fine fit: the setup's GA on ``plan`` (compiled at ``sizes[0]``), run
-    into ``out``, then a refinement at each finer size; ``config(size, blur)``: the fit's
-    config at that size, its score blurred by ``blur`` pixels. ``budgets`` ``(refine,
-    arrange, blur)``: the evaluations of each refinement and of the search for the
-    branches' arrangement (:func:`growsim.fitting.arrange`) that follows the GA and each
-    refinement (0: none), and the blur at the first size (scaled with the size; the
-    searches at the last size are on the binary NCC). Returns the last plan
-    (binary NCC), the evolved parameters ``x``, the arrangement ``draws`` (``None``: the
-    model's own), the stages (size, evaluations, seconds, binary NCC) and the run's
-    directory."""
-    from growsim.experiment import load_plan, run
+def _evolve(plan, size, args, blur, out) -> dict:
+    """The first stage of one fit: the setup's GA on ``plan`` (compiled at the first
+    size, ``size``), run into ``out``. Returns the evolved parameters ``x``, the stage's row (size,
+    evaluations, seconds, binary NCC; with ``blur``, the blurred ``score`` searched too)
+    and the run's directory."""
+    from growsim.experiment import run
 
-    refine_evaluations, arrange_evaluations, blur = budgets
     t0 = time.perf_counter()
     result = run(plan, out=out, workers=args.workers, progress=not args.quiet)
     fitness = plan.fitness()
     x = np.array([result.best_params[n] for n in fitness.evolved], dtype=np.float64)
-    stages = [
-        {
-            "size": sizes[0],
-            "stage": "ga",
-            "evaluations": int(result.summary["evaluations"]),
-            "seconds": round(time.perf_counter() - t0, 3),
-            "ncc": exact_score(plan, x) if blur > 0 else float(result.best_fitness),
-        }
-    ]
+    row = {
+        "size": size,
+        "stage": "ga",
+        "evaluations": int(result.summary["evaluations"]),
+        "seconds": round(time.perf_counter() - t0, 3),
+        "ncc": exact_score(plan, x) if blur > 0 else float(result.best_fitness),
+    }
     if blur > 0:
-        stages[0]["score"] = float(result.best_fitness)
+        row["score"] = float(result.best_fitness)
+    return {"x": x, "row": row, "out": Path(result.out)}
+
+
+def _fit_chain(plan, evolved, config, sizes, setup, budgets, seed) -> dict:
+    """One coarse-to-fine fit from its first stage ``evolved`` (:func:`_evolve` on
+    ``plan``, compiled at ``sizes[0]``): a refinement at each finer size; ``config(size,
+    blur)``: the fit's config at that size, its score blurred by ``blur`` pixels.
+    ``budgets`` ``(refine, arrange, blur)``: the evaluations of each refinement and of the
+    search for the branches' arrangement (:func:`growsim.fitting.arrange`) that follows
+    the GA and each refinement (0: none; every size first sweeps the discrete parameters,
+    :func:`growsim.fitting.sweep_discrete`), and the blur at the first size (scaled with
+    the size; the searches at the last size are on the binary NCC). Returns the last plan
+    (binary NCC), the evolved parameters ``x``, the arrangement ``draws`` (``None``: the
+    model's own), the stages (size, evaluations, seconds, binary NCC) and the run's
+    directory."""
+    from growsim.experiment import load_plan
+
+    refine_evaluations, arrange_evaluations, blur = budgets
+    x = evolved["x"]
+    stages = [dict(evolved["row"])]
     draws = None
     can_arrange = arrange_evaluations > 0 and getattr(plan.model, "draws", None) is not None
+    # the discrete parameters (leaves per branch): every value tried at every size
+    genome = plan.genome
+    sweep = bool(np.any(genome.discrete & (genome.param_high - genome.param_low >= 1)))
 
     def stage(name, plan, size, k, evaluations, search):
         nonlocal x, draws
@@ -297,6 +323,8 @@ def _fit_chain(plan, config, sizes, args, setup, budgets, out, seed) -> dict:
         if name == "refine":
             x, score, start = search(plan, x, evaluations=evaluations, sigma=setup.refine_sigma,
                                      seed=seed * 1000 + k, draws=draws)  # fmt: skip
+        elif name == "discrete":
+            x, score, start, evaluations = search(plan, x, draws)
         else:
             draws, score, start = search(
                 plan, x, draws, evaluations=evaluations, seed=seed * 1000 + 500 + k
@@ -319,9 +347,11 @@ def _fit_chain(plan, config, sizes, args, setup, budgets, out, seed) -> dict:
             stage("refine", plan, size, k, refine_evaluations, refine)
         elif blur > 0 and sigma == 0:  # one size: the GA's score was blurred
             plan = load_plan(config(size, 0.0))
+        if sweep:
+            stage("discrete", plan, size, k, 0, sweep_discrete)
         if can_arrange:
             stage("arrange", plan, size, k, arrange_evaluations, arrange)
-    return {"plan": plan, "x": x, "draws": draws, "stages": stages, "out": Path(result.out)}
+    return {"plan": plan, "x": x, "draws": draws, "stages": stages, "out": evolved["out"]}
 
 
 def _main(args) -> int:
@@ -356,6 +386,9 @@ def _main(args) -> int:
     restarts = setup.restarts if args.restarts is None else args.restarts
     if restarts < 1:
         raise UserInputError(f"--restarts: at least 1, got {restarts}")
+    carry = setup.carry if args.carry is None else args.carry
+    if carry < 0:
+        raise UserInputError(f"--carry: at least 0, got {carry}")
     mode = args.leaves
     if mode == "auto":
         # a bare and a leafy tree, when the model has leaves to choose
@@ -372,16 +405,28 @@ def _main(args) -> int:
 
     # compiling builds the objective once: bad pictures fail here, before any evolution
     first = {run_: load_plan(config(sizes[0], *run_, blur)) for run_ in runs}
-    fits = {}
+    evolved = {}
     for m, seed in runs:
         name = label[m] if m != "keep" else "run"
         if restarts > 1:
             name += f"-{seed}"
         run_out = out_dir / name if len(runs) > 1 else out_dir
-        fits[m, seed] = _fit_chain(
-            first[m, seed], lambda size, sigma, m=m, seed=seed: config(size, m, seed, sigma),
-            sizes, args, setup, (refine_evaluations, arrange_evaluations, blur), run_out, seed,
-        )  # fmt: skip
+        evolved[m, seed] = _evolve(first[m, seed], sizes[0], args, blur, run_out)
+    # the restarts of each kind whose GA scored best at the first size go on to the finer
+    # sizes (the GA's score there foretells the final one: docs/models/fitting.md)
+    carried = []
+    for m in modes:
+        ranked = sorted((r for r in runs if r[0] == m), key=lambda r: -evolved[r]["row"]["ncc"])
+        carried += ranked[: carry or len(ranked)]
+    fits = {
+        (m, seed): _fit_chain(
+            first[m, seed], evolved[m, seed],
+            lambda size, sigma, m=m, seed=seed: config(size, m, seed, sigma),
+            sizes, setup, (refine_evaluations, arrange_evaluations, blur), seed,
+        )
+        for m, seed in runs
+        if (m, seed) in carried
+    }  # fmt: skip
     # per kind of tree its best restart at the final size, then bare or leafy
     best = {}
     for (m, _), f in fits.items():
@@ -404,6 +449,10 @@ def _main(args) -> int:
         "runs": {
             f"{label[m]} seed {seed}": {"ncc": f["stages"][-1]["ncc"], "out": str(f["out"])}
             for (m, seed), f in fits.items()
+        },
+        # every restart's binary NCC at the first size, after its GA
+        "first_size": {
+            f"{label[m]} seed {seed}": e["row"]["ncc"] for (m, seed), e in evolved.items()
         },
     }
     fitness = plan.fitness()
