@@ -278,7 +278,7 @@ def test_fit_image_one_photo_coarse_to_fine(photo, tmp_path, capsys):
     # --leaves auto: a bare and a leafy tree fitted, the leafy one kept only if clearly better
     leaves = fit["leaves"]
     assert leaves["mode"] == "auto" and set(leaves["ncc"]) == {"bare", "leafy"}
-    # two restarts of each kind (honda's default is four), the best of each kept
+    # two restarts of each kind (honda's default is eight, two carried), the best of each kept
     runs = leaves["runs"]
     assert sorted(runs) == ["bare seed 0", "bare seed 1", "leafy seed 0", "leafy seed 1"]
     for kind in ("bare", "leafy"):

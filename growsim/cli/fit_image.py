@@ -273,9 +273,10 @@ def _write_masks(objective, out: Path, pictures: dict) -> list[str]:
 
 def _evolve(plan, size, args, blur, out) -> dict:
     """The first stage of one fit: the setup's GA on ``plan`` (compiled at the first
-    size, ``size``), run into ``out``. Returns the evolved parameters ``x``, the stage's row (size,
-    evaluations, seconds, binary NCC; with ``blur``, the blurred ``score`` searched too)
-    and the run's directory."""
+    size, ``size``), run into ``out``. Returns the fit's state for :func:`_size_stages`:
+    its plan, the evolved parameters ``x``, the arrangement ``draws`` (``None``: the
+    model's own), the stages so far (the GA's row: size, evaluations, seconds, binary NCC;
+    with ``blur``, the blurred ``score`` searched too) and the run's directory."""
     from growsim.experiment import run
 
     t0 = time.perf_counter()
@@ -291,34 +292,26 @@ def _evolve(plan, size, args, blur, out) -> dict:
     }
     if blur > 0:
         row["score"] = float(result.best_fitness)
-    return {"x": x, "row": row, "out": Path(result.out)}
+    return {"plan": plan, "x": x, "draws": None, "stages": [row], "out": Path(result.out)}
 
 
-def _fit_chain(plan, evolved, config, sizes, setup, budgets, seed) -> dict:
-    """One coarse-to-fine fit from its first stage ``evolved`` (:func:`_evolve` on
-    ``plan``, compiled at ``sizes[0]``): a refinement at each finer size; ``config(size,
-    blur)``: the fit's config at that size, its score blurred by ``blur`` pixels.
-    ``budgets`` ``(refine, arrange, blur)``: the evaluations of each refinement and of the
-    search for the branches' arrangement (:func:`growsim.fitting.arrange`) that follows
-    the GA and each refinement (0: none; every size first sweeps the discrete parameters,
-    :func:`growsim.fitting.sweep_discrete`), and the blur at the first size (scaled with
-    the size; the searches at the last size are on the binary NCC). Returns the last plan
-    (binary NCC), the evolved parameters ``x``, the arrangement ``draws`` (``None``: the
-    model's own), the stages (size, evaluations, seconds, binary NCC) and the run's
-    directory."""
+def _size_stages(fit, k, config, sizes, setup, budgets, seed) -> None:
+    """The searches of one fit's state ``fit`` (:func:`_evolve`) at ``sizes[k]``, in
+    place: a refinement (at every size but the first, on the fit's config at that size,
+    ``config(size, blur)``), the sweep of the discrete parameters
+    (:func:`growsim.fitting.sweep_discrete`) and the search for the branches' arrangement
+    (:func:`growsim.fitting.arrange`, for a model with random draws). ``budgets``
+    ``(refine, arrange, blur)``: the evaluations of each refinement and of each
+    arrangement search (0: none), and the blur at the first size (scaled with the size;
+    the searches at the last size are on the binary NCC). Each search appends its row to
+    ``fit["stages"]`` (size, evaluations, seconds, binary NCC)."""
     from growsim.experiment import load_plan
 
     refine_evaluations, arrange_evaluations, blur = budgets
-    x = evolved["x"]
-    stages = [dict(evolved["row"])]
-    draws = None
-    can_arrange = arrange_evaluations > 0 and getattr(plan.model, "draws", None) is not None
-    # the discrete parameters (leaves per branch): every value tried at every size
-    genome = plan.genome
-    sweep = bool(np.any(genome.discrete & (genome.param_high - genome.param_low >= 1)))
+    size = sizes[k]
 
-    def stage(name, plan, size, k, evaluations, search):
-        nonlocal x, draws
+    def stage(name, evaluations, search):
+        plan, x, draws = fit["plan"], fit["x"], fit["draws"]
         t = time.perf_counter()
         if name == "refine":
             x, score, start = search(plan, x, evaluations=evaluations, sigma=setup.refine_sigma,
@@ -329,6 +322,7 @@ def _fit_chain(plan, evolved, config, sizes, setup, budgets, seed) -> dict:
             draws, score, start = search(
                 plan, x, draws, evaluations=evaluations, seed=seed * 1000 + 500 + k
             )
+        fit["x"], fit["draws"] = x, draws
         row = {"size": size, "stage": name, "evaluations": evaluations}
         row["seconds"] = round(time.perf_counter() - t, 3)
         if getattr(plan.objectives[0], "blur", 0.0) > 0:
@@ -336,22 +330,21 @@ def _fit_chain(plan, evolved, config, sizes, setup, budgets, seed) -> dict:
             row["ncc"] = exact_score(plan, x, draws)
         else:
             row["ncc_start"], row["ncc"] = start, score
-        stages.append(row)
+        fit["stages"].append(row)
 
-    last = len(sizes) - 1
-    for k, size in enumerate(sizes):
-        # blurred at every size but the last, whose searches are on the score reported
-        sigma = blur * size / sizes[0] if k < last else 0.0
-        if k > 0:
-            plan = load_plan(config(size, sigma))
-            stage("refine", plan, size, k, refine_evaluations, refine)
-        elif blur > 0 and sigma == 0:  # one size: the GA's score was blurred
-            plan = load_plan(config(size, 0.0))
-        if sweep:
-            stage("discrete", plan, size, k, 0, sweep_discrete)
-        if can_arrange:
-            stage("arrange", plan, size, k, arrange_evaluations, arrange)
-    return {"plan": plan, "x": x, "draws": draws, "stages": stages, "out": evolved["out"]}
+    # blurred at every size but the last, whose searches are on the score reported
+    sigma = blur * size / sizes[0] if k < len(sizes) - 1 else 0.0
+    if k > 0:
+        fit["plan"] = load_plan(config(size, sigma))
+        stage("refine", refine_evaluations, refine)
+    elif blur > 0 and sigma == 0:  # one size: the GA's score was blurred
+        fit["plan"] = load_plan(config(size, 0.0))
+    # the discrete parameters (leaves per branch): every value tried at every size
+    genome = fit["plan"].genome
+    if np.any(genome.discrete & (genome.param_high - genome.param_low >= 1)):
+        stage("discrete", 0, sweep_discrete)
+    if arrange_evaluations > 0 and getattr(fit["plan"].model, "draws", None) is not None:
+        stage("arrange", arrange_evaluations, arrange)
 
 
 def _main(args) -> int:
@@ -405,36 +398,41 @@ def _main(args) -> int:
 
     # compiling builds the objective once: bad pictures fail here, before any evolution
     first = {run_: load_plan(config(sizes[0], *run_, blur)) for run_ in runs}
-    evolved = {}
+    budgets = (refine_evaluations, arrange_evaluations, blur)
+
+    def ncc(fit):  # a fit's binary NCC at its last stage
+        return fit["stages"][-1]["ncc"]
+
+    fits = {}
     for m, seed in runs:
         name = label[m] if m != "keep" else "run"
         if restarts > 1:
             name += f"-{seed}"
         run_out = out_dir / name if len(runs) > 1 else out_dir
-        evolved[m, seed] = _evolve(first[m, seed], sizes[0], args, blur, run_out)
-    # the restarts of each kind whose GA scored best at the first size go on to the finer
-    # sizes (the GA's score there foretells the final one: docs/models/fitting.md)
+        fits[m, seed] = _evolve(first[m, seed], sizes[0], args, blur, run_out)
+        _size_stages(fits[m, seed], 0, lambda size, sigma, m=m, seed=seed:
+                     config(size, m, seed, sigma), sizes, setup, budgets, seed)  # fmt: skip
+    # every restart's binary NCC at the end of the first size
+    first_size = {f"{label[m]} seed {seed}": ncc(f) for (m, seed), f in fits.items()}
+    # the restarts of each kind that scored best at the first size go on to the finer
+    # sizes (the score there foretells the final one: docs/models/fitting.md)
     carried = []
     for m in modes:
-        ranked = sorted((r for r in runs if r[0] == m), key=lambda r: -evolved[r]["row"]["ncc"])
+        ranked = sorted((r for r in runs if r[0] == m), key=lambda r: -ncc(fits[r]))
         carried += ranked[: carry or len(ranked)]
-    fits = {
-        (m, seed): _fit_chain(
-            first[m, seed], evolved[m, seed],
-            lambda size, sigma, m=m, seed=seed: config(size, m, seed, sigma),
-            sizes, setup, (refine_evaluations, arrange_evaluations, blur), seed,
-        )
-        for m, seed in runs
-        if (m, seed) in carried
-    }  # fmt: skip
+    fits = {r: fits[r] for r in runs if r in carried}
+    for (m, seed), f in fits.items():
+        for k in range(1, len(sizes)):
+            _size_stages(f, k, lambda size, sigma, m=m, seed=seed: config(size, m, seed, sigma),
+                         sizes, setup, budgets, seed)  # fmt: skip
     # per kind of tree its best restart at the final size, then bare or leafy
     best = {}
     for (m, _), f in fits.items():
-        if m not in best or f["stages"][-1]["ncc"] > best[m]["stages"][-1]["ncc"]:
+        if m not in best or ncc(f) > ncc(best[m]):
             best[m] = f
     chosen = modes[0]
     if len(modes) > 1:
-        bare, leafy = best["bare"]["stages"][-1]["ncc"], best["fit"]["stages"][-1]["ncc"]
+        bare, leafy = ncc(best["bare"]), ncc(best["fit"])
         chosen = "fit" if leafy > bare + LEAF_MARGIN else "bare"
     plan, x, stages = best[chosen]["plan"], best[chosen]["x"], best[chosen]["stages"]
     draws = best[chosen]["draws"]
@@ -444,16 +442,14 @@ def _main(args) -> int:
     leaves_summary = {
         "mode": mode,
         "chosen": label[chosen],
-        "ncc": {label[m]: f["stages"][-1]["ncc"] for m, f in best.items()},
+        "ncc": {label[m]: ncc(f) for m, f in best.items()},
         "run": str(best[chosen]["out"]),
         "runs": {
-            f"{label[m]} seed {seed}": {"ncc": f["stages"][-1]["ncc"], "out": str(f["out"])}
+            f"{label[m]} seed {seed}": {"ncc": ncc(f), "out": str(f["out"])}
             for (m, seed), f in fits.items()
         },
-        # every restart's binary NCC at the first size, after its GA
-        "first_size": {
-            f"{label[m]} seed {seed}": e["row"]["ncc"] for (m, seed), e in evolved.items()
-        },
+        # every restart's binary NCC at the end of the first size
+        "first_size": first_size,
     }
     fitness = plan.fitness()
     row = fitness.full_params(x[None, :])[0]
