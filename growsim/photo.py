@@ -67,8 +67,9 @@ COVERAGE = 0.5
 #: a round part's surface turns away from the light toward its outline (Lambert's cosine
 #: law), so a partly covered pixel at its rim sees a darker tree than the nearest fully
 #: covered pixel inside: that colour darkened by this share in linear light. A Lambert
-#: cylinder lit from the camera's side with a fifth ambient light gives 0.4 on the outer
-#: quarter of its width; 0.3 allows for light from other sides.
+#: cylinder lit from the camera's side with a fifth ambient light is 0.42 darker on the
+#: outer quarter of its width than on its middle half; 0.3 allows for light from other
+#: sides.
 RIM_SHADE = 0.3
 #: a thin twig (no fully covered pixel within UNMIX_REACH) takes the colour of its most
 #: covered pixel up to this many pixels along it (its best-centred pixel recurs every few
