@@ -57,13 +57,14 @@ def iou(a: np.ndarray, b: np.ndarray) -> float:
     return float((a & b).sum() / max((a | b).sum(), 1))
 
 
-def segmentation_table(pictures, camera: dict, limit: bool = True) -> dict:
+def segmentation_table(pictures, camera: dict, limit: bool = True, apart=()) -> dict:
     """The photo segmentation alone: each picture made with ``camera``
     (:func:`make_photo`'s ``supersample``, ``blur``, ``linear``), its IoU against the true
     silhouette, and (``limit``) the IoU of the per-pixel decision at half coverage with
     the true colours (:func:`true_colours`: each pixel unmixed against the tree's and the
     background's own colours, so the JPEG's noise and the blur are all that is left);
-    the mean and the least of both, and the segmentation's seconds."""
+    the mean and the least of both (of the pictures named in ``apart`` apart, as
+    ``random_mean_iou`` ...), and the segmentation's seconds."""
     from growsim.photo import segment_photo, srgb_to_linear, unmix
 
     rows = []
@@ -82,9 +83,8 @@ def segmentation_table(pictures, camera: dict, limit: bool = True) -> dict:
         rows.append(row)
         print(json.dumps(row), file=sys.stderr)
     out = {"camera": camera, "pictures": rows}
-    random = {p.name for p in pictures if p.name.startswith("r") and p.name[1:3].isdigit()}
-    for prefix, sel in (("", [r for r in rows if r["picture"] not in random]),
-                        ("random_", [r for r in rows if r["picture"] in random])):  # fmt: skip
+    for prefix, sel in (("", [r for r in rows if r["picture"] not in apart]),
+                        ("random_", [r for r in rows if r["picture"] in apart])):  # fmt: skip
         for key in ("iou", "limit") if limit and sel else ("iou",) if sel else ():
             out[f"{prefix}mean_{key}"] = round(float(np.mean([r[key] for r in sel])), 4)
             out[f"{prefix}min_{key}"] = round(float(np.min([r[key] for r in sel])), 4)
@@ -240,8 +240,9 @@ def main(argv=None) -> int:
     ap_pics = PICTURES + (EXTRA_PICTURES if a.extra else ())
     pics = [p for p in ap_pics if a.only is None or p.name in a.only]
     if a.segmentation_only:
-        pics += [p for p in random_pictures(a.random) if a.only is None or p.name in a.only]
-        print(json.dumps(segmentation_table(pics, camera_of(a)), indent=1))
+        drawn = [p for p in random_pictures(a.random) if a.only is None or p.name in a.only]
+        table = segmentation_table(pics + drawn, camera_of(a), apart={p.name for p in drawn})
+        print(json.dumps(table, indent=1))
         return 0
     rows = write_set(out / "photos", pics, **camera_of(a))
     results = []

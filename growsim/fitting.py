@@ -128,7 +128,7 @@ class FitSetup:
     ``refine``: evaluations of the local refinement at each finer size, and its step
     (``sigma``, unit box); ``restarts``: independent fits (GA seeds) of each kind of tree,
     the best kept at the final size (``--restarts``); ``carry``: how many of them, the
-    best after the GA, go on to the finer sizes (``--carry``; 0: all); ``arrange``:
+    best at the end of the first size, go on to the finer sizes (``--carry``; 0: all); ``arrange``:
     evaluations of the search for the arrangement of the branches (:func:`arrange`) at
     each size, for a model with the ``draws`` capability (``--arrange``; 0: the model's own random
     arrangement, as its seed gives it); ``blur``: the search's score at the first size is
@@ -188,15 +188,16 @@ FIT_SETUPS: Registry[FitSetup] = Registry(
             bare={"leaves": 0},
             refine=600,
         ),
-        # eight restarts, the two best after the GA carried on: the GA at 64 px ends in
-        # crowns of different quality by its seed (the plane's photo: 0.70-0.87 at 256 px
-        # over twelve fits) and its score at 64 px foretells the final one (the fits that
-        # scored best there ended best), so more GA runs and refining only the best gives
-        # better fits for about the time of four whole fits (docs/models/fitting.md).
-        # The arrangement search: the photos whose tree was not
-        # grown with the fit's seed 0.68 -> 0.76 at 256 px (ginkgo 0.39 -> 0.51), mean of
-        # eight 0.842 -> 0.861. No blur: 1 px lifts the ginkgo to 0.58 but drops the plane
-        # and the columnar tree (mean of eight 0.860, of the two extras 0.81 for 0.82).
+        # eight restarts, the two best at 64 px carried on: the GA at 64 px ends in crowns
+        # of different quality by its seed (the plane's photo: 0.70-0.87 at 256 px over
+        # twelve fits) and the score at 64 px foretells the final one (the fits that scored
+        # best there ended best), so more GA runs and refining only the best gives better
+        # fits for about the time of four whole fits (docs/models/fitting.md; mean of
+        # eight 0.833 -> 0.853 with the sweep of the leaves). The arrangement search: the
+        # photos whose tree was not grown with the fit's seed 0.68 -> 0.76 at 256 px
+        # (ginkgo 0.39 -> 0.51), mean of eight 0.842 -> 0.861. No blur: 1 px lifts the
+        # ginkgo to 0.58 but drops the plane and the columnar tree (mean of eight 0.860,
+        # of the two extras 0.81 for 0.82).
         "honda": FitSetup(
             _honda_tables,
             leaves={"leaves": True, "leaf_radius": [0.3, 4.0]},

@@ -8,9 +8,9 @@ to fine: the setup's GA (and polish) at the first of ``--sizes`` (64 px), then a
 refinement of the best at each finer size (128, 256 px), so branch structure counts. With
 ``--leaves auto`` (the default) a bare and a leafy tree are both fitted and the leafy one
 is kept only if clearly better (:data:`LEAF_MARGIN`), so a winter tree is fitted by a bare
-tree; each kind is fitted ``--restarts`` times (GA seeds), the ``--carry`` whose GA
-scored best at the first size go on to the finer sizes, and the best at the final size is
-kept. Every value of a discrete parameter (the leaves per branch) is tried at every
+tree; each kind is fitted ``--restarts`` times (GA seeds), the ``--carry`` that scored
+best at the end of the first size go on to the finer sizes, and the best at the final size
+is kept. Every value of a discrete parameter (the leaves per branch) is tried at every
 size (:func:`growsim.fitting.sweep_discrete`): the GA and the refinement seldom step
 across an integer. For a model with random draws (Honda's ``draws`` capability) the
 arrangement of the branches is fitted too, after the GA and after each refinement (``--arrange``,
@@ -238,8 +238,8 @@ def register(subparsers) -> None:
         type=int,
         default=None,
         metavar="N",
-        help="restarts of each kind of tree carried past the first size: the N whose GA "
-        "scored best there (default: the model's, honda 2; 0: all)",
+        help="restarts of each kind of tree carried past the first size: the N that scored "
+        "best at its end (default: the model's, honda 2; 0: all)",
     )
     p.add_argument(
         "--workers", type=int, default=None, metavar="N", help="evaluate in N local processes"
