@@ -244,12 +244,17 @@ def test_fit_config_fits_leaves_and_one_picture(photo):
         fit_config("tree.jpg", threshold=0.4)
 
 
+def _small_fit(path, out, refine: int, restarts: int, *more: str) -> list[str]:
+    """fit-image arguments of a small Honda fit of ``path`` (200 evaluations, 32 -> 64 px)."""
+    args = ["fit-image", str(path), "--model", "honda", "--out", str(out), "--quiet"]
+    args += ["--evaluations", "200", "--sizes", "32,64", "--refine", str(refine)]
+    return [*args, "--restarts", str(restarts), *more]
+
+
 def test_fit_image_one_photo_coarse_to_fine(photo, tmp_path, capsys):
     path, _ = photo
     out = tmp_path / "fit"
-    args = ["fit-image", str(path), "--model", "honda", "--out", str(out), "--quiet"]
-    args += ["--evaluations", "200", "--sizes", "32,64", "--refine", "40", "--restarts", "2"]
-    args += ["--arrange", "40", "--blur", "0.7"]
+    args = _small_fit(path, out, 40, 2, "--arrange", "40", "--blur", "0.7")
     assert main(args) == 0
     fit = json.loads((out / "fit.json").read_text())
     stages = [(s["size"], s["stage"]) for s in fit["stages"] if s["stage"] != "discrete"]
@@ -264,6 +269,9 @@ def test_fit_image_one_photo_coarse_to_fine(photo, tmp_path, capsys):
     assert st["score"] >= st["score_start"] and 0.0 < st["ncc"] <= 1.0
     assert main_stages[2]["ncc"] >= main_stages[2]["ncc_start"]
     assert main_stages[3]["ncc"] >= main_stages[3]["ncc_start"] >= main_stages[2]["ncc"]
+    # every search starts where the one before it at that size ended
+    last = fit["stages"][-1]
+    assert last["stage"] == "arrange" and last["ncc_start"] == fit["stages"][-2]["ncc"]
     # the fitted arrangement regrows the fitted tree
     draws = np.array(fit["draws"])
     assert draws.shape[1] == 9
@@ -293,13 +301,11 @@ def test_fit_image_one_photo_coarse_to_fine(photo, tmp_path, capsys):
 
 
 def test_fit_image_carries_the_best_restarts_past_the_first_size(photo, tmp_path, capsys):
-    """--carry N: of each kind's restarts, the N whose GA scored best at the first size go
-    on to the finer sizes; every restart's first-size NCC is reported."""
+    """--carry N: of each kind's restarts, the N that scored best at the end of the first
+    size go on to the finer sizes; every restart's first-size NCC is reported."""
     path, _ = photo
     out = tmp_path / "fit"
-    args = ["fit-image", str(path), "--model", "honda", "--out", str(out), "--quiet"]
-    args += ["--evaluations", "200", "--sizes", "32,64", "--refine", "20", "--restarts", "3"]
-    args += ["--arrange", "10", "--carry", "1"]
+    args = _small_fit(path, out, 20, 3, "--arrange", "10", "--carry", "1")
     assert main(args) == 0
     leaves = json.loads((out / "fit.json").read_text())["leaves"]
     first = leaves["first_size"]
