@@ -30,8 +30,9 @@ import numpy as np
 
 
 def forest(n_plants: int, n_segments: int, seed: int = 0):
-    """One :class:`growsim.plant.Plant` holding ``n_plants`` random trees, parents first."""
-    from growsim.plant import Plant
+    """One :class:`growsim.phenotypes.plant.Plant` holding ``n_plants`` random trees, parents
+    first."""
+    from growsim.phenotypes.plant import Plant
 
     rng = np.random.default_rng(seed)
     plants = []

@@ -19,8 +19,8 @@ import time
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
-from growsim.mesh import mesh_arrays, plant_mesh
 from growsim.models import honda
+from growsim.phenotypes.plant.mesh import mesh_arrays, plant_mesh
 
 # the seed's Table 3: tree / leaf / total vertices and ms per image (1991)
 TABLE3 = {

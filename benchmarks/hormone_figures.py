@@ -49,8 +49,8 @@ def demo() -> dict:
 def best_of_sweep(sweep: Path) -> dict:
     """The best plant of each variant of a sweep: render side by side, GIF of each."""
     from growsim.experiment.load import load_plan
-    from growsim.results import find_runs
-    from growsim.viz import growth_animation, render_grid
+    from growsim.experiment.results import find_runs
+    from growsim.phenotypes.plant.views import growth_animation, render_grid
 
     runs = find_runs([sweep])
     best = {}

@@ -75,7 +75,7 @@ def chaos_speed(points: int) -> tuple[float, float]:
 
 def run_tree(overrides, seed: int, out: Path):
     """One species run; returns its generations table."""
-    from growsim.objectives.ochoa import evolve_species
+    from growsim.experiment.species import evolve_species
 
     _, table = evolve_species(CONFIG, out=out, seed=seed, overrides=overrides)
     return table

@@ -102,10 +102,10 @@ def run_config(path: str, seeds: list[int]) -> list[dict]:
 
 
 def random_trees(n: int, evaluations: int = 50_000) -> list[dict]:
-    """The best setup (``growsim.fitting.BEST_GA``: 4 islands of 100, real coding,
+    """The best setup (``growsim.fitting.setups.BEST_GA``: 4 islands of 100, real coding,
     CMA-ES polish) fitted to ``n`` random trees (tree seeds 100.., parameters uniform within
     the ranges)."""
-    from growsim.fitting import BEST_GA
+    from growsim.fitting.setups import BEST_GA
     from growsim.ga import GA, genome_from_params
 
     evolved = [p for p in ifs3d.PARAMS if p.name not in ("n_maps", "depth")]

@@ -246,8 +246,8 @@ def twin(seed: int = 0, size: int = 64, ga_evals: int = 15_000, total: int = 50_
 
 def render(trees, path: str, size: int) -> None:
     """Target and each ``(maps, label)`` tree's front and side silhouettes, side by side."""
-    from growsim.images import silhouette_image
     from growsim.objectives.silhouette import plant_views
+    from growsim.pictures.images import silhouette_image
 
     obj = SilhouetteObjective(target_model="ifs3d", target_preset="table1", size=size)
     images, titles = [obj.target[0]], ["Table 1 (front = side)"]

@@ -214,8 +214,8 @@ def _views(picture: Picture, plant, big: int, tree: bool = True):
     tree (its background)."""
     import pyvista as pv
 
-    from growsim.mesh import plant_mesh
-    from growsim.viz import offscreen_plotter
+    from growsim.phenotypes.plant.mesh import plant_mesh
+    from growsim.render import offscreen_plotter
 
     mesh = plant_mesh(plant, sides=8)
     kind = np.asarray(mesh.point_data["kind"])
@@ -267,7 +267,7 @@ def render(picture: Picture, plant=None, *, size: int = 512, supersample: int = 
     >>> sorted(set(np.unique(cover)) - set(np.arange(17) / 16))  # doctest: +SKIP
     []
     """
-    from growsim.photo import linear_to_srgb, srgb_to_linear
+    from growsim.pictures.photo import linear_to_srgb, srgb_to_linear
 
     plant = plant_of(picture) if plant is None else plant
     f = int(supersample)
@@ -301,7 +301,7 @@ def true_colours(picture: Picture, plant=None, *, size: int = 512,
     """
     from scipy import ndimage
 
-    from growsim.photo import srgb_to_linear
+    from growsim.pictures.photo import srgb_to_linear
 
     plant = plant_of(picture) if plant is None else plant
     f = int(supersample)

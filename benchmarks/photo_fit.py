@@ -65,7 +65,7 @@ def segmentation_table(pictures, camera: dict, limit: bool = True, apart=()) -> 
     background's own colours, so the JPEG's noise and the blur are all that is left);
     the mean and the least of both (of the pictures named in ``apart`` apart, as
     ``random_mean_iou`` ...), and the segmentation's seconds."""
-    from growsim.photo import segment_photo, srgb_to_linear, unmix
+    from growsim.pictures.photo import segment_photo, srgb_to_linear, unmix
 
     rows = []
     for pic in pictures:
@@ -125,7 +125,7 @@ def error_figure(photos, dest, names, height: int = 420) -> Path:
     from PIL import Image
 
     from growsim.files import atomic_write
-    from growsim.photo import load_rgb, segment_photo
+    from growsim.pictures.photo import load_rgb, segment_photo
 
     panels = []
     for name in names:
@@ -195,7 +195,7 @@ def main(argv=None) -> int:
 
     from growsim.cli import main as cli
     from growsim.objectives.silhouette import SilhouetteObjective
-    from growsim.photo import segment_photo
+    from growsim.pictures.photo import segment_photo
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", default="runs/photo-bench")

@@ -16,7 +16,7 @@ from growsim.models import MODELS, get_model
 from growsim.models.base import Model
 from growsim.objectives import OBJECTIVES, get_objective
 from growsim.objectives.base import Objective
-from growsim.phenotype import PHENOTYPES, Phenotype, load_phenotype
+from growsim.phenotypes import PHENOTYPES, Phenotype, load_phenotype
 
 MODEL_NAMES = sorted(MODELS)
 OBJECTIVE_NAMES = sorted(OBJECTIVES)

@@ -14,14 +14,14 @@ import pandas as pd
 import pytest
 from PIL import Image
 
-from growsim import colors, viz
 from growsim.cli import main
 from growsim.env import Environment
 from growsim.env.environment import SEGMENT_COLUMNS
 from growsim.errors import UserInputError
-from growsim.mesh import plant_mesh, triangle_segments
 from growsim.models import honda
-from growsim.plant import LEAF, STEM
+from growsim.phenotypes.plant import LEAF, STEM, colors
+from growsim.phenotypes.plant import views as viz
+from growsim.phenotypes.plant.mesh import plant_mesh, triangle_segments
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -13,8 +13,8 @@ import pytest
 import growsim
 from growsim.errors import UserInputError
 from growsim.experiment import Fitness, build_fitness, load_config, load_run, run, sweep
-from growsim.plant import Plant
-from growsim.results import RunDir
+from growsim.experiment.results import RunDir
+from growsim.phenotypes.plant import Plant
 
 ROOT = Path(__file__).resolve().parents[1]
 QUICK = ROOT / "experiments" / "quickstart.toml"
@@ -258,7 +258,7 @@ def test_light_objective_formula_and_environment():
     from growsim.errors import ConfigError
     from growsim.models.honda import PRESETS, develop
     from growsim.objectives.light import LightObjective
-    from growsim.plant import leaf_light
+    from growsim.phenotypes.plant import leaf_light
 
     plant = develop(PRESETS["zelkova"])
     # the projection (the measure before the shadow map): intensity x leaf shadow - wood
@@ -551,7 +551,7 @@ def test_repeats_is_documented_as_sweep_only():
 def test_fitness_plot_shows_best_mean_and_best_so_far(tmp_path, monkeypatch):
     import matplotlib.pyplot as plt
 
-    from growsim import viz
+    from growsim.experiment.results import plot_fitness
 
     figs = []
     real_close = plt.close
@@ -565,7 +565,7 @@ def test_fitness_plot_shows_best_mean_and_best_so_far(tmp_path, monkeypatch):
             "best_so_far": [1.0, 3.0, 3.0, 3.0],
         }
     )
-    viz.plot_fitness(h, tmp_path / "f.png")
+    plot_fitness(h, tmp_path / "f.png")
     (ax,) = figs[0].axes
     lines = {ln.get_label(): ln for ln in ax.get_lines()}
     assert set(lines) == {"best", "mean", "best so far"}

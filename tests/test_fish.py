@@ -18,8 +18,8 @@ from growsim.errors import ConfigError
 from growsim.experiment import load_plan
 from growsim.kernels import fish as K
 from growsim.models.fish import MODEL, PARAMS, default_tank, develop, fish_table
-from growsim.phenotype import load_phenotype
-from growsim.trajectory import Trajectory
+from growsim.phenotypes import load_phenotype
+from growsim.phenotypes.trajectory import Trajectory
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = ROOT / "experiments" / "fish_tank.toml"
@@ -303,7 +303,7 @@ def test_a_tank_preset_can_be_varied_after_the_config_is_resolved():
 
 def test_grow_renders_and_saves_a_trajectory(tmp_path):
     from growsim.cli import main
-    from growsim.phenotype import load_phenotype
+    from growsim.phenotypes import load_phenotype
 
     png, npz = tmp_path / "fish.png", tmp_path / "fish.npz"
     assert main(["grow", "fish", "--preset", "calm", "--screenshot", str(png), "--size", "64",

@@ -15,7 +15,7 @@ from growsim.env.gravity import Gravity
 from growsim.errors import UserInputError
 from growsim.kernels.gravity import first_break_kernel, loads_kernel, radius_end_kernel
 from growsim.models import honda
-from growsim.plant import LEAF, STEM, Plant
+from growsim.phenotypes.plant import LEAF, STEM, Plant
 
 
 def random_skeleton(rng, n, n_roots=1):
@@ -248,7 +248,7 @@ def test_honda_trees_stress_is_highest_near_lateral_bases(name):
 
 def test_first_break_step_of_a_growing_branch_and_of_a_one_shot_model():
     from growsim.models import get_model
-    from growsim.plant import Plant
+    from growsim.phenotypes.plant import Plant
 
     def lengthening(radius):
         for k in range(1, 12):

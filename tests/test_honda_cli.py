@@ -13,7 +13,7 @@ import pytest
 
 from growsim.cli import main
 from growsim.errors import UserInputError
-from growsim.plant import Plant
+from growsim.phenotypes.plant import Plant
 
 
 def test_grow_zelkova_outputs(tmp_path, capsys):
@@ -147,14 +147,14 @@ def test_fit_image_threshold_range(capsys):
 
 
 def test_views_and_sizes_are_the_same_in_every_command(tmp_path, capsys):
-    """``grow`` and ``show`` take the same views (viz.VIEWS, ``back`` included) and the
+    """``grow`` and ``show`` take the same views (VIEWS, ``back`` included) and the
     same ``--size`` (``W H``, or ``N`` for ``N x N``), checked against one limit
-    (viz.MAX_SIZE)."""
-    from growsim import viz
+    (growsim.render.MAX_SIZE)."""
     from growsim.cli import build_parser
+    from growsim.render import MAX_SIZE, MIN_SIZE, VIEWS, check_size
 
     parse = build_parser().parse_args
-    for view in viz.VIEWS:
+    for view in VIEWS:
         assert parse(["grow", "honda", "--view", view]).view == view
         assert parse(["show", "runs/a", "--view", view]).view == view
     for argv in (["grow", "honda"], ["show", "runs/a"]):
@@ -168,18 +168,18 @@ def test_views_and_sizes_are_the_same_in_every_command(tmp_path, capsys):
     capsys.readouterr()
     for command in ("grow", "show"):  # the help states the one limit
         text = " ".join(_help(capsys, command, "--help").split())
-        assert f"each {viz.MIN_SIZE}..{viz.MAX_SIZE}" in text
-        assert ", ".join(viz.VIEWS) in text
+        assert f"each {MIN_SIZE}..{MAX_SIZE}" in text
+        assert ", ".join(VIEWS) in text
     png = tmp_path / "t.png"
     assert main(["grow", "honda", "--set", "generations=3", "--screenshot", str(png),
                  "--size", "64", "48", "--view", "back"]) == 0  # fmt: skip
     from PIL import Image
 
     assert Image.open(png).size == (64, 48)
-    big = str(viz.MAX_SIZE + 1)
+    big = str(MAX_SIZE + 1)
     for argv in (["grow", "honda"], ["show", str(tmp_path / "no_run")]):
         assert main([*argv, "--screenshot", str(tmp_path / "big.png"), "--size", big]) == 2
         err = capsys.readouterr().err
-        assert f"[{viz.MIN_SIZE}, {viz.MAX_SIZE}]" in err, err
-    with pytest.raises(UserInputError, match=str(viz.MAX_SIZE)):
-        viz.check_size((int(big), 64))
+        assert f"[{MIN_SIZE}, {MAX_SIZE}]" in err, err
+    with pytest.raises(UserInputError, match=str(MAX_SIZE)):
+        check_size((int(big), 64))

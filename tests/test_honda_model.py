@@ -21,7 +21,7 @@ from growsim.kernels.honda import (
     subtree_tips_kernel,
 )
 from growsim.models import get_model, honda
-from growsim.plant import LEAF, STEM
+from growsim.phenotypes.plant import LEAF, STEM
 
 
 def _geo(**kw):
@@ -289,7 +289,7 @@ def test_leaves_kernel_matches_oracle(per_branch, e, cut):
 
 @pytest.mark.parametrize("name", sorted(honda.PRESETS))
 def test_develop_output_passes_plant_validation(name):
-    from growsim.plant import Plant
+    from growsim.phenotypes.plant import Plant
 
     for extra in ({}, {"sag": 0.6, "pipe": 1, "avoid": 0.5, "leaves": 0}):
         t = honda.develop({**honda.PRESETS[name], **extra, "generations": 8})

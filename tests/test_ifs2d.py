@@ -7,13 +7,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from growsim.attractor import Attractor
 from growsim.errors import ConfigError, UserInputError
 from growsim.kernels import ifs2d as K
 from growsim.kernels import ochoa as KO
 from growsim.kernels.views import ncc
 from growsim.models import ifs2d
 from growsim.objectives.ochoa import SPECIES, TERMS, OchoaObjective, ochoa_terms, plane_view
+from growsim.phenotypes.attractor import Attractor, singular_values
 from tests.naive import ifs2d as naive
 from tests.naive import ochoa as naive_ochoa
 
@@ -72,7 +72,7 @@ def test_chaos_game_draws_the_attractor_of_the_deterministic_renderer(preset):
         views.append(K.points_raster(col, row, (64, 64))[None])
     chaos, exact_view = views
     assert (chaos & exact_view).sum() / exact_view.sum() >= 0.98
-    if ifs2d.singular_values(plant.maps).max() <= 0.75:
+    if singular_values(plant.maps).max() <= 0.75:
         assert ncc(chaos, exact_view) >= 0.9
 
 
@@ -121,9 +121,9 @@ def test_repair_makes_every_map_contractive_and_normalises_weights():
     rng = np.random.default_rng(2)
     maps = np.column_stack([rng.uniform(-1, 1, (50, 4)), rng.uniform(-3, 3, (50, 2))])
     fixed, p = ifs2d.repair(maps, rng.uniform(0, 1, 50), 0.9)
-    sv = ifs2d.singular_values(fixed)
+    sv = singular_values(fixed)
     assert sv.max() <= 0.9 + 1e-12 and np.isclose(p.sum(), 1.0)
-    untouched = ifs2d.singular_values(maps) <= 0.9
+    untouched = singular_values(maps) <= 0.9
     np.testing.assert_array_equal(fixed[untouched], maps[untouched])
     np.testing.assert_array_equal(fixed[:, 4:], maps[:, 4:])  # shifts kept
     # a plant whose maps expand is drawn bounded
@@ -169,7 +169,7 @@ def test_attractor_round_trips_and_renders(tmp_path):
     assert 0.05 < green < 0.6  # a fern, neither empty nor a blob
     np.testing.assert_array_equal(fern.render_image(view="back", size=(90, 120)), img[:, ::-1])
     with pytest.raises(UserInputError, match="not an attractor"):
-        from growsim.plant import Plant
+        from growsim.phenotypes.plant import Plant
 
         Attractor.load(Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0]).save(
             tmp_path / "p.npz"))  # fmt: skip
@@ -298,7 +298,7 @@ def test_ochoa_refuses_a_phenotype_without_a_2d_view():
 
 
 def test_species_run_end_to_end(tmp_path):
-    from growsim.objectives.ochoa import evolve_species
+    from growsim.experiment.species import evolve_species
 
     overrides = ["ga.population=4", "ga.generations=3", "model.params.iterations=20000"]
     result, table = evolve_species("experiments/ifs_species.toml", out=tmp_path / "run",
@@ -344,7 +344,7 @@ def test_fit_image_fits_a_2d_code_to_one_picture(tmp_path):
     import json
 
     from growsim.cli import main
-    from growsim.fitting import fit_config
+    from growsim.fitting.setups import fit_config
 
     cfg = fit_config("fern.png", model="ifs2d")
     assert cfg["model"]["kind"] == "ifs2d" and cfg["objective"][0]["views"] == "front"

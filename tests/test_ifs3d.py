@@ -9,7 +9,7 @@ from naive import ifs3d as oracle
 from growsim.errors import ResourceError, UserInputError
 from growsim.kernels import ifs3d as K
 from growsim.models import ifs3d
-from growsim.plant import Plant
+from growsim.phenotypes.plant import Plant
 
 
 def random_maps(rng, n, N=5):

@@ -7,7 +7,7 @@ import pytest
 from PIL import Image
 
 from growsim.errors import UserInputError
-from growsim.images import (
+from growsim.pictures.images import (
     frame_silhouettes,
     load_gray,
     otsu_threshold,
@@ -232,8 +232,8 @@ def test_radius_framing_draws_branches_as_the_renderer_does():
     """A photo's silhouette is framed as tubes are drawn: a branch thinner than a raster
     pixel is one pixel wide (its skeleton), a thick one as wide as it is (pixels at least
     COVER_SHARE covered), not a pixel fatter (issue 16)."""
-    from growsim.images import COVER_SHARE
     from growsim.kernels.raster import draw_segments
+    from growsim.pictures.images import COVER_SHARE
 
     assert 0.0 < COVER_SHARE <= 0.5
     pic = np.zeros((400, 400), bool)

@@ -13,7 +13,7 @@ from growsim.env.light import Light, point_light, segment_light, sky_directions,
 from growsim.errors import UserInputError
 from growsim.kernels import light as kernels
 from growsim.models import honda
-from growsim.plant import LEAF, Plant
+from growsim.phenotypes.plant import LEAF, Plant
 
 
 def random_tree(rng, n, root=(0.0, 0.0, 0.0), radii=(0.02, 0.15)):

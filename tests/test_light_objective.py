@@ -12,7 +12,7 @@ from growsim.errors import ConfigError
 from growsim.experiment import load_config
 from growsim.models.honda import PRESETS, develop
 from growsim.objectives.light import LightObjective, saturating_response
-from growsim.plant import LEAF, STEM, Plant, leaf_light
+from growsim.phenotypes.plant import LEAF, STEM, Plant, leaf_light
 
 BLADE = 0.5  # a leaf of length 1 and radius 0.25: a blade 1 x 0.5
 

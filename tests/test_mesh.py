@@ -15,9 +15,15 @@ from naive.mesh import tube as tube_oracle
 
 from growsim.errors import UserInputError
 from growsim.kernels.mesh import mesh_counts, mesh_kernel, weld_targets
-from growsim.mesh import cluster_leaves, export, lod_meshes, mesh_arrays, plant_mesh
 from growsim.models import honda
-from growsim.plant import LEAF, STEM, Plant
+from growsim.phenotypes.plant import LEAF, STEM, Plant
+from growsim.phenotypes.plant.mesh import (
+    cluster_leaves,
+    export,
+    lod_meshes,
+    mesh_arrays,
+    plant_mesh,
+)
 
 
 def _random_plant(rng, n=40, leaf_frac=0.3):

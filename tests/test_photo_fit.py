@@ -14,11 +14,11 @@ from PIL import Image
 from growsim.cli import main
 from growsim.errors import UserInputError
 from growsim.experiment import load_config
-from growsim.fitting import FIT_SETUPS, LEAF_MARGIN, fit_config
+from growsim.fitting.setups import FIT_SETUPS, LEAF_MARGIN, fit_config
 from growsim.models import honda, ifs3d
 from growsim.objectives.silhouette import SilhouetteObjective, plant_views
-from growsim.photo import segment_photo
-from growsim.plant import LEAF
+from growsim.phenotypes.plant import LEAF
+from growsim.pictures.photo import segment_photo
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 from make_photos import EXTRA_PICTURES, PICTURES, make_photo
@@ -65,7 +65,7 @@ def test_synthetic_scene_ground_is_not_tree():
     assert seg.tree[100:108, 48:52].all()  # the trunk's foot, in the ground band
     assert not seg.tree[100:, :40].any() and not seg.tree[:, :20].any()
     # a clean drawing (no ground): the same silhouette as the grey threshold
-    from growsim.images import silhouette
+    from growsim.pictures.images import silhouette
 
     g = np.ones((60, 50))
     g[10:58, 24:26] = 0.1
@@ -100,7 +100,7 @@ def test_pale_bark_over_dark_ground_is_tree():
 def _mixed(cover, tree=BARK, sky=SKY):
     """A pixel covered ``cover`` by the tree, as a camera sees it: the mean of the two
     colours in linear light (then sRGB again)."""
-    from growsim.photo import linear_to_srgb, srgb_to_linear
+    from growsim.pictures.photo import linear_to_srgb, srgb_to_linear
 
     return linear_to_srgb(cover * srgb_to_linear(tree) + (1 - cover) * srgb_to_linear(sky))
 
@@ -322,7 +322,7 @@ def test_arrange_places_the_limbs_where_the_picture_has_them():
     fit's (seed 3) is matched better, the score never falls, the draws regrow the score;
     a model without the ``draws`` capability is left as it is; refine holds the draws."""
     from growsim.experiment import load_plan
-    from growsim.fitting import arrange, exact_score, refine
+    from growsim.fitting.setups import arrange, exact_score, refine
 
     small = {"generations": 7, "leaves": 0}
     cfg = {"model": {"kind": "honda", "preset": "zelkova", "evolve": {"f": [0.9, 1.0]},
@@ -354,7 +354,7 @@ def test_sweep_discrete_finds_the_count_of_leaves():
     wrong count of leaves finds the picture's; the score never falls; a fit without
     discrete parameters is left as it is."""
     from growsim.experiment import load_plan
-    from growsim.fitting import exact_score, sweep_discrete
+    from growsim.fitting.setups import exact_score, sweep_discrete
 
     small = {"generations": 7}
     cfg = {"model": {"kind": "honda", "preset": "cherry", "params": small,

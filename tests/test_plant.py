@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from growsim.errors import UserInputError
-from growsim.plant import LEAF, STEM, Plant
+from growsim.phenotypes.plant import LEAF, STEM, Plant
 
 
 def _fork():

@@ -16,8 +16,8 @@ from growsim import report
 from growsim.cli import main as cli_main
 from growsim.errors import UserInputError
 from growsim.experiment import load_config
+from growsim.experiment.results import RunDir, find_runs
 from growsim.report import compare, group_runs, holm
-from growsim.results import RunDir, find_runs
 
 BASE = {
     "model": {"kind": "honda", "evolve": {"f": True}},

@@ -11,7 +11,7 @@ from growsim.kernels.views import ncc
 from growsim.models import ifs3d
 from growsim.objectives import get_objective
 from growsim.objectives.silhouette import SilhouetteObjective, plant_views
-from growsim.plant import Plant
+from growsim.phenotypes.plant import Plant
 
 NAMES = [p.name for p in ifs3d.PARAMS]
 
@@ -208,7 +208,7 @@ def test_leaves_are_drawn_as_their_blades_are_seen():
     """line_width = "radius": a leaf is a flat blade facing up (issue 16): seen edge-on
     (its axis along the view's x, the blade across it in depth) it is a line; seen
     face-on it is as wide as the blade, with 3/4 of its length x width."""
-    from growsim.plant import LEAF, STEM, Plant
+    from growsim.phenotypes.plant import LEAF, STEM, Plant
 
     # a trunk 0 -> 10 up, a leaf from its top along +x, 4 long, blade 2 * 0.8 wide
     pts = [[0, 0, 0], [0, 10, 0], [4, 10, 0]]

@@ -11,7 +11,7 @@ from PIL import Image
 
 from growsim.cli import build_parser, main
 from growsim.experiment import load_config
-from growsim.fitting import fit_config
+from growsim.fitting.setups import fit_config
 from growsim.models import ifs3d
 from growsim.objectives.silhouette import plant_views
 
@@ -194,8 +194,8 @@ def test_fit_on_the_table1_pictures_is_the_fit_on_the_rendered_target(pictures, 
 def _own_render_scores(tree, tmp_path) -> dict[str, float]:
     """The tree scored against growsim's own 400 px renders of it, drawn thin and at
     its radius."""
-    from growsim import viz
     from growsim.objectives.silhouette import SilhouetteObjective
+    from growsim.phenotypes.plant import views as viz
 
     front, side = tmp_path / "front.png", tmp_path / "side.png"
     viz.screenshot(tree, front, view="front", size=(400, 400))

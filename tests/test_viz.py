@@ -9,10 +9,11 @@ import pandas as pd
 import pytest
 from PIL import Image
 
-from growsim import viz
 from growsim.errors import UserInputError
-from growsim.mesh import lod_meshes
+from growsim.experiment.results import plot_fitness
 from growsim.models import honda
+from growsim.phenotypes.plant import views as viz
+from growsim.phenotypes.plant.mesh import lod_meshes
 
 
 @pytest.fixture(scope="module")
@@ -66,10 +67,10 @@ def test_screenshot_grid_and_plot(tmp_path, tree):
             "mean": [0.5, 1, 2, 2],
         }
     )
-    p = viz.plot_fitness(h, tmp_path / "f.png", title="run")
+    p = plot_fitness(h, tmp_path / "f.png", title="run")
     assert Image.open(p).size[0] > 100
     with pytest.raises(UserInputError, match="generation"):
-        viz.plot_fitness(pd.DataFrame({"x": [1]}), tmp_path / "x.png")
+        plot_fitness(pd.DataFrame({"x": [1]}), tmp_path / "x.png")
     with pytest.raises(UserInputError, match="png"):
         viz.screenshot(tree, tmp_path / "t.jpg")
     with pytest.raises(UserInputError, match="titles"):
@@ -133,7 +134,8 @@ def test_offscreen_rendering_prints_nothing_on_stderr(tmp_path, tree):
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
     png = tmp_path / "t.png"
     code = (
-        "import sys; from growsim.models import honda; from growsim.viz import screenshot; "
+        "import sys; from growsim.models import honda; "
+        "from growsim.phenotypes.plant.views import screenshot; "
         "screenshot(honda.develop({'generations': 3}), sys.argv[1], size=(64, 64))"
     )
     r = subprocess.run([sys.executable, "-c", code, str(png)], capture_output=True, text=True,

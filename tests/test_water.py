@@ -17,7 +17,7 @@ from growsim.kernels.water import (
     transport_kernel,
 )
 from growsim.models import honda
-from growsim.plant import LEAF, Plant
+from growsim.phenotypes.plant import LEAF, Plant
 
 
 def _random_skeleton(rng, n, roots=1):

@@ -54,16 +54,17 @@ def add_evaluation_options(p: argparse.ArgumentParser) -> None:
 
 
 class _VizNames:
-    """The names of a :mod:`growsim.viz` table (``VIEWS``, ``COLORS``) as argparse choices,
-    read when first needed (building the parser imports neither NumPy nor pyvista)."""
+    """The names of a table (``growsim.render.VIEWS``, ``growsim.phenotypes.plant.colors.COLORS``)
+    as argparse choices, read when first needed (building the parser imports neither NumPy
+    nor pyvista)."""
 
-    def __init__(self, table: str):
-        self.table = table
+    def __init__(self, module: str, table: str):
+        self.module, self.table = module, table
 
     def _names(self) -> tuple[str, ...]:
-        from growsim import viz
+        import importlib
 
-        return tuple(getattr(viz, self.table))
+        return tuple(vars(importlib.import_module(self.module))[self.table])
 
     def __contains__(self, item) -> bool:
         return item in self._names()
@@ -82,8 +83,9 @@ class _Size(argparse.Action):
 
 
 def add_screenshot_options(p: argparse.ArgumentParser, view: str = "front") -> None:
-    """``--view`` (one of :data:`growsim.viz.VIEWS`, default ``view``) and ``--size W H``
-    (or ``N`` for a square; checked by :func:`growsim.viz.check_size` before anything is
+    """``--view`` (one of :data:`growsim.render.VIEWS`, default ``view``) and ``--size W H``
+    (or ``N`` for a square; checked by :func:`growsim.render.check_size` before
+    anything is
     grown or read): the screenshot options of ``grow`` and ``show``.
 
     Examples
@@ -97,7 +99,7 @@ def add_screenshot_options(p: argparse.ArgumentParser, view: str = "front") -> N
     p.add_argument(
         "--view",
         default=view,
-        choices=_VizNames("VIEWS"),
+        choices=_VizNames("growsim.render", "VIEWS"),
         metavar="VIEW",
         help=f"screenshot camera: %(choices)s (default {view})",
     )
@@ -113,7 +115,8 @@ def add_screenshot_options(p: argparse.ArgumentParser, view: str = "front") -> N
 
 
 def add_color_options(p: argparse.ArgumentParser) -> None:
-    """``--color FIELD`` (one of :data:`growsim.viz.COLORS`: paint each segment by the light
+    """``--color FIELD`` (one of :data:`growsim.phenotypes.plant.colors.COLORS`: paint each
+    segment by the light
     it receives, the stress ratio at its joint or the share of its water demand met) and
     ``--light-arrow`` / ``--no-light-arrow`` (draw the light's direction; default: with
     ``--color light``): the colouring options of ``grow`` and ``show``.
@@ -130,7 +133,7 @@ def add_color_options(p: argparse.ArgumentParser) -> None:
     """
     p.add_argument(
         "--color",
-        choices=_VizNames("COLORS"),
+        choices=_VizNames("growsim.phenotypes.plant.colors", "COLORS"),
         metavar="FIELD",
         help="colour the plant's segments by its environment: %(choices)s (light received, "
         "stress ratio with 1 = breaks, share of water demand met), with a scalar bar",

@@ -1,7 +1,7 @@
 """``growsim fit-image PICTURE [SIDE]``: fit a tree model to one picture, or to a front and
 a side picture.
 
-The pictures become silhouettes (:mod:`growsim.images`: by default the photo segmentation,
+The pictures become silhouettes (:mod:`growsim.pictures.images`: by default the photo segmentation,
 the tree apart from sky and ground; ``--segmentation threshold`` for clean drawings); a
 bad segmentation is refused with a message naming the picture. The model is fitted coarse
 to fine: the setup's GA (and polish) at the first of ``--sizes`` (64 px), then a local
@@ -11,10 +11,10 @@ is kept only if clearly better (:data:`LEAF_MARGIN`), so a winter tree is fitted
 tree; each kind is fitted ``--restarts`` times (GA seeds), the ``--carry`` that scored
 best at the end of the first size go on to the finer sizes, and the best at the final size
 is kept. Every value of a discrete parameter (the leaves per branch) is tried at every
-size (:func:`growsim.fitting.sweep_discrete`): the GA and the refinement seldom step
+size (:func:`growsim.fitting.setups.sweep_discrete`): the GA and the refinement seldom step
 across an integer. For a model with random draws (Honda's ``draws`` capability) the
 arrangement of the branches is fitted too, after the GA and after each refinement (``--arrange``,
-:func:`growsim.fitting.arrange`): a picture's tree never has the model's random
+:func:`growsim.fitting.setups.arrange`): a picture's tree never has the model's random
 arrangement. The searches before the last size score views blurred by ``--blur`` pixels
 (partial credit for a branch near its place); every stage reports the binary NCC. Every
 model is one :class:`FitSetup` in :data:`FIT_SETUPS` (its tables, the parameters of its
@@ -43,7 +43,7 @@ from pathlib import Path
 import numpy as np
 
 from growsim.errors import UserInputError
-from growsim.fitting import (
+from growsim.fitting.setups import (
     FIT_SETUPS,
     LEAF_MARGIN,
     LEAF_MODES,
@@ -254,7 +254,7 @@ def _write_masks(objective, out: Path, pictures: dict) -> list[str]:
     from PIL import Image
 
     from growsim.files import atomic_write
-    from growsim.photo import load_rgb
+    from growsim.pictures.photo import load_rgb
 
     written = []
     for view, mask in objective.pictures.items():
@@ -299,8 +299,8 @@ def _size_stages(fit, k, config, sizes, setup, budgets, seed) -> None:
     """The searches of one fit's state ``fit`` (:func:`_evolve`) at ``sizes[k]``, in
     place: a refinement (at every size but the first, on the fit's config at that size,
     ``config(size, blur)``), the sweep of the discrete parameters
-    (:func:`growsim.fitting.sweep_discrete`) and the search for the branches' arrangement
-    (:func:`growsim.fitting.arrange`, for a model with random draws). ``budgets``
+    (:func:`growsim.fitting.setups.sweep_discrete`) and the search for the branches' arrangement
+    (:func:`growsim.fitting.setups.arrange`, for a model with random draws). ``budgets``
     ``(refine, arrange, blur)``: the evaluations of each refinement and of each
     arrangement search (0: none), and the blur at the first size (scaled with the size;
     the searches at the last size are on the binary NCC). Each search appends its row to
@@ -350,9 +350,9 @@ def _size_stages(fit, k, config, sizes, setup, budgets, seed) -> None:
 def _main(args) -> int:
     from growsim.experiment import load_plan
     from growsim.files import atomic_write, jsonable
-    from growsim.images import silhouette_image
-    from growsim.mesh import export
     from growsim.objectives.silhouette import phenotype_views
+    from growsim.phenotypes.plant.mesh import export
+    from growsim.pictures.images import silhouette_image
 
     if args.evaluations is not None and args.evaluations < 100:
         raise UserInputError(f"--evaluations: at least 100, got {args.evaluations}")

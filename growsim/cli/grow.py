@@ -161,7 +161,7 @@ def run_grow(args: argparse.Namespace) -> int:
 
     model = get_model(args.model)
     if args.screenshot is not None:
-        from growsim.viz import check_size
+        from growsim.render import check_size
 
         check_size(args.size, "--size")
     env = environment_from_args(args)
@@ -192,15 +192,15 @@ def run_grow(args: argparse.Namespace) -> int:
     if model.phenotype != "plant":
         return _report_other(args, plant, params)
 
-    from growsim.mesh import mesh_arrays
+    from growsim.phenotypes.plant.mesh import mesh_arrays
 
     _, _, vkind = mesh_arrays(plant, sides=args.sides, segments=args.segments)
     if args.export is not None:
-        from growsim.mesh import export
+        from growsim.phenotypes.plant.mesh import export
 
         export(plant, args.export, sides=args.sides, segments=args.segments)
     if args.screenshot is not None:
-        from growsim.viz import screenshot
+        from growsim.phenotypes.plant.views import screenshot
 
         screenshot(
             plant, args.screenshot, view=args.view, size=args.size, color=args.color, env=env,

@@ -31,7 +31,7 @@ def register(subparsers) -> None:
     )
     p.add_argument("dir", metavar="DIR", help="results directory of a run")
     p.add_argument("--screenshot", metavar="PNG", help="write a PNG instead of opening a window")
-    # the same --view (growsim.viz.VIEWS) and --size (W H, or N) as ``growsim grow``
+    # the same --view (growsim.render.VIEWS) and --size (W H, or N) as ``growsim grow``
     add_screenshot_options(p, view="iso")
     # the same --color and --light-arrow as ``growsim grow``; the environment is the run's
     add_color_options(p)
@@ -43,10 +43,10 @@ def main(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from growsim.errors import UserInputError
-    from growsim.results import read_run
+    from growsim.experiment.results import read_run
 
     if args.screenshot:
-        from growsim.viz import check_size
+        from growsim.render import check_size
 
         size = check_size(args.size, "--size")
         out = Path(args.screenshot)
@@ -61,9 +61,9 @@ def main(args: argparse.Namespace) -> int:
         else:
             phenotype.show(view=args.view)
         return 0
-    from growsim import viz
     from growsim.experiment.load import validate
-    from growsim.plant import Plant
+    from growsim.phenotypes.plant import Plant
+    from growsim.phenotypes.plant import views as viz
 
     option = f"--color {args.color}" if args.color is not None else "--light-arrow"
     if not isinstance(phenotype, Plant):

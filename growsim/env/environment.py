@@ -79,7 +79,7 @@ class Environment(Options):
           demands nothing) from ``self.water.transport(plant, light, g=self.gravity.g)``:
           the light above is the demand.
 
-        ``plant`` is a :class:`growsim.plant.Plant` or a mapping of segment arrays
+        ``plant`` is a :class:`growsim.phenotypes.plant.Plant` or a mapping of segment arrays
         (``start``, ``end``, ``radius``, ``parent``, optional ``kind``), parents first. One
         shadow map serves all its segments: plants put together with ``Plant.concat`` shade
         each other here (gravity and water still treat each root on its own). Bad arrays
@@ -103,7 +103,7 @@ class Environment(Options):
         import numpy as np
         import pandas as pd
 
-        from growsim.env.skeleton import skeleton_arrays
+        from growsim.skeleton import skeleton_arrays
 
         arrays = skeleton_arrays(plant, "segment_table")
         n = arrays["start"].shape[0]

@@ -18,11 +18,11 @@ from typing import Any
 import numpy as np
 from pydantic import Field
 
-from growsim.env.skeleton import checked_array, skeleton_arrays
-from growsim.env.skeleton import radius_end as radius_end_of
 from growsim.errors import UserInputError
 from growsim.kernels.gravity import first_break_kernel, loads_kernel
 from growsim.options import Options
+from growsim.skeleton import checked_array, skeleton_arrays
+from growsim.skeleton import radius_end as radius_end_of
 
 __all__ = ["Gravity", "Loads"]
 
@@ -100,15 +100,15 @@ class Gravity(Options):
     )
 
     def loads(self, skeleton: Any, *, strength=None) -> Loads:
-        """The loads at every joint of ``skeleton``: a :class:`growsim.plant.Plant`, or a
+        """The loads at every joint of ``skeleton``: a :class:`growsim.phenotypes.plant.Plant`, or a
         mapping of arrays ``start``, ``end`` ``(n, 3)``, ``radius``, ``parent`` and
         optionally ``kind`` (default all stems), ``radius_end`` (default: as
-        :meth:`growsim.plant.Plant.radius_end`) and ``strength``.
+        :meth:`growsim.phenotypes.plant.Plant.radius_end`) and ``strength``.
 
         The per-segment strength is ``strength`` ``(n,)`` if given, else
         ``data["strength"]`` of a plant (or the mapping's ``strength``), else
         :attr:`strength`. Segments must be stored parents first (``parent[s] < s``).
-        Several roots (plants put together with :meth:`growsim.plant.Plant.concat`) are
+        Several roots (plants put together with :meth:`growsim.phenotypes.plant.Plant.concat`) are
         loaded independently; ``first_break`` is then the worst joint of them all.
 
         Raises :class:`growsim.errors.UserInputError` for a non-finite coordinate or
@@ -117,7 +117,7 @@ class Gravity(Options):
         Examples
         --------
         >>> import numpy as np
-        >>> from growsim.plant import Plant
+        >>> from growsim.phenotypes.plant import Plant
         >>> branch = Plant.from_points([[0, 0, 0], [2, 0, 0]], [-1], [-1, 0], radius=0.05)
         >>> out = Gravity(g=10.0, density=500.0).loads(branch)
         >>> m = 500.0 * np.pi * 0.05**2 * 2  # a cylinder's mass
@@ -135,7 +135,7 @@ class Gravity(Options):
 
         Examples
         --------
-        >>> from growsim.plant import Plant
+        >>> from growsim.phenotypes.plant import Plant
         >>> twig = Plant.from_points([[0, 0, 0], [6, 0, 0]], [-1], [-1, 0], radius=0.01)
         >>> Gravity().breaks(twig), Gravity(g=0.0).breaks(twig)
         (True, False)
@@ -149,7 +149,7 @@ class Gravity(Options):
 
         Examples
         --------
-        >>> from growsim.plant import Plant
+        >>> from growsim.phenotypes.plant import Plant
         >>> thin = Plant.from_points([[0, 0, 0], [6, 0, 0]], [-1], [-1, 0], radius=0.01)
         >>> thick = Plant.from_points([[0, 0, 0], [6, 0, 0]], [-1], [-1, 0], radius=0.1)
         >>> Gravity().first_breaks([thin, thick]).tolist()
@@ -182,7 +182,7 @@ class Gravity(Options):
 
         Examples
         --------
-        >>> from growsim.plant import Plant
+        >>> from growsim.phenotypes.plant import Plant
         >>> def grow():  # a branch that lengthens by 1 each step
         ...     for k in range(1, 9):
         ...         yield Plant.from_points([[0, 0, 0], [k, 0, 0]], [-1], [-1, 0], radius=0.01)

@@ -27,9 +27,9 @@ from typing import Annotated, Literal
 import numpy as np
 from pydantic import AfterValidator, Field
 
-from growsim.env.skeleton import checked_array, skeleton_arrays
 from growsim.errors import UserInputError
 from growsim.options import Options
+from growsim.skeleton import checked_array, skeleton_arrays
 
 __all__ = [
     "DEFAULT_RESOLUTION",
@@ -470,7 +470,7 @@ def segment_light(
 ) -> np.ndarray:
     """Light on each segment from a parallel light through a shadow map.
 
-    ``start`` is a :class:`growsim.plant.Plant`, a mapping of arrays (``start``, ``end``,
+    ``start`` is a :class:`growsim.phenotypes.plant.Plant`, a mapping of arrays (``start``, ``end``,
     ``radius``, optional ``kind``, ``normal`` and ``transmission``) or the ``(n, 3)`` start
     points with ``end`` ``(n, 3)`` and ``radius`` ``(n,)``. ``offsets`` ``(k + 1,)`` splits
     the segments into ``k`` plants (plant ``k`` is ``offsets[k]:offsets[k + 1]``; default one
@@ -517,7 +517,7 @@ def segment_light(
     [1.0, 0.5, 0.0]
     """
     from growsim.kernels import light as kernels
-    from growsim.plant import LEAF
+    from growsim.skeleton import LEAF
 
     where = "segment_light"
     d, u, v, intensity, res, bias = _shadow_settings(

@@ -46,9 +46,9 @@ from dataclasses import dataclass
 import numpy as np
 from pydantic import Field
 
-from growsim.env.skeleton import checked_array, skeleton_arrays
 from growsim.errors import UserInputError
 from growsim.options import Options
+from growsim.skeleton import checked_array, skeleton_arrays
 
 __all__ = ["LIFT", "RESISTANCE", "Water", "WaterFlow", "segment_demand", "transport"]
 
@@ -90,7 +90,8 @@ def _nonneg(name: str, value: float) -> float:
 def segment_demand(kind, light, length, stem_demand: float = 0.0) -> np.ndarray:
     """``(n,)`` demand: ``light`` for leaves, ``stem_demand * length`` for stems.
 
-    ``kind`` ``(n,)`` (:data:`growsim.plant.STEM` / :data:`~growsim.plant.LEAF`) or ``None``
+    ``kind`` ``(n,)`` (:data:`growsim.phenotypes.plant.STEM` /
+    :data:`~growsim.phenotypes.plant.LEAF`) or ``None``
     (every segment demands by its light).
 
     Examples
@@ -102,7 +103,7 @@ def segment_demand(kind, light, length, stem_demand: float = 0.0) -> np.ndarray:
     length = np.asarray(length, dtype=np.float64)
     if kind is None:
         return light.copy()
-    from growsim.plant import LEAF
+    from growsim.skeleton import LEAF
 
     return np.where(np.asarray(kind) == LEAF, light, float(stem_demand) * length)
 
@@ -119,7 +120,7 @@ def transport(
 ) -> WaterFlow:
     """Water received by each segment of ``plant`` (see the module docstring's equations).
 
-    ``plant``: a :class:`growsim.plant.Plant` or a mapping with ``start``, ``end`` ``(n,
+    ``plant``: a :class:`growsim.phenotypes.plant.Plant` or a mapping with ``start``, ``end`` ``(n,
     3)``, ``radius``, ``parent`` ``(n,)`` and optionally ``kind`` (without it every segment
     demands by its light); parents must come before children. ``light`` ``(n,)`` the light
     each segment receives (e.g. leaf areas, or ones), ``>= 0``. ``supply`` the roots'
@@ -128,7 +129,7 @@ def transport(
 
     Examples
     --------
-    >>> from growsim.plant import Plant
+    >>> from growsim.phenotypes.plant import Plant
     >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0], [1, 2, 0], [-1, 2, 0]],
     ...                       [-1, 0, 0], [-1, 0, 1, 1], kind=[0, 1, 1])
     >>> w = transport(p, [0, 1, 1], 0.5, resistance=0, lift=0)
@@ -202,7 +203,7 @@ class Water(Options):
 
         Examples
         --------
-        >>> from growsim.plant import Plant
+        >>> from growsim.phenotypes.plant import Plant
         >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0], kind=[1])
         >>> Water(supply=0.0).transport(p, [1.0]).met.tolist()
         [0.0]

@@ -8,11 +8,22 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
-__all__ = ["Fitness", "build_fitness", "one_blas_thread"]
+__all__ = ["Fitness", "Individual", "build_fitness", "one_blas_thread"]
+
+
+class Individual(NamedTuple):
+    """One individual rebuilt from its evolved values (:meth:`Fitness.phenotype_of`)."""
+
+    #: every model parameter (fixed and evolved; integer parameters rounded)
+    params: dict[str, float]
+    #: the seed the model grows it with
+    seed: int
+    #: the grown phenotype (None when not grown)
+    phenotype: Any
 
 _BLAS = None
 
@@ -119,6 +130,31 @@ class Fitness:
     def develop(self, row: np.ndarray, seed: int):
         """Grow the phenotype of one full parameter row."""
         return self.model.develop(self.param_dict(row), seed=int(seed), env=self.env)
+
+    def phenotype_of(self, x, *, grow: bool = True, draws=None) -> Individual:
+        """The one way to rebuild an individual from its ``(k,)`` evolved values ``x``
+        (columns in :attr:`evolved` order), as the evaluation built it: every parameter
+        (integers rounded), the model's seed (``model.noise = "fixed"``: the ``seed``
+        parameter or the run's) and the phenotype (``grow=False``: None). ``draws``: the
+        arrangement's draws for a model with the ``"draws"`` capability.
+
+        Examples
+        --------
+        >>> from growsim.experiment import load_plan
+        >>> f = load_plan("experiments/quickstart.toml").fitness()
+        >>> ind = f.phenotype_of([0.8, 80.0, 5.0, 0.2, 8.0, 4.0])
+        >>> ind.params["f"], ind.seed, ind.phenotype.phenotype
+        (0.8, 3, 'plant')
+        """
+        row = self.full_params(np.asarray(x, dtype=np.float64)[None, :])[0]
+        params = self.param_dict(row)
+        seed = int(self.model_seeds(row[None, :], None)[0])
+        if not grow:
+            return Individual(params, seed, None)
+        if draws is None:
+            return Individual(params, seed, self.develop(row, seed))
+        grown = self.model.develop(params, seed=seed, env=self.env, draws=draws)
+        return Individual(params, seed, grown)
 
     def terms(self, phenotype) -> dict[str, dict[str, float]]:
         """Each objective's score and named terms for one phenotype:

@@ -3,8 +3,8 @@
 :func:`run` takes a config (path, dict, :class:`Config`) or a compiled
 :class:`~growsim.experiment.plan.ExperimentPlan`, evolves it with the GA, and writes
 history, best, the best phenotype and its artefacts, and the summary (last) through
-:class:`growsim.results.RunDir`. :func:`load_run` and :func:`best_phenotype` read a
-results directory back (through :func:`growsim.results.read_run`).
+:class:`growsim.experiment.results.RunDir`. :func:`load_run` and :func:`best_phenotype` read a
+results directory back (through :func:`growsim.experiment.results.read_run`).
 """
 
 from __future__ import annotations
@@ -109,7 +109,7 @@ class RunResult:
     ``history``: DataFrame, one row per generation (and island): generation, evaluations,
     best, mean, std, worst, best_so_far, diversity, seconds; ``best_params``: every model
     parameter of the best individual; ``best_fitness``; ``best_phenotype``: what it grows
-    (a :class:`growsim.plant.Plant` for plant models; also ``best_plant``); ``out``: the
+    (a :class:`growsim.phenotypes.plant.Plant` for plant models; also ``best_plant``); ``out``: the
     results directory; ``summary``: the dict of summary.json.
 
     Examples
@@ -261,7 +261,7 @@ def run(
     >>> sorted(p.name for p in r.out.iterdir())[:3]  # doctest: +SKIP
     ['best.json', 'best.vtp', 'best_front.png']
     """
-    from growsim.results import RunDir
+    from growsim.experiment.results import RunDir
 
     check_executor_args(workers, scheduler)
     if resume:
@@ -353,7 +353,7 @@ def _census(fitness, result, warnings: list[str], executor=None) -> dict[str, in
     an int: a process pool of that size, as the GA's): it costs about as much as one or
     two generations' evaluations (the final population's plants are the grown ones)."""
     population = getattr(result, "population", None)
-    if getattr(fitness.model, "population", None) is None or population is None:
+    if "population" not in fitness.model.capabilities or population is None:
         return {}
     if not len(population):
         return {}
@@ -539,9 +539,9 @@ def _artefacts(cfg: Config, rd, phenotype, history) -> list[str]:
     if o.plot and len(history):
 
         def plot():
-            from growsim import viz
+            from growsim.experiment.results import plot_fitness
 
-            viz.plot_fitness(history, rd.path / "fitness.png")
+            plot_fitness(history, rd.path / "fitness.png")
 
         attempt("fitness.png", plot)
     return warnings
@@ -556,7 +556,7 @@ def load_run(path: str | Path) -> RunResult:
     >>> r.best_plant.height()  # doctest: +SKIP
     41.2
     """
-    from growsim.results import read_run
+    from growsim.experiment.results import read_run
 
     rec = read_run(path)
     phenotype = None
@@ -584,7 +584,7 @@ def best_phenotype(path: str | Path):
     >>> best_phenotype("runs/quickstart-20261122-101500").n_segments  # doctest: +SKIP
     1023
     """
-    from growsim.results import read_run
+    from growsim.experiment.results import read_run
 
     return read_run(path, finished=False, history=False).phenotype()
 

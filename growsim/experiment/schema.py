@@ -21,7 +21,7 @@ from growsim.ga import GAOptions, PolishOptions
 from growsim.ga.options import GA_OPTIONS_CONFIG
 from growsim.objectives import OBJECTIVES
 from growsim.options import Options
-from growsim.viz import MAX_SIZE, MIN_SIZE, VIEWS
+from growsim.render import MAX_SIZE, MIN_SIZE, VIEWS
 
 __all__ = [
     "SECTIONS",

@@ -170,7 +170,7 @@ def sweep(
         close()
     df = pd.DataFrame(rows)
     atomic_write(root / "sweep.csv", df.to_csv(index=False))
-    from growsim.results import write_parquet
+    from growsim.experiment.results import write_parquet
 
     write_parquet(root / "sweep.parquet", df)
     return df
@@ -185,7 +185,7 @@ def _check_run_dir(run_dir: Path, plan: ExperimentPlan) -> None:
     """Refuse (``UserInputError``, one line, nothing written) a run directory that holds
     a run whose saved resolved config is not ``plan``'s: neither reuse its results nor
     resume it with its old config."""
-    from growsim.results import RunDir
+    from growsim.experiment.results import RunDir
 
     rd = RunDir(run_dir)
     if not rd.config_path.is_file():
@@ -210,7 +210,7 @@ def _check_run_dir(run_dir: Path, plan: ExperimentPlan) -> None:
 
 
 def _sweep_runs(variants, labels, n_rep, root, executor, workers, scheduler, progress):
-    from growsim.results import RunDir, read_run
+    from growsim.experiment.results import RunDir, read_run
 
     rows = []
     if isinstance(executor, int):  # a process-pool size: let each run make its pool

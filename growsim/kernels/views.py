@@ -3,7 +3,7 @@
 Every silhouette objective scores *views*: ``(V, S, S)`` rasters, ``V = 2`` for the front
 and side views of a plant. This module is the one home of what turns segments into views
 and compares views; :mod:`growsim.kernels.ifs3d` (the population scorer),
-:mod:`growsim.objectives.silhouette` (any plant) and :mod:`growsim.images` (photos) use it.
+:mod:`growsim.objectives.silhouette` (any plant) and :mod:`growsim.pictures.images` (photos) use it.
 
 Pixel convention (as :mod:`growsim.kernels.raster`): pixel ``(i, j)`` (row ``i``, column
 ``j``) covers the square ``[j, j+1) x [i, i+1)`` of pixel coordinates ``(x, y)``; ``x`` is
@@ -454,7 +454,8 @@ def frame_view(u, y, u_base: float, y_min: float, scale: float, size: int):
     ``col = size/2 + scale (u - u_base)``, ``row = size - MARGIN - scale (y - y_min)``:
     the base ``u_base`` at the horizontal centre, height ``y_min`` on the bottom row's
     centre line (y up). ``u``, ``y`` ``(n,)``; returns ``col``, ``row`` ``(n,)`` float64.
-    :func:`frame_points` places plants so; :func:`growsim.images.frame_silhouettes`, photos.
+    :func:`frame_points` places plants so; :func:`growsim.pictures.images.frame_silhouettes`,
+    photos.
 
     Examples
     --------

@@ -12,7 +12,7 @@ Two passes over segments stored parents first (``parent[i] < i``), as in
    the equations), and each segment keeps ``min(d[i], a[i] d[i] / D[i])`` of what reaches
    its far end ``a[i]``: ``min(1, supply * exp(-(sum of x along the path))) * d[i]``.
 
-Several plants joined into one forest (one root each, :meth:`growsim.plant.Plant.concat`)
+Several plants joined into one forest (one root each, :meth:`growsim.phenotypes.plant.Plant.concat`)
 run in one call: every root draws its own share.
 """
 

@@ -5,13 +5,17 @@ A model is a :class:`Model` (one instance per model, registered by name in
 :data:`growsim.models.MODELS`) with
 
 - :attr:`Model.name` and :attr:`Model.phenotype` (the kind of phenotype it returns, see
-  :mod:`growsim.phenotype`);
+  :mod:`growsim.phenotypes`);
 - its parameters, a tuple of :class:`Param` (:meth:`Model.param_spec`, which may depend
   on fixed parameters: the IFS tree's parameters depend on its number of maps);
 - named parameter sets (:attr:`Model.presets`, :meth:`Model.preset`);
 - :meth:`Model.develop` ``(params, *, seed, env) -> phenotype``;
 - for step-wise models, :meth:`Model.grow`, yielding the phenotype after each step
-  (growth animations use it; a one-shot model yields once).
+  (growth animations use it; a one-shot model yields once);
+- the optional capabilities it implements, declared by name in :attr:`Model.capabilities`
+  (one of :data:`CAPABILITIES` each; the base methods refuse): :meth:`Model.population`,
+  :meth:`Model.map_groups`, :meth:`Model.collisions`, :meth:`Model.draws`. Callers ask
+  ``"population" in model.capabilities``, never ``getattr``.
 """
 
 from __future__ import annotations
@@ -24,6 +28,12 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 
 from growsim.errors import UserInputError
+
+__all__ = ["CAPABILITIES", "Model", "Param", "resolve_params"]
+
+#: the optional capabilities a model may declare (:attr:`Model.capabilities`), each the
+#: name of the :class:`Model` method that implements it
+CAPABILITIES = ("population", "map_groups", "collisions", "draws")
 
 
 @dataclass(frozen=True)
@@ -110,7 +120,7 @@ class Model(abc.ABC):
 
     #: registry name
     name: ClassVar[str] = ""
-    #: kind of phenotype :meth:`develop` returns (a name in :data:`growsim.phenotype.PHENOTYPES`)
+    #: kind of phenotype :meth:`develop` returns (a name in :data:`growsim.phenotypes.PHENOTYPES`)
     phenotype: ClassVar[str] = "plant"
     #: the parameter spec for default fixed values
     params: ClassVar[tuple[Param, ...]] = ()
@@ -118,6 +128,8 @@ class Model(abc.ABC):
     presets: ClassVar[Mapping[str, Mapping[str, float]]] = {}
     #: True when :meth:`grow` yields one phenotype per growth step
     stepwise: ClassVar[bool] = False
+    #: the optional capabilities implemented (names in :data:`CAPABILITIES`)
+    capabilities: ClassVar[frozenset[str]] = frozenset()
 
     def param_spec(self, fixed: Mapping[str, float] | None = None) -> tuple[Param, ...]:
         """The parameters of the model given the ``fixed`` values (default: :attr:`params`)."""
@@ -155,6 +167,37 @@ class Model(abc.ABC):
     ) -> Iterator[Any]:
         """Yield the phenotype after each growth step (a one-shot model: once, grown)."""
         yield self.develop(params, seed=seed, env=env)
+
+    def _missing(self, capability: str):
+        raise NotImplementedError(
+            f"model {self.name!r} has no {capability!r} capability "
+            f"(it declares: {', '.join(sorted(self.capabilities)) or 'none'})"
+        )
+
+    def population(self, params: np.ndarray, names: Sequence[str], seeds=None, env=None):
+        """Capability ``"population"``: grow every row of full parameters ``(n, p)``
+        (columns ``names``) in one call, keeping no phenotype; a ``pandas.DataFrame`` of
+        per-plant totals (one row per individual), or None when this population cannot
+        take the path (the caller then develops one by one)."""
+        self._missing("population")
+
+    def map_groups(self, params: np.ndarray, names: Sequence[str]):
+        """Capability ``"map_groups"``: the population split into groups that share their
+        discrete parameters, each ``(rows, maps, depth)`` (the IFS tree's population
+        kernel of the silhouette objective)."""
+        self._missing("map_groups")
+
+    def collisions(self, params: np.ndarray, names: Sequence[str], seeds=None, env=None):
+        """Capability ``"collisions"``: ``(n,)`` collision counts of every row of full
+        parameters, no phenotype kept (the fish's population kernel), or None when the
+        population cannot take the path."""
+        self._missing("collisions")
+
+    def draws(self, params: Mapping[str, float] | None = None, *, seed=None) -> np.ndarray:
+        """Capability ``"draws"``: the random draws of the phenotype's arrangement (one
+        row per branching), which ``develop(params, draws=...)`` takes back, so a fit can
+        search them (:func:`growsim.fitting.setups.arrange`)."""
+        self._missing("draws")
 
     def __repr__(self) -> str:
         return f"<growsim model {self.name!r} ({self.phenotype})>"

@@ -5,7 +5,7 @@ The fish swims straight and avoids what it sees by fixed patterns (turns of 10 d
 frame, pitching away from the top or bottom); its numbers (start, size, view distance,
 avoidance angle, speed, initial heading and pitch, colour, preferred turn) are the genome
 of the seed's Table 1, so a GA can tune them until the fish never collides. The path is a
-:class:`growsim.trajectory.Trajectory`. The frame loop is the numba kernel
+:class:`growsim.phenotypes.trajectory.Trajectory`. The frame loop is the numba kernel
 :mod:`growsim.kernels.fish`; behaviour, genome and choices: ``docs/models/fish.md``.
 
 Parameters, in the order of the seed's Table 1 (the genome's order):
@@ -125,7 +125,7 @@ def fish_table(params: np.ndarray, names: Sequence[str], tank) -> np.ndarray:
 
 
 def develop(params: Mapping[str, float] | None = None, *, seed: int | None = None, env=None):
-    """Swim one fish: its :class:`growsim.trajectory.Trajectory` in ``env``'s tank
+    """Swim one fish: its :class:`growsim.phenotypes.trajectory.Trajectory` in ``env``'s tank
     (default: :func:`default_tank`). ``seed`` draws the 3:1 turn choices (None: 0).
 
     Examples
@@ -135,7 +135,7 @@ def develop(params: Mapping[str, float] | None = None, *, seed: int | None = Non
     (500, (501, 3))
     """
     from growsim.kernels.fish import swim_path
-    from growsim.trajectory import Trajectory
+    from growsim.phenotypes.trajectory import Trajectory
 
     p = resolve_params(PARAMS, params, where="fish.")
     tank = _tank(env)
@@ -171,6 +171,7 @@ class FishModel(Model):
 
     name = "fish"
     phenotype = "trajectory"
+    capabilities = frozenset({"collisions"})
     params = PARAMS
     presets = PRESETS
 

@@ -29,7 +29,7 @@ from growsim.kernels.honda import (
     subtree_tips_kernel,
 )
 from growsim.models.base import Model, Param, resolve_params
-from growsim.plant import LEAF, Plant
+from growsim.phenotypes.plant import LEAF, Plant
 
 __all__ = [
     "MAX_SEGMENTS",
@@ -192,7 +192,7 @@ def draws(params: Mapping[str, float] | None = None, *, seed=None) -> np.ndarray
     lateral, their fall-backs beyond 90 degrees, which child turns which way, the two
     azimuth turns, the two lengths, spares). What ``params["seed"]`` (or ``seed``) gives;
     :func:`develop`'s ``draws`` replaces them (the fit chooses the arrangement of a
-    picture's branches this way: ``growsim.fitting.arrange``).
+    picture's branches this way: ``growsim.fitting.setups.arrange``).
 
     Examples
     --------
@@ -215,7 +215,8 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None, d
     has no environment). ``draws``: optional ``(m, N_DRAWS)`` uniforms in ``[0, 1]``
     replacing the seed's draws of the first ``m`` branchings (the arrangement of the
     branches: see :func:`draws`; rows beyond the tree's branchings are ignored; without
-    it, the tree is the seed's, bit for bit). Returns a :class:`growsim.plant.Plant` whose first
+    it, the tree is the seed's, bit for bit). Returns a :class:`growsim.phenotypes.plant.Plant`
+    whose first
     ``n_stems`` segments are the stems in the seed's vertex order (segment ``v - 1`` ends
     at vertex ``v``), followed by the leaves (``kind == LEAF``). ``data`` holds
     ``generation``, ``depth``, ``main`` (bool) and ``radius_end``.
@@ -337,6 +338,7 @@ class Honda(Model):
 
     name = NAME
     phenotype = "plant"
+    capabilities = frozenset({"draws"})
     params = PARAMS
     presets = PRESETS
 
@@ -345,7 +347,7 @@ class Honda(Model):
         return develop(params, seed=seed, env=env, draws=draws)
 
     def draws(self, params=None, *, seed=None) -> np.ndarray:
-        """See :func:`draws` (a capability: ``growsim.fitting.arrange`` fits them)."""
+        """See :func:`draws` (a capability: ``growsim.fitting.setups.arrange`` fits them)."""
         return draws(params, seed=seed)
 
 

@@ -38,7 +38,7 @@ import numpy as np
 from growsim.kernels import hormone as K
 from growsim.kernels.light import shadow_scratch
 from growsim.models.base import Model, Param, resolve_params
-from growsim.plant import Plant
+from growsim.phenotypes.plant import Plant
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -388,6 +388,7 @@ class Hormone(Model):
 
     name = NAME
     phenotype = "plant"
+    capabilities = frozenset({"population"})
     params = PARAMS
     presets = PRESETS
     stepwise = True

@@ -9,7 +9,7 @@ seed's form
 (``r``, ``q`` the scales along x and y, ``theta``, ``phi`` their rotations, ``e``, ``f``
 the shift), or in the usual ``a b c d e f`` form, ``x' = a x + b y + e``,
 ``y' = c x + d y + f``. Its phenotype is the attractor drawn by the chaos game
-(:class:`growsim.attractor.Attractor`; kernel :mod:`growsim.kernels.ifs2d`).
+(:class:`growsim.phenotypes.attractor.Attractor`; kernel :mod:`growsim.kernels.ifs2d`).
 
 Parameters (:func:`param_spec`):
 
@@ -37,6 +37,7 @@ import numpy as np
 
 from growsim.errors import ResourceError, UserInputError
 from growsim.models.base import Model, Param, resolve_params
+from growsim.phenotypes.attractor import singular_values
 
 __all__ = [
     "DEFAULT_N_MAPS",
@@ -58,7 +59,6 @@ __all__ = [
     "params_from_code",
     "repair",
     "seed_form",
-    "singular_values",
 ]
 
 NAME = "ifs2d"
@@ -249,21 +249,6 @@ def repair(maps, p, contraction: float = 0.95) -> tuple[np.ndarray, np.ndarray]:
     return maps, p
 
 
-def singular_values(maps) -> np.ndarray:
-    """``(N,)`` largest singular value of each map's linear part (rows ``a b c d ...``).
-
-    Examples
-    --------
-    >>> singular_values([[0.0, -0.5, 0.5, 0.0, 0, 0]]).tolist()
-    [0.5]
-    """
-    m = np.asarray(maps, dtype=np.float64).reshape(-1, np.shape(maps)[-1])
-    a, b, c, d = m[:, 0], m[:, 1], m[:, 2], m[:, 3]
-    s = a * a + b * b + c * c + d * d
-    det = a * d - b * c
-    return np.sqrt(0.5 * (s + np.sqrt(np.maximum(s * s - 4.0 * det * det, 0.0))))
-
-
 def fixed_point(row) -> tuple[float, float]:
     """The fixed point of one contractive map ``(a, b, c, d, e, f)``: ``(I - A)^-1 (e, f)``.
 
@@ -336,7 +321,7 @@ PRESETS: dict[str, dict[str, float]] = {
 
 
 def develop(params: Mapping[str, float] | None = None, *, seed: int = 0, env=None):
-    """Draw the attractor of an IFSP code: a :class:`growsim.attractor.Attractor`.
+    """Draw the attractor of an IFSP code: a :class:`growsim.phenotypes.attractor.Attractor`.
 
     ``params``: any subset of :func:`param_spec` (for ``params["n_maps"]`` and
     ``params["form"]``); the rest default (the fern). ``seed`` seeds the chaos game;
@@ -348,8 +333,8 @@ def develop(params: Mapping[str, float] | None = None, *, seed: int = 0, env=Non
     >>> a.points.shape, round(a.height(), 1)
     ((100000, 2), 10.0)
     """
-    from growsim.attractor import Attractor
     from growsim.kernels.ifs2d import chaos_game
+    from growsim.phenotypes.attractor import Attractor
 
     params = dict(params or {})
     p = resolve_params(param_spec(params), params, where="ifs2d.")
@@ -413,7 +398,7 @@ def fit_tables() -> dict:
 
 class IFS2D(Model):
     """The 2D IFS plant under the model contract: :func:`param_spec`, :data:`PRESETS`,
-    :func:`develop` (an :class:`growsim.attractor.Attractor`, phenotype ``"points2d"``).
+    :func:`develop` (an :class:`growsim.phenotypes.attractor.Attractor`, phenotype ``"points2d"``).
 
     Examples
     --------

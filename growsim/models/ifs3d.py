@@ -35,7 +35,7 @@ from growsim.errors import ResourceError, UserInputError
 from growsim.kernels.honda import leaves_kernel
 from growsim.kernels.ifs3d import compose_tree, n_segments
 from growsim.models.base import Model, Param, resolve_params
-from growsim.plant import LEAF, STEM, Plant
+from growsim.phenotypes.plant import LEAF, STEM, Plant
 
 __all__ = [
     "DEFAULT_DEPTH",
@@ -251,7 +251,7 @@ def map_groups(params, names) -> Iterator[tuple[np.ndarray, np.ndarray, int]]:
 
 
 def develop(params: Mapping[str, float] | None = None, *, seed: int = 0, env=None):
-    """Build the IFS tree as a :class:`growsim.plant.Plant`.
+    """Build the IFS tree as a :class:`growsim.phenotypes.plant.Plant`.
 
         ``params``: any subset of :func:`param_spec` (for ``params["n_maps"]``); the rest take
         their defaults. The model is deterministic: ``seed`` is only recorded, ``env`` unused.
@@ -380,6 +380,7 @@ class IFS3D(Model):
 
     name = NAME
     phenotype = "plant"
+    capabilities = frozenset({"map_groups"})
     params = PARAMS
     presets = PRESETS
 

@@ -5,7 +5,7 @@ An objective is a :class:`Objective` subclass registered by name in
 
 - :attr:`~Objective.name`, :attr:`~Objective.maximize`;
 - :attr:`~Objective.accepts`: the phenotype kinds it can score (see
-  :mod:`growsim.phenotype`); a config pairing it with a model whose phenotype is not
+  :mod:`growsim.phenotypes`); a config pairing it with a model whose phenotype is not
   among them is refused at load time;
 - :attr:`~Objective.Options`: its options, an :class:`ObjectiveOptions` subclass: the one
   declaration of its ``[[objective]]`` table (types, defaults, limits, descriptions),

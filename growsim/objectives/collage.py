@@ -13,7 +13,8 @@ BioSystems 1994), and it is smooth where the silhouette NCC of the attractor is 
 Score: ``NCC(W(G), G)`` on binary rasters (:func:`growsim.kernels.views.ncc`), ``G`` the
 target's 2D view (as the silhouette objective reads it, ``views = "front"``). The world
 coordinates of ``G``'s pixels are those of the candidate's own 2D view (its framing:
-:meth:`growsim.attractor.Attractor.framing`), so ``W(G)`` is ``G`` moved by the code as the
+:meth:`growsim.phenotypes.attractor.Attractor.framing`), so ``W(G)`` is ``G`` moved by the code
+as the
 code's attractor would be; each target pixel is sampled at ``samples x samples`` points.
 """
 
@@ -34,7 +35,7 @@ def collage(target, maps, framing, samples: int = 3) -> np.ndarray:
     as a binary ``(S, S)`` view.
 
     ``maps`` ``(N, 6)`` rows ``a b c d e f``; ``framing`` ``(base_x, y_min, scale)`` of the
-    view (:meth:`growsim.attractor.Attractor.framing`): pixel ``(col, row)`` is the world
+    view (:meth:`growsim.phenotypes.attractor.Attractor.framing`): pixel ``(col, row)`` is the world
     point ``x = base_x + (col - S/2) / scale``, ``y = y_min + (S - 0.5 - row) / scale``.
 
     Examples

@@ -2,7 +2,7 @@
 fitness of seed 001 (Okusa, "GA-tuned path control of a fish agent": the total of the 7
 body points' collisions over 20,000 frames; 0 is a fish that never touches anything).
 
-The score recounts the collisions of a :class:`growsim.trajectory.Trajectory` against the
+The score recounts the collisions of a :class:`growsim.phenotypes.trajectory.Trajectory` against the
 objective's environment's tank (the default tank when it has none); the population fast
 path (:meth:`CollisionsObjective.batch`) asks the model's ``collisions`` capability (the
 fish's kernel over the whole population, no path kept), and gives the same numbers.
@@ -72,8 +72,7 @@ class CollisionsObjective(Objective):
 
     def batch(self, model, params, names, seeds=None):
         """The model's ``collisions`` capability over the whole population, or None."""
-        fast = getattr(model, "collisions", None)
-        if fast is None:
+        if "collisions" not in model.capabilities:
             return None
-        out = fast(params, names, seeds, env=self.env)
+        out = model.collisions(params, names, seeds, env=self.env)
         return None if out is None else np.asarray(out, dtype=np.float64)

@@ -30,9 +30,9 @@ costs::
   crown of several layers can pay (Horn, *The adaptive geometry of trees*; why it
   matters: *Hormone-module growth: facts, formulas and a proposed design*, the team's
   research notes);
-- ``V_wood``: :meth:`growsim.plant.Plant.wood_volume` (world units^3, the stem tubes).
+- ``V_wood``: :meth:`growsim.phenotypes.plant.Plant.wood_volume` (world units^3, the stem tubes).
 
-The sum ``sum_i A_i R(L_i)`` is :func:`growsim.plant.leaf_light` (its linear form is the
+The sum ``sum_i A_i R(L_i)`` is :func:`growsim.phenotypes.plant.leaf_light` (its linear form is the
 plant's ``light_captured`` measure). Terms: ``light`` (the sum), ``leaf_area``
 (``sum_i A_i``) and ``wood_volume``.
 
@@ -42,7 +42,7 @@ light, kept so old configs can reproduce old results (linear response only)::
     score = intensity * A_leaf(d) - wood_cost * V_wood
 
 with ``A_leaf(d)`` the area of the leaves' orthographic shadow along ``d``
-(:meth:`growsim.plant.Plant.leaf_area` at ``resolution``: overlapping leaves count once);
+(:meth:`growsim.phenotypes.plant.Plant.leaf_area` at ``resolution``: overlapping leaves count once);
 terms ``light`` (``intensity * A_leaf(d)``), ``leaf_area`` (``A_leaf(d)``) and
 ``wood_volume``. An old config gives its old results with ``shading = "projection"`` and
 its old ``resolution`` (then 128 by default).
@@ -206,7 +206,7 @@ class LightObjective(Objective):
 
         Examples
         --------
-        >>> from growsim.plant import LEAF, STEM, Plant
+        >>> from growsim.phenotypes.plant import LEAF, STEM, Plant
         >>> plant = Plant.from_points([[0, 0, 0], [0, 1, 0], [1, 1, 0]], [-1, 0], [-1, 0, 1],
         ...                           radius=0.25, kind=[STEM, LEAF])
         >>> LightObjective(intensity=0.5).terms(plant)["light"]  # a blade 1 x 0.5, lit
@@ -216,7 +216,7 @@ class LightObjective(Objective):
             area = float(plant.leaf_area(self.direction, resolution=self.resolution))
             light = self.intensity * area
         else:
-            from growsim.plant import leaf_light
+            from growsim.phenotypes.plant import leaf_light
 
             light, area = leaf_light(plant, self.light, self.respond)
         return {"light": light, "leaf_area": area, "wood_volume": float(plant.wood_volume())}

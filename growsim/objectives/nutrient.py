@@ -72,8 +72,7 @@ class NutrientObjective(Objective):
     def batch(self, model, params, names, seeds=None):
         """The model's ``population`` capability over the whole population (its
         ``total_nutrient`` column), or None."""
-        fast = getattr(model, "population", None)
-        if fast is None:
+        if "population" not in model.capabilities:
             return None
-        table = fast(params, names, seeds, env=self.env)
+        table = model.population(params, names, seeds, env=self.env)
         return None if table is None else table["total_nutrient"].to_numpy(np.float64)

@@ -45,14 +45,10 @@ from growsim.objectives.base import Objective, ObjectiveOptions
 __all__ = [
     "SPECIES",
     "TERMS",
-    "GenerationBests",
     "OchoaObjective",
     "OchoaOptions",
-    "evolve_species",
     "ochoa_terms",
     "plane_view",
-    "species_figure",
-    "terms_figure",
 ]
 
 #: the four terms, in the seed's order (a, b, c, d)
@@ -73,10 +69,11 @@ SPECIES: dict[str, dict[str, float]] = {
 def plane_view(phenotype, size: int = 128) -> tuple[np.ndarray, float]:
     """The 2D view ``(size, size)`` uint8 of a phenotype and its height (world units).
 
-    A phenotype with a ``front_view(size)`` (an :class:`growsim.attractor.Attractor`)
-    gives its own; a :class:`growsim.plant.Plant` gives its skeleton's front view (the
-    x-y plane, thin lines: :func:`growsim.objectives.silhouette.plant_views`). Both are
-    framed alike: the stem base on the centre column and the bottom row.
+    A phenotype with the ``"front_view"`` capability (an
+    :class:`growsim.phenotypes.attractor.Attractor`) gives its own; a
+    :class:`growsim.phenotypes.plant.Plant` gives its skeleton's front view (the x-y plane,
+    thin lines: :func:`growsim.objectives.silhouette.plant_views`). Both are framed alike:
+    the stem base on the centre column and the bottom row.
 
     Examples
     --------
@@ -85,10 +82,10 @@ def plane_view(phenotype, size: int = 128) -> tuple[np.ndarray, float]:
     >>> img.shape, int(img[63, 32]), h > 0
     ((64, 64), 1, True)
     """
-    front = getattr(phenotype, "front_view", None)
-    if callable(front):
-        return np.asarray(front(int(size)), dtype=np.uint8), float(phenotype.height())
-    if getattr(phenotype, "phenotype", None) == "plant":
+    if "front_view" in phenotype.capabilities:
+        view = phenotype.front_view(int(size))
+        return np.asarray(view, dtype=np.uint8), float(phenotype.height())
+    if phenotype.phenotype == "plant":
         from growsim.objectives.silhouette import plant_views
 
         return plant_views(phenotype, int(size))[0], float(phenotype.height())
@@ -272,165 +269,3 @@ class OchoaObjective(Objective):
 
     def __call__(self, phenotype) -> float:
         return self.score(self.terms(phenotype))
-
-
-# --------------------------------------------------------------------------- species runs
-
-
-class GenerationBests:
-    """A run callback (:func:`growsim.experiment.run`'s ``callback``) that records, after
-    every GA generation, the best individual of that generation: ``rows`` of
-    ``(generation, fitness, evolved parameters (k,))``.
-
-    Examples
-    --------
-    >>> rec = GenerationBests()
-    >>> rec.rows
-    []
-    """
-
-    def __init__(self):
-        self.rows: list[tuple[int, float, np.ndarray]] = []
-
-    def __call__(self, ga, row) -> None:
-        if row.get("phase", "ga") != "ga":
-            return None
-        best, where = -np.inf, None
-        for raw, scores in zip(ga.state.pops, ga.state.scores):
-            if raw is None or scores is None or not len(scores):
-                continue
-            i = int(np.argmax(scores))
-            if where is None or scores[i] > best:
-                best, where = float(scores[i]), raw[i : i + 1]
-        if where is not None:
-            self.rows.append((int(row["generation"]), best, ga.genome.decode(where)[0]))
-        return None
-
-
-def evolve_species(config, *, out=None, seed: int | None = None, overrides=(), progress=False):
-    """Run an experiment whose first objective is ``ochoa`` and record its species'
-    evolution: the best plant of every generation, its four terms, and pictures.
-
-    Writes into the run directory (besides what :func:`growsim.experiment.run` writes):
-    ``generations.parquet`` (per generation: ``generation``, ``fitness`` and the terms of
-    :func:`ochoa_terms` of that generation's best), ``generations.png`` (the best plant of
-    the first, middle and last generation side by side: the seed's Fig. 2-3) and
-    ``terms.png`` (the four terms over generations). Returns ``(result, table)``: the
-    :class:`growsim.experiment.RunResult` and the table.
-
-    Examples
-    --------
-    >>> cfg = "experiments/ifs_species.toml"
-    >>> result, table = evolve_species(cfg, out="runs/x")  # doctest: +SKIP
-    >>> list(table.columns[:3])  # doctest: +SKIP
-    ['generation', 'fitness', 'phototropism']
-    """
-    import pandas as pd
-
-    from growsim.experiment import run
-    from growsim.experiment.runner import as_plan
-
-    plan = as_plan(config, overrides)
-    if seed is not None:
-        plan = plan.with_seed(int(seed))
-    objective = next((o for o in plan.objectives if o.name == "ochoa"), None)
-    if objective is None:
-        raise UserInputError("evolve_species: the experiment has no 'ochoa' objective")
-    rec = GenerationBests()
-    result = run(plan, out=out, callback=rec, progress=progress)
-    fitness = plan.fitness()
-    rows, plants = [], []
-    for generation, score, x in rec.rows:
-        full = fitness.full_params(np.asarray(x, dtype=np.float64)[None, :])
-        params = fitness.param_dict(full[0])
-        plant = fitness.develop(full[0], int(fitness.model_seeds(full, None)[0]))
-        plants.append(plant)
-        rows.append({"generation": generation, "fitness": score, **objective.terms(plant),
-                     **{f"param_{k}": params[k] for k in fitness.evolved}})  # fmt: skip
-    table = pd.DataFrame(rows)
-    path = result.out
-    from growsim.files import atomic_path
-
-    with atomic_path(path / "generations.parquet") as tmp:
-        table.to_parquet(tmp, index=False)
-    if plants:
-        picks = sorted({0, len(plants) // 2, len(plants) - 1})
-        species_figure([plants[i] for i in picks], [rows[i] for i in picks],
-                       path / "generations.png")  # fmt: skip
-        terms_figure(table, path / "terms.png")
-    return result, table
-
-
-def species_figure(plants, rows, path, size: int = 300):
-    """A PNG of plants side by side, each titled with its generation, ``F`` and terms
-    (``rows``: dicts with ``generation``, ``fitness`` and the four terms)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from growsim.files import atomic_path
-
-    fig, axes = plt.subplots(1, len(plants), figsize=(3.2 * len(plants), 3.9), squeeze=False)
-    for ax, plant, row in zip(axes[0], plants, rows):
-        ax.imshow(plant.render_image(view="front", size=(size, size)))
-        ax.set_axis_off()
-        ax.set_title(
-            f"generation {row['generation']}: F {row['fitness']:.3f}\n"
-            f"a {row['phototropism']:.2f} b {row['light']:.2f} "
-            f"c {row['stability']:.2f} d {row['symmetry']:.2f}",
-            fontsize=9,
-        )
-    fig.tight_layout()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=100)
-    plt.close(fig)
-    return path
-
-
-def terms_figure(table, path):
-    """A PNG of the fitness and the four terms of each generation's best."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from growsim.files import atomic_path
-
-    fig, ax = plt.subplots(figsize=(6, 3.6))
-    for name in ("fitness", *TERMS):
-        ax.plot(table["generation"], table[name], marker="o", ms=3, label=name,
-                lw=2.5 if name == "fitness" else 1.2)  # fmt: skip
-    ax.set_xlabel("generation")
-    ax.set_ylabel("best of the generation")
-    ax.set_ylim(-0.02, 1.02)
-    ax.legend(fontsize=8, loc="lower right")
-    fig.tight_layout()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=100)
-    plt.close(fig)
-    return path
-
-
-def main(argv=None) -> int:
-    """``python -m growsim.objectives.ochoa CONFIG [--out DIR] [--seed N] [--set k=v]``:
-    :func:`evolve_species` from the command line; prints the table."""
-    import argparse
-
-    ap = argparse.ArgumentParser(prog="python -m growsim.objectives.ochoa",
-                                 description=evolve_species.__doc__.split("\n\n")[0])  # fmt: skip
-    ap.add_argument("config")
-    ap.add_argument("--out", default=None)
-    ap.add_argument("--seed", type=int, default=None)
-    ap.add_argument("--set", dest="overrides", action="append", default=[], metavar="KEY=VALUE")
-    args = ap.parse_args(argv)
-    result, table = evolve_species(args.config, out=args.out, seed=args.seed,
-                                   overrides=args.overrides, progress=True)  # fmt: skip
-    cols = ["generation", "fitness", *TERMS]
-    print(table[cols].round(4).to_string(index=False))
-    print(f"results: {result.out}")
-    return 0
-
-
-if __name__ == "__main__":  # pragma: no cover
-    raise SystemExit(main())

@@ -12,7 +12,7 @@ projected area is not within 0.5x-2x of the target's scores 0) is the option
 ``area_rejection``.
 
 Framing: plant projections and target pictures are framed alike (see
-:mod:`growsim.kernels.views` and :mod:`growsim.images`): one scale for both views that fits
+:mod:`growsim.kernels.views` and :mod:`growsim.pictures.images`): one scale for both views that fits
 the height into the ``size x size`` raster (or the half-width about the trunk base, if
 tighter), the trunk base at the horizontal centre, the lowest point on the bottom row. So a
 photo of any size and margin can be a target, and the score ignores the plant's absolute
@@ -39,7 +39,7 @@ from pydantic import Field, field_validator, model_validator
 
 from growsim.errors import ConfigError, GrowsimError, UserInputError
 from growsim.objectives.base import Objective, ObjectiveOptions
-from growsim.plant import LEAF
+from growsim.phenotypes.plant import LEAF
 
 # The kernels (framing, rasters, NCC: growsim.kernels.views; the IFS population scorer) are
 # imported where they are used: the config schema imports every objective's options, and a
@@ -136,7 +136,7 @@ def phenotype_views(
 ) -> np.ndarray:
     """The views of any phenotype this objective scores: a plant's (:func:`plant_views`),
     or, for a 2D phenotype (one with ``front_view(size)``, e.g. an IFS attractor,
-    :class:`growsim.attractor.Attractor`), its one view ``(1, size, size)`` whatever
+    :class:`growsim.phenotypes.attractor.Attractor`), its one view ``(1, size, size)`` whatever
     ``views`` is (float64 when ``antialias``), framed as plants are.
 
     Examples
@@ -145,9 +145,8 @@ def phenotype_views(
     >>> phenotype_views(ifs2d.develop(ifs2d.PRESETS["fern"]), 32).shape
     (1, 32, 32)
     """
-    front = getattr(phenotype, "front_view", None)
-    if callable(front):
-        img = np.asarray(front(int(size)))[None]
+    if "front_view" in phenotype.capabilities:
+        img = np.asarray(phenotype.front_view(int(size)))[None]
         return img.astype(np.float64) if antialias else img.astype(np.uint8)
     return plant_views(phenotype, size, line_width, antialias=antialias, views=views)
 
@@ -255,7 +254,7 @@ class SilhouetteObjective(Objective):
     ``views`` : ``"both"`` (default: front and side) or ``"front"`` (one picture, or the
     rendered target's front: the side is left free, see :func:`plant_views`);
     ``segmentation`` : ``"threshold"`` (default: grey levels, ``threshold`` and
-    ``polarity``) or ``"photo"`` (:func:`growsim.photo.segment_photo`: the tree apart from
+    ``polarity``) or ``"photo"`` (:func:`growsim.pictures.photo.segment_photo`: the tree apart from
     sky and ground, in colour);
     ``blur`` : search on anti-aliased, Gaussian-blurred views, ``sigma`` in pixels
     (default 0: the binary NCC; see the module doc). :meth:`exact` is always binary.
@@ -296,7 +295,7 @@ class SilhouetteObjective(Objective):
             self.source = {"front": str(Path(o.front))}
             if o.side is not None:
                 self.source["side"] = str(Path(o.side))
-            from growsim.images import frame_silhouettes, picture_silhouettes
+            from growsim.pictures.images import frame_silhouettes, picture_silhouettes
 
             pictures = ("front", "side", "threshold", "polarity", "mask_front", "mask_side")
             pictures += ("segmentation",)
@@ -385,14 +384,14 @@ class SilhouetteObjective(Objective):
         ``line_width = "radius"``, or one view): those are then developed and scored one by
         one. Rows ``map_groups`` does not yield (leafy trees) are developed and scored here.
         """
-        map_groups = getattr(model, "map_groups", None)
-        if map_groups is None or self.line_width != "thin" or self.n_views != 2:
+        fast = "map_groups" in model.capabilities
+        if not fast or self.line_width != "thin" or self.n_views != 2:
             return None
         from growsim.kernels.ifs3d import score_population
 
         params = np.atleast_2d(np.asarray(params, dtype=np.float64))
         out = np.full(params.shape[0], np.nan)
-        for rows, maps, depth in map_groups(params, names):
+        for rows, maps, depth in model.map_groups(params, names):
             out[rows] = score_population(maps, depth, self.target, self.area_rejection, self.blur)
         for i in np.flatnonzero(np.isnan(out)):
             values = dict(zip(names, params[i].tolist()))

@@ -16,12 +16,12 @@ from typing import Any
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.experiment.results import RunRecord, find_runs
 from growsim.report.figures import curves_figure, render_cells, renders_figure, save_png
 from growsim.report.groups import families as find_families
 from growsim.report.groups import run_label
 from growsim.report.html import report_html
 from growsim.report.statistics import STATS_COLUMNS, ci95, family_stats, quantities
-from growsim.results import RunRecord, find_runs
 
 __all__ = ["Comparison", "compare", "default_out"]
 
@@ -36,7 +36,7 @@ def default_out(dirs: Sequence[str | Path], runs: Sequence[RunRecord]) -> Path:
 
     Examples
     --------
-    >>> from growsim.results import RunRecord
+    >>> from growsim.experiment.results import RunRecord
     >>> rs = [RunRecord(Path(f"/x/sw/v{i}/seed-0"), {}, {}) for i in (1, 2)]
     >>> default_out(["/x/sw"], rs).parent
     PosixPath('/x/sw')

@@ -17,7 +17,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from growsim.experiment.load import flatten_config
-from growsim.results import RunRecord
+from growsim.experiment.results import RunRecord
 
 __all__ = [
     "IGNORED_KEYS",

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
+from growsim.experiment.results import RunRecord
 from growsim.report.groups import Family
-from growsim.results import RunRecord
 
 __all__ = ["curves_figure", "render_cells", "renders_figure", "save_png"]
 

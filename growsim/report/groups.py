@@ -16,6 +16,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from growsim.experiment.load import flatten_config
+from growsim.experiment.results import RunRecord
 from growsim.report.configs import (
     MISSING,
     Path_,
@@ -25,7 +26,6 @@ from growsim.report.configs import (
     run_key,
     sort_value,
 )
-from growsim.results import RunRecord
 
 __all__ = ["Family", "Group", "families", "group_runs", "run_label"]
 

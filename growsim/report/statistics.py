@@ -22,8 +22,8 @@ from typing import Any
 
 import numpy as np
 
+from growsim.experiment.results import RunRecord
 from growsim.report.groups import Family
-from growsim.results import RunRecord
 
 __all__ = ["STATS_COLUMNS", "FamilyStats", "ci95", "family_stats", "holm", "quantities"]
 

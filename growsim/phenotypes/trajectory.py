@@ -1,5 +1,5 @@
 """A trajectory: the path of an agent that swims in a tank (the fish of seed 001), as a
-phenotype (:mod:`growsim.phenotype`).
+phenotype (:mod:`growsim.phenotypes`).
 
 It holds, per frame (row 0 is the start), the centre, the orientation and speed, the
 collisions counted there and the manoeuvre (0 straight, 1 turning, 2 pitching), with the
@@ -20,7 +20,7 @@ import numpy as np
 
 from growsim.errors import UserInputError
 from growsim.files import atomic_path, atomic_write
-from growsim.phenotype import Phenotype
+from growsim.phenotypes.base import Phenotype
 
 __all__ = ["Trajectory"]
 
@@ -229,7 +229,7 @@ class Trajectory(Phenotype):
         pl.add_mesh(pv.Sphere(radius=2 * r, center=self.positions[0]), color=_START)
 
     def _camera(self, pl, view) -> None:
-        from growsim.viz import aim_camera, view_vectors
+        from growsim.render import aim_camera, view_vectors
 
         centre = self.size / 2.0
         aim_camera(pl, centre, float(np.linalg.norm(self.size)) / 2.0, view)
@@ -257,7 +257,7 @@ class Trajectory(Phenotype):
         >>> develop({"frames": 200}).render_image(view="top", size=(64, 48)).shape
         (48, 64, 3)
         """
-        from growsim.viz import check_size, offscreen_plotter
+        from growsim.render import check_size, offscreen_plotter
 
         w, h = check_size(size)
         with offscreen_plotter(w, h) as pl:
@@ -296,7 +296,7 @@ class Trajectory(Phenotype):
         import imageio.v2 as imageio
         import pyvista as pv
 
-        from growsim.viz import check_size, offscreen_plotter
+        from growsim.render import check_size, offscreen_plotter
 
         path = Path(path)
         if path.suffix.lower() != ".gif":

@@ -23,7 +23,7 @@ import numpy as np
 from growsim.errors import UserInputError
 from growsim.files import atomic_path, atomic_write
 from growsim.kernels.mesh import LEAF_TRIS, mesh_kernel, weld_targets
-from growsim.plant import LEAF, Plant
+from growsim.phenotypes.plant.plant import LEAF, Plant
 
 __all__ = [
     "BARK_RGB",
@@ -125,7 +125,7 @@ def plant_mesh(
     """Triangle mesh (``pyvista.PolyData``) of a plant.
 
     Each stem is an open ``sides``-gon tube split into ``segments`` pieces, tapering from
-    its radius to :meth:`growsim.plant.Plant.radius_end`; each leaf a flat hexagon (7
+    its radius to :meth:`growsim.phenotypes.plant.Plant.radius_end`; each leaf a flat hexagon (7
     vertices). ``point_data["kind"]`` is 0 for bark and 1 for leaf vertices.
     ``merge=True`` merges consecutive segments of one axis into one tube: a segment that
     continues its parent (its thickest stem child) starts from the parent's end ring

@@ -2,7 +2,8 @@
 (:data:`COLORS`: the light each receives, the stress ratio at its joint, the share of its
 water demand met), their scales (:func:`color_scale`), the values per segment
 (:func:`segment_colors`, from :meth:`growsim.env.Environment.segment_table`) and the arrow
-that shows the light's direction (:func:`light_arrow_mesh`). :mod:`growsim.viz` draws
+that shows the light's direction (:func:`light_arrow_mesh`).
+:mod:`growsim.phenotypes.plant.views` draws
 them (``growsim grow --color``, ``growsim show --color``).
 """
 
@@ -141,7 +142,7 @@ def segment_colors(plant, color: str, env=None) -> np.ndarray:
     >>> bool(np.isnan(stress[tree.kind == 1]).all()), bool(np.nanmax(stress) < 1)
     (True, True)
     """
-    from growsim.plant import LEAF, Plant
+    from growsim.phenotypes.plant.plant import LEAF, Plant
 
     scale = color_scale(color, env)
     if not isinstance(plant, Plant):

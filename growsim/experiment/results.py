@@ -2,7 +2,8 @@
 
 :class:`RunDir` writes (atomic writes, a lock, the paths of every file);
 :func:`read_run` and :func:`find_runs` read finished runs back as :class:`RunRecord`
-(``growsim show``, ``compare``, ``sweep`` and the Python API use them).
+(``growsim show``, ``compare``, ``sweep`` and the Python API use them);
+:func:`plot_fitness` draws a run's ``fitness.png``.
 
 A run directory holds (see ``ARCHITECTURE.md``)::
 
@@ -34,7 +35,7 @@ from typing import Any
 from growsim.errors import UserInputError
 from growsim.files import atomic_path, atomic_write
 
-__all__ = ["RunDir", "RunRecord", "find_runs", "read_run", "write_parquet"]
+__all__ = ["RunDir", "RunRecord", "find_runs", "plot_fitness", "read_run", "write_parquet"]
 
 log = logging.getLogger(__name__)
 
@@ -230,7 +231,7 @@ class RunRecord:
     def phenotype(self):
         """The best phenotype: its saved ``best_<kind>.npz``, else grown again from
         ``best.json`` and the model of ``config.toml`` (no objective is built)."""
-        from growsim.phenotype import load_phenotype
+        from growsim.phenotypes import load_phenotype
 
         kind = self.best.get("phenotype", "plant")
         saved = RunDir(self.path).phenotype_path(kind)
@@ -309,3 +310,61 @@ def find_runs(dirs: Sequence[str | Path]) -> list[RunRecord]:
     for d in skipped:
         log.warning("%s: no finished growsim run here; skipped", d)
     return runs
+
+
+def plot_fitness(history, path, *, title: str | None = None) -> Path:
+    """Plot a GA history (a DataFrame with ``generation`` and some of ``best``, ``mean``,
+    ``best_so_far``) to a PNG with matplotlib (Agg backend), with a legend: the best and
+    the mean fitness of each generation and the best so far, drawn dashed on top (it
+    lies on the best wherever the best improves). With an ``island`` column, islands are
+    pooled: best is the max, mean the mean over islands. (``worst`` is not drawn: an
+    evaluation that failed scores the worst value there is, which would flatten the
+    rest.)
+
+    Examples
+    --------
+    >>> import tempfile, pathlib, pandas as pd
+    >>> h = pd.DataFrame({"generation": [0, 1, 2], "best": [1, 2, 3], "mean": [0, 1, 2]})
+    >>> plot_fitness(h, pathlib.Path(tempfile.mkdtemp()) / "f.png").exists()
+    True
+    """
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    if "generation" not in getattr(history, "columns", ()):
+        raise UserInputError("plot_fitness: history needs a 'generation' column")
+    # column, how islands are pooled, line style (best so far: dashed, on top)
+    styles = {
+        "best": ("max", {"color": "tab:blue", "linewidth": 2.5, "zorder": 2}),
+        "mean": ("mean", {"color": "tab:orange", "linewidth": 1.5, "zorder": 2}),
+        "best_so_far": (
+            "max",
+            {"color": "black", "linestyle": "--", "linewidth": 1.5, "zorder": 3},
+        ),
+    }
+    cols = [c for c in styles if c in history.columns]
+    if not cols:
+        raise UserInputError("plot_fitness: history has none of best, mean, best_so_far")
+    path = Path(path)
+    if path.suffix.lower() != ".png":
+        raise UserInputError(f"{path}: plots are written as .png")
+    g = history.groupby("generation")
+    fig, ax = plt.subplots(figsize=(6, 4), dpi=100)
+    try:
+        for c in cols:
+            how, style = styles[c]
+            s = g[c].agg(how)
+            ax.plot(s.index, s.values, label=c.replace("_", " "), **style)
+        ax.set_xlabel("generation")
+        ax.set_ylabel("fitness")
+        if title:
+            ax.set_title(title)
+        ax.grid(alpha=0.3)
+        ax.legend()
+        fig.tight_layout()
+        atomic_write(path, lambda fh: fig.savefig(fh, format="png"))
+    finally:
+        plt.close(fig)
+    return path

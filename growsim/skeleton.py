@@ -1,8 +1,9 @@
-"""The segment arrays the environment's passes read, from a Plant or a mapping, checked.
+"""The skeleton every plant shares: segment kinds, and the segment arrays the environment's
+passes read, from a Plant or a mapping, checked.
 
-Every pass (gravity, water, light) takes a :class:`growsim.plant.Plant` or any mapping with
-the arrays ``start``, ``end`` ``(n, 3)``, ``radius``, ``parent`` ``(n,)`` (and optionally
-``kind``), stored parents first (``parent[i] < i``, -1 for a root) so that one pass from
+Every pass (gravity, water, light) takes a :class:`growsim.phenotypes.plant.Plant` or any
+mapping with the arrays ``start``, ``end`` ``(n, 3)``, ``radius``, ``parent`` ``(n,)`` (and
+optionally ``kind``), stored parents first (``parent[i] < i``, -1 for a root) so that one pass from
 the tips down (or from the roots up) visits every segment after (before) its children.
 A bad array is refused here, naming the pass, the array and the segment, never deep in a
 kernel.
@@ -17,7 +18,12 @@ import numpy as np
 
 from growsim.errors import UserInputError
 
-__all__ = ["checked_array", "radius_end", "skeleton_arrays"]
+__all__ = ["LEAF", "STEM", "checked_array", "radius_end", "skeleton_arrays"]
+
+#: ``kind`` of a woody segment (trunk, branch, twig).
+STEM = 0
+#: ``kind`` of a leaf segment (its radius is half the blade width).
+LEAF = 1
 
 
 def checked_array(

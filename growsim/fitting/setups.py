@@ -506,7 +506,7 @@ def arrange(plan, x, draws=None, *, evaluations: int, sigma: float = ARRANGE_SIG
     x = np.asarray(x, dtype=np.float64)
     start = float(scorer(x[None, :])[0])
     model = scorer.fitness.model
-    if getattr(model, "draws", None) is None:
+    if "draws" not in model.capabilities:
         return None, start, start
     params = scorer.params(x)
     for n in plan.int_names:

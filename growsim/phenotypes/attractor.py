@@ -1,5 +1,5 @@
 """An attractor: the 2D point cloud an IFSP code draws (seed 002), as a phenotype
-(:mod:`growsim.phenotype`, kind ``"points2d"``).
+(:mod:`growsim.phenotypes`, kind ``"points2d"``).
 
 It holds the chaos game's points ``(n, 2)`` (x right, y up), the repaired code that drew
 them (maps ``(N, 6)`` rows ``a b c d e f`` and probabilities ``(N,)``), the model's
@@ -23,9 +23,9 @@ import numpy as np
 
 from growsim.errors import UserInputError
 from growsim.files import atomic_write, json_default
-from growsim.phenotype import Phenotype
+from growsim.phenotypes.base import Phenotype
 
-__all__ = ["Attractor"]
+__all__ = ["Attractor", "singular_values"]
 
 #: colour of dense ink (the fern's green) and of the background
 _INK = np.array([22.0, 110.0, 40.0])
@@ -44,6 +44,7 @@ class Attractor(Phenotype):
     """
 
     phenotype = "points2d"
+    capabilities = frozenset({"front_view"})
 
     def __init__(self, points, maps, p, params=None, meta=None):
         self.points = np.ascontiguousarray(points, dtype=np.float64).reshape(-1, 2)
@@ -152,7 +153,6 @@ class Attractor(Phenotype):
         >>> m["maps_used"], round(m["height"]), round(m["left"], 2), round(m["right"], 2)
         (4.0, 10, 2.18, 2.66)
         """
-        from growsim.models.ifs2d import singular_values
 
         bx, _ = self.base()
         b = self.bbox()
@@ -229,7 +229,7 @@ class Attractor(Phenotype):
         ((60, 40, 3), True)
         """
         from growsim.kernels.ifs2d import points_raster
-        from growsim.viz import check_size
+        from growsim.render import check_size
 
         w, h = check_size(size)
         img = np.empty((h, w, 3), np.uint8)
@@ -255,7 +255,7 @@ class Attractor(Phenotype):
     def _plotter_scene(self, pl, view) -> None:
         import pyvista as pv
 
-        from growsim.viz import aim_camera
+        from growsim.render import aim_camera
 
         pts = np.column_stack([self.points, np.zeros(self.n_points)])
         if self.n_points:
@@ -281,7 +281,7 @@ class Attractor(Phenotype):
         """
         if view in ("front", "back"):
             return self.density_image(size, mirror=view == "back")
-        from growsim.viz import check_size, offscreen_plotter
+        from growsim.render import check_size, offscreen_plotter
 
         w, h = check_size(size)
         with offscreen_plotter(w, h) as pl:
@@ -302,3 +302,18 @@ class Attractor(Phenotype):
     def to_json(self) -> dict[str, Any]:
         """The code as JSON-able rows ``{"maps": [[a, b, c, d, e, f], ...], "p": [...]}``."""
         return {"maps": self.maps.tolist(), "p": self.p.tolist()}
+
+
+def singular_values(maps) -> np.ndarray:
+    """``(N,)`` largest singular value of each map's linear part (rows ``a b c d ...``).
+
+    Examples
+    --------
+    >>> singular_values([[0.0, -0.5, 0.5, 0.0, 0, 0]]).tolist()
+    [0.5]
+    """
+    m = np.asarray(maps, dtype=np.float64).reshape(-1, np.shape(maps)[-1])
+    a, b, c, d = m[:, 0], m[:, 1], m[:, 2], m[:, 3]
+    s = a * a + b * b + c * c + d * d
+    det = a * d - b * c
+    return np.sqrt(0.5 * (s + np.sqrt(np.maximum(s * s - 4.0 * det * det, 0.0))))

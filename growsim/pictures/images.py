@@ -463,7 +463,7 @@ def frame_thin_lines(front: np.ndarray, side: np.ndarray | None, size: int = 64)
 
 
 #: how pictures become silhouettes: ``"threshold"`` (:func:`silhouette`: grey levels) or
-#: ``"photo"`` (:func:`growsim.photo.segment_photo`: colour, sky and ground)
+#: ``"photo"`` (:func:`growsim.pictures.photo.segment_photo`: colour, sky and ground)
 SEGMENTATIONS = ("threshold", "photo")
 
 
@@ -478,9 +478,9 @@ def picture_silhouettes(
     mask_side=None,
 ) -> list[np.ndarray]:
     """The silhouettes ``(H, W)`` bool of a front picture and an optional side picture
-    (paths or arrays), at the pictures' own size: :func:`silhouette` (``segmentation =
-    "threshold"``, with ``threshold`` and ``polarity``) or :func:`growsim.photo.segment_photo`
-    (``"photo"``). Returns one or two masks.
+    (paths or arrays), at the pictures' own size: :func:`silhouette`
+    (``segmentation = "threshold"``, with ``threshold`` and ``polarity``) or
+    :func:`growsim.pictures.photo.segment_photo` (``"photo"``). Returns one or two masks.
 
     Examples
     --------
@@ -499,7 +499,7 @@ def picture_silhouettes(
     if side is not None:
         views.append((side, mask_side, "side"))
     if segmentation == "photo":
-        from growsim.photo import segment_photo
+        from growsim.pictures.photo import segment_photo
 
         return [segment_photo(img, mask=m, name=label).tree for img, m, label in views]
     return [

@@ -32,19 +32,13 @@ import numpy as np
 
 from growsim.errors import UserInputError
 from growsim.files import atomic_write, json_default
-from growsim.phenotype import Phenotype
+from growsim.phenotypes.base import Phenotype
+from growsim.skeleton import LEAF, STEM, checked_array
 
 __all__ = ["LEAF", "STEM", "LeafLight", "Plant", "leaf_light"]
 
-#: ``kind`` of a woody segment (trunk, branch, twig).
-STEM = 0
-#: ``kind`` of a leaf segment (its radius is half the blade width).
-LEAF = 1
-
 
 def _as_array(name: str, value, dtype, shape_tail: tuple[int, ...], n: int | None) -> np.ndarray:
-    from growsim.env.skeleton import checked_array  # not at import: growsim.env imports plants
-
     return checked_array("Plant", name, value, shape_tail, n, dtype=dtype, finite=False)
 
 
@@ -53,7 +47,7 @@ class Plant(Phenotype):
     """A plant skeleton: per-segment arrays (see the module docstring for the fields).
 
     The phenotype of every plant model (kind ``"plant"`` under the contract of
-    :mod:`growsim.phenotype`).
+    :mod:`growsim.phenotypes`).
 
     Arrays are converted to their dtypes and checked on construction: shapes agree, points
     and radii are finite, radii are non-negative, parents are ``-1`` or a valid other index,
@@ -389,7 +383,7 @@ class Plant(Phenotype):
         """
         if "radius_end" in self.data:
             return np.asarray(self.data["radius_end"], dtype=np.float64)
-        from growsim.env.skeleton import radius_end
+        from growsim.skeleton import radius_end
 
         return radius_end(self.parent, self.kind, self.radius)
 
@@ -482,7 +476,7 @@ class Plant(Phenotype):
     def artefacts(self, output) -> dict[str, Any]:
         """Meshes (``best.<format>`` for each of ``output.mesh``, one mesh shared) and
         renders (``best_<view>.png`` for each of ``output.screenshots``)."""
-        from growsim import mesh as gmesh
+        from growsim.phenotypes.plant import mesh as gmesh
 
         shared: dict[str, Any] = {}
 
@@ -496,20 +490,21 @@ class Plant(Phenotype):
         return files
 
     def render_image(self, *, view: str = "iso", size=(800, 800)) -> np.ndarray:
-        """An ``(H, W, 3)`` render (pyvista, off-screen): :func:`growsim.viz.render_image`."""
-        from growsim import viz
+        """An ``(H, W, 3)`` render (pyvista, off-screen):
+        :func:`growsim.phenotypes.plant.views.render_image`."""
+        from growsim.phenotypes.plant import views as viz
 
         return viz.render_image(self, view=view, size=size)
 
     def screenshot(self, path, *, view: str = "iso", size=(800, 800)) -> Path:
-        """A PNG render: :func:`growsim.viz.screenshot`."""
-        from growsim import viz
+        """A PNG render: :func:`growsim.phenotypes.plant.views.screenshot`."""
+        from growsim.phenotypes.plant import views as viz
 
         return viz.screenshot(self, path, view=view, size=size)
 
     def show(self, *, view: str = "iso") -> None:
-        """An interactive pyvista window: :func:`growsim.viz.show`."""
-        from growsim import viz
+        """An interactive pyvista window: :func:`growsim.phenotypes.plant.views.show`."""
+        from growsim.phenotypes.plant import views as viz
 
         viz.show(self, view=view)
 

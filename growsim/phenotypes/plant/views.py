@@ -1,33 +1,33 @@
 """Views of plants: off-screen screenshots, interactive windows, turntables, growth
-animations, image grids, and fitness plots.
+animations and image grids.
 
 Everything renders off-screen with pyvista (no display needed) except :func:`show`, which
 needs one; VTK's warnings (e.g. "bad X server connection" without a display) are kept
 quiet while rendering off-screen. Files are written atomically (temporary name, then
-rename). The views (:data:`VIEWS`) and the size limits (:data:`MIN_SIZE`,
-:data:`MAX_SIZE`, :func:`check_size`) are the ones of every command that renders.
+rename). The views and the size limits are :mod:`growsim.render`'s, those of every
+command that renders.
 
 The environment on a plant: :func:`render_image`, :func:`screenshot` and :func:`show` take
 ``color=`` one of :data:`COLORS` (``"light"``, ``"stress"``, ``"water"``) and an
 ``env`` (:class:`growsim.env.Environment`): each segment is painted flat by its value in
-``env.segment_table(plant)`` (:mod:`growsim.colors`: the fields, their scales, the arrow) with a
-labelled scalar bar, and ``light_arrow`` draws the light's direction (an arrow from the
+``env.segment_table(plant)`` (:mod:`growsim.phenotypes.plant.colors`: the fields, their
+scales, the arrow) with a labelled scalar bar, and ``light_arrow`` draws the light's direction
+(an arrow from the
 light's side into the plant; on by default when colouring by light). ``growsim grow
 --color`` and ``growsim show --color`` are these.
 """
 
 from __future__ import annotations
 
-import contextlib
 import os
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
-from growsim.colors import (
+from growsim.errors import UserInputError
+from growsim.phenotypes.plant.colors import (
     ARROW_RGB,
-    COLORS,
     NAN_RGB,
     check_color,
     color_scale,
@@ -35,39 +35,23 @@ from growsim.colors import (
     light_arrow_mesh,
     segment_colors,
 )
-from growsim.errors import UserInputError
-from growsim.files import atomic_path, atomic_write
-from growsim.plant import Plant
+from growsim.phenotypes.plant.plant import Plant
+from growsim.render import (
+    check_size,
+    frames_writer,
+    offscreen_plotter,
+    save_png,
+    view_vectors,
+)
 
 __all__ = [
-    "COLORS",
-    "MAX_SIZE",
-    "MIN_SIZE",
-    "VIEWS",
-    "check_size",
     "growth_animation",
-    "offscreen_plotter",
-    "plot_fitness",
     "render_grid",
     "render_image",
     "screenshot",
     "show",
     "turntable",
 ]
-
-#: the views of every command (``growsim grow --view``, ``growsim show --view``): camera
-#: directions (from the camera towards the plant) and up vectors
-VIEWS: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]] = {
-    "front": ((0.0, 0.0, -1.0), (0.0, 1.0, 0.0)),
-    "back": ((0.0, 0.0, 1.0), (0.0, 1.0, 0.0)),
-    "side": ((-1.0, 0.0, 0.0), (0.0, 1.0, 0.0)),
-    "top": ((0.0, -1.0, 0.0), (0.0, 0.0, -1.0)),
-    "iso": ((-1.0, -0.6, -1.0), (0.0, 1.0, 0.0)),
-}
-
-#: the smallest and largest width or height of a rendered image, in pixels (every command)
-MIN_SIZE = 16
-MAX_SIZE = 4096
 
 _BARK = (0.43, 0.32, 0.23)
 _LEAF = (0.29, 0.55, 0.23)
@@ -78,7 +62,7 @@ _LEGEND_MARGIN = 0.16  # share of the image height kept free for the scalar bar
 def _mesh_of(plant_or_mesh, sides=6, segments=1):
     import pyvista as pv
 
-    from growsim.mesh import plant_mesh
+    from growsim.phenotypes.plant.mesh import plant_mesh
 
     if isinstance(plant_or_mesh, Plant):
         return plant_mesh(plant_or_mesh, sides=sides, segments=segments)
@@ -108,7 +92,7 @@ def _scene(pl, plant_or_mesh, color=None, env=None, light_arrow=None, legend=Tru
     else:
         values = segment_colors(plant_or_mesh, color, env)
         scale = color_scale(color, env)
-        from growsim.mesh import plant_mesh
+        from growsim.phenotypes.plant.mesh import plant_mesh
 
         mesh = plant_mesh(plant_or_mesh, fields={color: values})
         if mesh.n_cells and color in mesh.cell_data:
@@ -154,53 +138,6 @@ def _scene(pl, plant_or_mesh, color=None, env=None, light_arrow=None, legend=Tru
     return bounds, {"bottom": margin, "tight": color is not None or bool(light_arrow)}
 
 
-def check_size(size, label: str = "size") -> tuple[int, int]:
-    """``size`` ``(width, height)`` as two ints in ``[MIN_SIZE, MAX_SIZE]``, else
-    :class:`UserInputError` (``label`` names the option).
-
-    Examples
-    --------
-    >>> check_size([640, 480.0])
-    (640, 480)
-    >>> check_size((8000, 100), "--size")
-    Traceback (most recent call last):
-    ...
-    growsim.errors.UserInputError: --size 8000 100: each side must be in [16, 4096] pixels
-    """
-    try:
-        w, h = (int(size[0]), int(size[1]))
-        if len(size) != 2:
-            raise ValueError
-    except (TypeError, ValueError, IndexError):
-        raise UserInputError(f"{label} must be (width, height), got {size!r}") from None
-    if not (MIN_SIZE <= w <= MAX_SIZE and MIN_SIZE <= h <= MAX_SIZE):
-        raise UserInputError(
-            f"{label} {w} {h}: each side must be in [{MIN_SIZE}, {MAX_SIZE}] pixels"
-        )
-    return w, h
-
-
-@contextlib.contextmanager
-def offscreen_plotter(w: int, h: int):
-    """An off-screen pyvista Plotter of ``w x h`` pixels, closed on exit. VTK's warnings are
-    off meanwhile (the global switch, restored after): without an X display VTK prints a
-    coloured "bad X server connection" warning on every render, which means nothing for an
-    off-screen render. Errors still show."""
-    import pyvista as pv
-    from vtkmodules.vtkCommonCore import vtkObject
-
-    shown = vtkObject.GetGlobalWarningDisplay()
-    vtkObject.GlobalWarningDisplayOff()
-    pl = None
-    try:
-        pl = pv.Plotter(off_screen=True, window_size=(w, h))
-        yield pl
-    finally:
-        if pl is not None:
-            pl.close()
-        vtkObject.SetGlobalWarningDisplay(shown)
-
-
 def _add(pl, mesh) -> None:
     kind = np.asarray(mesh.point_data["kind"]) if "kind" in mesh.point_data else None
     if kind is None or mesh.n_cells == 0:
@@ -214,43 +151,6 @@ def _add(pl, mesh) -> None:
             import pyvista as pv
 
             pl.add_mesh(pv.PolyData.from_regular_faces(mesh.points, sel), color=color)
-
-
-def view_vectors(view) -> tuple[np.ndarray, tuple]:
-    """The unit direction a view looks along and its up vector: a name of :data:`VIEWS`,
-    or a direction (up: +y).
-
-    Examples
-    --------
-    >>> d, up = view_vectors((0, 0, -2))
-    >>> d.tolist(), up
-    ([0.0, 0.0, -1.0], (0.0, 1.0, 0.0))
-    """
-    if isinstance(view, str):
-        if view not in VIEWS:
-            raise UserInputError(f"unknown view {view!r}; choose from {', '.join(VIEWS)}")
-        d, up = VIEWS[view]
-    else:
-        d, up = tuple(view), (0.0, 1.0, 0.0)
-    d = np.asarray(d, float)
-    return d / np.linalg.norm(d), up
-
-
-def aim_camera(pl, centre, radius: float, view) -> None:
-    """Point ``pl``'s camera at ``centre`` from four ``radius`` back along ``view``
-    (:func:`view_vectors`): a scene of that radius seen whole.
-
-    Examples
-    --------
-    >>> with offscreen_plotter(32, 32) as pl:
-    ...     aim_camera(pl, (0, 0, 0), 1.0, (0, 0, -1))
-    ...     [round(float(c), 3) for c in pl.camera.position]
-    [0.0, 0.0, 4.0]
-    """
-    d, up = view_vectors(view)
-    pl.camera.focal_point = np.asarray(centre, float)
-    pl.camera.position = np.asarray(centre, float) - d * radius * 4.0
-    pl.camera.up = up
 
 
 def _camera(pl, bounds, view, zoom=1.0, bottom=0.0, tight=False) -> None:
@@ -329,15 +229,6 @@ def render_image(
     return np.asarray(img)[..., :3].copy()
 
 
-def _save_png(img: np.ndarray, path: Path) -> Path:
-    from PIL import Image
-
-    path = Path(path)
-    if path.suffix.lower() != ".png":
-        raise UserInputError(f"{path}: images are written as .png")
-    return atomic_write(path, lambda fh: Image.fromarray(img).save(fh, format="PNG"))
-
-
 def screenshot(
     plant_or_mesh,
     path,
@@ -370,7 +261,7 @@ def screenshot(
         plant_or_mesh, view=view, size=size, background=background, color=color, env=env,
         light_arrow=light_arrow, legend=legend,
     )  # fmt: skip
-    return _save_png(img, path)
+    return save_png(img, path)
 
 
 def show(plant_or_mesh, *, view="iso", color=None, env=None, light_arrow=None) -> None:
@@ -392,44 +283,13 @@ def show(plant_or_mesh, *, view="iso", color=None, env=None, light_arrow=None) -
     if os.name != "nt" and not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY"):
         raise UserInputError(
             "no display available for an interactive window (DISPLAY is not set); "
-            "write an image with growsim.viz.screenshot / --screenshot instead"
+            "write an image with growsim.phenotypes.plant.views.screenshot / --screenshot instead"
         )
     pl = pv.Plotter()
     bounds, framing = _scene(pl, plant_or_mesh, color, env, light_arrow, True)
     if bounds is not None:
         _camera(pl, bounds, view, **framing)
     pl.show()
-
-
-def _frames_writer(path: Path, fps: int):
-    import imageio.v2 as imageio
-
-    suffix = path.suffix.lower()
-    if suffix not in (".gif", ".mp4"):
-        raise UserInputError(f"{path}: animations are written as .gif or .mp4")
-    if suffix == ".mp4":
-        try:
-            import imageio_ffmpeg  # noqa: F401
-        except ImportError:
-            raise UserInputError(
-                f"{path}: writing .mp4 needs the imageio-ffmpeg package; use .gif"
-            ) from None
-    parent = path.parent
-    if not parent.is_dir():
-        raise UserInputError(f"{path}: directory {parent} does not exist")
-
-    def write(frames: list[np.ndarray]) -> Path:
-        try:
-            with atomic_path(path) as tmp:
-                if suffix == ".gif":
-                    imageio.mimsave(tmp, frames, duration=1000.0 / fps, loop=0)
-                else:
-                    imageio.mimsave(tmp, frames, fps=fps)
-        except OSError as exc:
-            raise UserInputError(f"{path}: cannot write ({exc})") from None
-        return path
-
-    return write
 
 
 def turntable(
@@ -447,7 +307,7 @@ def turntable(
     True
     """
     path = Path(path)
-    write = _frames_writer(path, fps)
+    write = frames_writer(path, fps)
     frames = int(frames)
     if not 1 <= frames <= 3600:
         raise UserInputError(f"turntable frames: {frames} not in [1, 3600]")
@@ -485,7 +345,7 @@ def growth_animation(
     True
     """
     path = Path(path)
-    write = _frames_writer(path, fps)
+    write = frames_writer(path, fps)
     plants = list(plants)
     if not plants:
         raise UserInputError("growth_animation: no plants given")
@@ -540,7 +400,7 @@ def render_grid(
     text_h = 18 if titles else 0
     grid = Image.new("RGB", (cols * cw, rows * (ch + text_h)), "white")
     draw = ImageDraw.Draw(grid)
-    from growsim.phenotype import Phenotype
+    from growsim.phenotypes.base import Phenotype
 
     for i, p in enumerate(plants):
         if isinstance(p, Phenotype):
@@ -551,62 +411,4 @@ def render_grid(
         grid.paste(Image.fromarray(img), (x, y))
         if titles:
             draw.text((x + 4, y + ch + 2), str(titles[i]), fill=(0, 0, 0))
-    return _save_png(np.asarray(grid), path)
-
-
-def plot_fitness(history, path, *, title: str | None = None) -> Path:
-    """Plot a GA history (a DataFrame with ``generation`` and some of ``best``, ``mean``,
-    ``best_so_far``) to a PNG with matplotlib (Agg backend), with a legend: the best and
-    the mean fitness of each generation and the best so far, drawn dashed on top (it
-    lies on the best wherever the best improves). With an ``island`` column, islands are
-    pooled: best is the max, mean the mean over islands. (``worst`` is not drawn: an
-    evaluation that failed scores the worst value there is, which would flatten the
-    rest.)
-
-    Examples
-    --------
-    >>> import tempfile, pathlib, pandas as pd
-    >>> h = pd.DataFrame({"generation": [0, 1, 2], "best": [1, 2, 3], "mean": [0, 1, 2]})
-    >>> plot_fitness(h, pathlib.Path(tempfile.mkdtemp()) / "f.png").exists()
-    True
-    """
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    if "generation" not in getattr(history, "columns", ()):
-        raise UserInputError("plot_fitness: history needs a 'generation' column")
-    # column, how islands are pooled, line style (best so far: dashed, on top)
-    styles = {
-        "best": ("max", {"color": "tab:blue", "linewidth": 2.5, "zorder": 2}),
-        "mean": ("mean", {"color": "tab:orange", "linewidth": 1.5, "zorder": 2}),
-        "best_so_far": (
-            "max",
-            {"color": "black", "linestyle": "--", "linewidth": 1.5, "zorder": 3},
-        ),
-    }
-    cols = [c for c in styles if c in history.columns]
-    if not cols:
-        raise UserInputError("plot_fitness: history has none of best, mean, best_so_far")
-    path = Path(path)
-    if path.suffix.lower() != ".png":
-        raise UserInputError(f"{path}: plots are written as .png")
-    g = history.groupby("generation")
-    fig, ax = plt.subplots(figsize=(6, 4), dpi=100)
-    try:
-        for c in cols:
-            how, style = styles[c]
-            s = g[c].agg(how)
-            ax.plot(s.index, s.values, label=c.replace("_", " "), **style)
-        ax.set_xlabel("generation")
-        ax.set_ylabel("fitness")
-        if title:
-            ax.set_title(title)
-        ax.grid(alpha=0.3)
-        ax.legend()
-        fig.tight_layout()
-        atomic_write(path, lambda fh: fig.savefig(fh, format="png"))
-    finally:
-        plt.close(fig)
-    return path
+    return save_png(np.asarray(grid), path)

@@ -16,7 +16,11 @@ A phenotype:
 - **lists the artefacts it can write** for a run's ``[output]`` table
   (:meth:`Phenotype.artefacts`: file name -> writer; meshes and renders for a plant);
 - **renders** to an ``(H, W, 3)`` image (:meth:`Phenotype.render_image`), to a PNG
-  (:meth:`Phenotype.screenshot`) and in an interactive window (:meth:`Phenotype.show`).
+  (:meth:`Phenotype.screenshot`) and in an interactive window (:meth:`Phenotype.show`);
+- declares the optional capabilities it implements in :attr:`Phenotype.capabilities`
+  (names in :data:`CAPABILITIES`): ``"front_view"``, its own 2D raster view
+  (:meth:`Phenotype.front_view`; an attractor's points), which 2D scores read instead of
+  drawing the phenotype's skeleton.
 """
 
 from __future__ import annotations
@@ -32,15 +36,18 @@ import numpy as np
 from growsim.errors import UserInputError
 from growsim.registry import Registry
 
-__all__ = ["PHENOTYPES", "Phenotype", "load_phenotype", "saved_kind"]
+__all__ = ["CAPABILITIES", "PHENOTYPES", "Phenotype", "load_phenotype", "saved_kind"]
+
+#: the optional capabilities a phenotype may declare (:attr:`Phenotype.capabilities`)
+CAPABILITIES = ("front_view",)
 
 #: phenotype kind -> class. One line per kind.
 PHENOTYPES: Registry[type[Phenotype]] = Registry(
     "phenotype",
     {
-        "plant": "growsim.plant:Plant",
-        "trajectory": "growsim.trajectory:Trajectory",
-        "points2d": "growsim.attractor:Attractor",
+        "plant": "growsim.phenotypes.plant:Plant",
+        "trajectory": "growsim.phenotypes.trajectory:Trajectory",
+        "points2d": "growsim.phenotypes.attractor:Attractor",
     },
 )
 
@@ -53,7 +60,7 @@ class Phenotype(abc.ABC):
 
     Examples
     --------
-    >>> from growsim.plant import Plant
+    >>> from growsim.phenotypes.plant import Plant
     >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
     >>> isinstance(p, Phenotype), p.phenotype, p.measures()["height"]
     (True, 'plant', 1.0)
@@ -61,6 +68,8 @@ class Phenotype(abc.ABC):
 
     #: the phenotype's kind: its name in :data:`PHENOTYPES` (also saved in its files)
     phenotype: ClassVar[str] = ""
+    #: the optional capabilities implemented (names in :data:`CAPABILITIES`)
+    capabilities: ClassVar[frozenset[str]] = frozenset()
 
     @abc.abstractmethod
     def save(self, path: str | os.PathLike) -> Path:
@@ -104,6 +113,11 @@ class Phenotype(abc.ABC):
         img = self.render_image(view=view, size=size)
         return atomic_write(path, lambda fh: Image.fromarray(img).save(fh, format="PNG"))
 
+    def front_view(self, size: int = 64) -> np.ndarray:
+        """Capability ``"front_view"``: the phenotype's own 2D view, ``(size, size)``
+        uint8, 1 where it is, framed with its base on the centre column and bottom row."""
+        raise NotImplementedError(f"phenotype {self.phenotype!r} has no 'front_view' capability")
+
     def show(self, *, view: str = "iso") -> None:
         """Open an interactive window (needs a display). Default: the rendered image in
         a matplotlib window."""
@@ -133,7 +147,7 @@ def load_phenotype(path: str | os.PathLike) -> Phenotype:
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> from growsim.plant import Plant
+    >>> from growsim.phenotypes.plant import Plant
     >>> f = pathlib.Path(tempfile.mkdtemp()) / "p.npz"
     >>> _ = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0]).save(f)
     >>> load_phenotype(f)

@@ -1,0 +1,18 @@
+"""What models grow: the phenotype contract and its kinds.
+
+- :mod:`~growsim.phenotypes.base`: the contract (:class:`Phenotype`), the registry
+  :data:`PHENOTYPES` and :func:`load_phenotype`;
+- :mod:`~growsim.phenotypes.plant`: the plant skeleton with its meshes, views and colours;
+- :mod:`~growsim.phenotypes.trajectory`: a swimmer's path;
+- :mod:`~growsim.phenotypes.attractor`: a 2D IFS attractor (phenotype ``points2d``).
+
+Examples
+--------
+>>> from growsim.phenotypes import PHENOTYPES
+>>> sorted(PHENOTYPES)
+['plant', 'points2d', 'trajectory']
+"""
+
+from growsim.phenotypes.base import PHENOTYPES, Phenotype, load_phenotype, saved_kind
+
+__all__ = ["PHENOTYPES", "Phenotype", "load_phenotype", "saved_kind"]
