@@ -1,7 +1,8 @@
 """Generic pyvista helpers every picture of growsim uses, whatever the phenotype: the
 views of every command (:data:`VIEWS`), the image size limits (:data:`MIN_SIZE`,
 :data:`MAX_SIZE`, :func:`check_size`), an off-screen plotter with VTK's display warnings
-quiet, aiming a camera along a view, and writing a PNG or an animation atomically.
+quiet, a scene rendered to an image or shown in a window, aiming a camera along a view,
+and writing a PNG or an animation atomically.
 
 pyvista and imageio are imported on first use, so importing this module stays cheap.
 """
@@ -25,6 +26,8 @@ __all__ = [
     "frames_writer",
     "offscreen_plotter",
     "save_png",
+    "scene_image",
+    "show_scene",
     "view_vectors",
 ]
 
@@ -88,6 +91,41 @@ def offscreen_plotter(w: int, h: int):
         if pl is not None:
             pl.close()
         vtkObject.SetGlobalWarningDisplay(shown)
+
+
+def scene_image(draw, size, *, background="white") -> np.ndarray:
+    """Render a scene off-screen: ``draw(plotter)`` fills it (meshes, camera); returns the
+    ``(H, W, 3)`` uint8 image (``size`` is ``(W, H)``, checked by :func:`check_size`).
+
+    Examples
+    --------
+    >>> import pyvista as pv
+    >>> scene_image(lambda pl: pl.add_mesh(pv.Sphere()), (40, 30)).shape
+    (30, 40, 3)
+    """
+    w, h = check_size(size)
+    with offscreen_plotter(w, h) as pl:
+        pl.set_background(background)
+        draw(pl)
+        img = pl.screenshot(return_img=True)
+    return np.asarray(img)[..., :3].copy()
+
+
+def show_scene(draw, *, background="white") -> None:
+    """Open an interactive pyvista window (needs a display) on the scene ``draw(plotter)``
+    fills.
+
+    Examples
+    --------
+    >>> import pyvista as pv
+    >>> show_scene(lambda pl: pl.add_mesh(pv.Sphere()))  # doctest: +SKIP
+    """
+    import pyvista as pv
+
+    pl = pv.Plotter()
+    pl.set_background(background)
+    draw(pl)
+    pl.show()
 
 
 def view_vectors(view) -> tuple[np.ndarray, tuple]:

@@ -281,23 +281,15 @@ class Attractor(Phenotype):
         """
         if view in ("front", "back"):
             return self.density_image(size, mirror=view == "back")
-        from growsim.render import check_size, offscreen_plotter
+        from growsim.render import scene_image
 
-        w, h = check_size(size)
-        with offscreen_plotter(w, h) as pl:
-            pl.set_background("white")
-            self._plotter_scene(pl, view)
-            img = pl.screenshot(return_img=True)
-        return np.asarray(img)[..., :3].copy()
+        return scene_image(lambda pl: self._plotter_scene(pl, view), size)
 
     def show(self, *, view: str = "front") -> None:
         """An interactive pyvista window of the points (needs a display)."""
-        import pyvista as pv
+        from growsim.render import show_scene
 
-        pl = pv.Plotter()
-        pl.set_background("white")
-        self._plotter_scene(pl, view)
-        pl.show()
+        show_scene(lambda pl: self._plotter_scene(pl, view))
 
     def to_json(self) -> dict[str, Any]:
         """The code as JSON-able rows ``{"maps": [[a, b, c, d, e, f], ...], "p": [...]}``."""

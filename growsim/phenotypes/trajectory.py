@@ -257,27 +257,20 @@ class Trajectory(Phenotype):
         >>> develop({"frames": 200}).render_image(view="top", size=(64, 48)).shape
         (48, 64, 3)
         """
-        from growsim.render import check_size, offscreen_plotter
+        from growsim.render import scene_image
 
-        w, h = check_size(size)
-        with offscreen_plotter(w, h) as pl:
-            pl.set_background("white")
-            self._static(pl)
-            self._path(pl)
-            self._camera(pl, view)
-            img = pl.screenshot(return_img=True)
-        return np.asarray(img)[..., :3].copy()
+        return scene_image(lambda pl: self._scene(pl, view), size)
 
     def show(self, *, view: str = "iso") -> None:
         """An interactive pyvista window (needs a display)."""
-        import pyvista as pv
+        from growsim.render import show_scene
 
-        pl = pv.Plotter()
-        pl.set_background("white")
+        show_scene(lambda pl: self._scene(pl, view))
+
+    def _scene(self, pl, view) -> None:
         self._static(pl)
         self._path(pl)
         self._camera(pl, view)
-        pl.show()
 
     def animation(
         self, path, *, frames: int = 48, view: str = "iso", size=(400, 400), fps: int = 12

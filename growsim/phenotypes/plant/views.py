@@ -41,6 +41,7 @@ from growsim.render import (
     frames_writer,
     offscreen_plotter,
     save_png,
+    scene_image,
     view_vectors,
 )
 
@@ -219,29 +220,18 @@ def render_image(
     >>> img.shape
     (64, 64, 3)
     """
-    w, h = check_size(size)
-    with offscreen_plotter(w, h) as pl:
-        pl.set_background(background)
+    def draw(pl):
         bounds, framing = _scene(pl, plant_or_mesh, color, env, light_arrow, legend)
         if bounds is not None:
             _camera(pl, bounds, view, **framing)
-        img = pl.screenshot(return_img=True)
-    return np.asarray(img)[..., :3].copy()
+
+    return scene_image(draw, size, background=background)
 
 
-def screenshot(
-    plant_or_mesh,
-    path,
-    *,
-    view="front",
-    size=(800, 800),
-    background="white",
-    color=None,
-    env=None,
-    light_arrow=None,
-    legend=True,
-) -> Path:
-    """Render a plant or mesh off-screen to a PNG file (options: :func:`render_image`).
+def screenshot(plant_or_mesh, path, **options) -> Path:
+    """Render a plant or mesh off-screen to a PNG file (``options``: those of
+    :func:`render_image`: ``view``, ``size``, ``background``, ``color``, ``env``,
+    ``light_arrow``, ``legend``).
 
     Examples
     --------
@@ -257,11 +247,7 @@ def screenshot(
     path = Path(path)
     if path.suffix.lower() != ".png":
         raise UserInputError(f"{path}: images are written as .png")
-    img = render_image(
-        plant_or_mesh, view=view, size=size, background=background, color=color, env=env,
-        light_arrow=light_arrow, legend=legend,
-    )  # fmt: skip
-    return save_png(img, path)
+    return save_png(render_image(plant_or_mesh, **options), path)
 
 
 def show(plant_or_mesh, *, view="iso", color=None, env=None, light_arrow=None) -> None:
