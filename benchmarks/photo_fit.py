@@ -193,7 +193,8 @@ def comparison_figure(fits, before, dest, names) -> Path:
 def main(argv=None) -> int:
     from PIL import Image
 
-    from growsim.cli import main as cli
+    from growsim.errors import GrowsimError
+    from growsim.fitting import fit_image
     from growsim.objectives.silhouette import SilhouetteObjective
     from growsim.pictures.photo import segment_photo
 
@@ -210,9 +211,15 @@ def main(argv=None) -> int:
     ap.add_argument("--honda-evaluations", type=int, default=None)
     ap.add_argument("--sizes", default="64,128,256")
     ap.add_argument("--leaves", default="auto", help="fit-image --leaves (default auto)")
-    ap.add_argument("--arrange", default=None, help="fit-image --arrange (default: the model's)")
-    ap.add_argument("--blur", default=None, help="fit-image --blur (default: the model's)")
-    ap.add_argument("--restarts", default=None, help="fit-image --restarts (default: the model's)")
+    ap.add_argument(
+        "--arrange", type=int, default=None, help="fit-image --arrange (default: the model's)"
+    )
+    ap.add_argument(
+        "--blur", type=float, default=None, help="fit-image --blur (default: the model's)"
+    )
+    ap.add_argument(
+        "--restarts", type=int, default=None, help="fit-image --restarts (default: the model's)"
+    )
     ap.add_argument(
         "--extra", action="store_true",
         help="also the EXTRA_PICTURES (made after the segmentation was tuned), reported apart",
@@ -261,16 +268,15 @@ def main(argv=None) -> int:
             for s in (int(v) for v in a.sizes.split(","))
         }  # fmt: skip
         fit_dir = out / "fits" / row["name"]
-        args = ["fit-image", row["photo"], "--model", row["model"], "--out", str(fit_dir)]
-        args += ["--quiet", "--seed", str(a.seed), "--sizes", a.sizes, "--leaves", a.leaves]
         budget = a.ifs_evaluations if row["model"] == "ifs3d" else a.honda_evaluations
-        if budget is not None:
-            args += ["--evaluations", str(budget)]
-        for opt in ("arrange", "blur", "restarts"):
-            if getattr(a, opt) is not None:
-                args += [f"--{opt}", getattr(a, opt)]
-        code = cli(args)
-        fit = json.loads((fit_dir / "fit.json").read_text()) if code == 0 else {}
+        try:
+            fit = fit_image(row["photo"], out=fit_dir, model=row["model"], seed=a.seed,
+                            sizes=a.sizes, leaves=a.leaves, evaluations=budget,
+                            arrange=a.arrange, blur=a.blur, restarts=a.restarts,
+                            progress=False).summary  # fmt: skip
+        except GrowsimError as exc:  # a picture refused: reported, the others go on
+            print(f"{row['name']}: {exc}", file=sys.stderr)
+            fit = {}
         results.append(
             {
                 "picture": row["name"],

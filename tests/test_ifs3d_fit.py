@@ -21,7 +21,7 @@ class _Fitness:
 
     def __call__(self, x):
         full = np.concatenate([np.full((len(x), 2), 5.0), x], axis=1)
-        return self.obj.batch(ifs3d, full, NAMES)
+        return self.obj.batch(ifs3d.MODEL, full, NAMES)
 
 
 def _random_params(rng):

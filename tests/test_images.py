@@ -9,12 +9,12 @@ from PIL import Image
 from growsim.errors import UserInputError
 from growsim.pictures.images import (
     frame_silhouettes,
-    load_gray,
     otsu_threshold,
     read_silhouettes,
     silhouette,
     silhouette_image,
 )
+from growsim.pictures.reading import load_gray
 
 
 def _tree_picture(h=120, w=90, dark=True):

@@ -300,6 +300,36 @@ def test_fit_image_one_photo_coarse_to_fine(photo, tmp_path, capsys):
     assert "mean NCC" in text and "64 px refine" in text and "64 px arrange" in text
 
 
+def test_fit_image_is_a_library_call(photo, tmp_path, capsys):
+    """fit_image from Python (no argparse, nothing printed): what it returns is what it
+    wrote, and the kept fit rebuilds its tree; bad options are refused before any work."""
+    from growsim.files import jsonable
+    from growsim.fitting import FitResult, fit_image
+
+    path, _ = photo
+    out = tmp_path / "fit"
+    r = fit_image(path, out=out, model="honda", evaluations=200, sizes=(32,), leaves="bare",
+                  restarts=1, arrange=20, progress=False)  # fmt: skip
+    assert isinstance(r, FitResult) and capsys.readouterr().out == ""
+    fit = json.loads((out / "fit.json").read_text())
+    assert fit == json.loads(json.dumps(jsonable(r.summary)))
+    assert [s["stage"] for s in r.stages] == ["ga", "arrange"] and r.size == 32
+    assert r.params == fit["params"] and r.params["leaves"] == 0
+    assert np.array_equal(r.draws, np.array(fit["draws"])) and r.draws.shape[1] == 9
+    assert r.out == r.run == out and r.shape == out / "tree.glb"
+    assert all(p.is_file() for p in r.files) and r.files[-1] == out / "fit.json"
+    assert r.ncc == pytest.approx(r.stages[-1]["ncc"], abs=1e-12)
+    again = r.plan.fitness().phenotype_of(r.x, draws=r.draws).phenotype
+    assert r.plan.objectives[0].exact(again) == pytest.approx(r.ncc, abs=1e-12)
+    assert np.array_equal(again.end, r.phenotype.end)
+    for bad, message in (({"sizes": (64, 32)}, "increasing raster sizes"),
+                         ({"leaves": "some"}, "--leaves"),
+                         ({"evaluations": 10}, "--evaluations: at least 100")):  # fmt: skip
+        with pytest.raises(UserInputError, match=message):
+            fit_image(path, out=tmp_path / "never", model="honda", **bad)
+    assert not (tmp_path / "never").exists()
+
+
 def test_fit_image_carries_the_best_restarts_past_the_first_size(photo, tmp_path, capsys):
     """--carry N: of each kind's restarts, the N that scored best at the end of the first
     size go on to the finer sizes; every restart's first-size NCC is reported."""

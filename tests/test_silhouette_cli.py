@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import ROOT
 from PIL import Image
 
 from growsim.cli import build_parser, main
@@ -38,7 +37,6 @@ def test_fit_config_is_valid(pictures):
         assert cfg.objective[0].line_width == "radius"  # photos: branches at their width
 
 
-ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_fit_image_runs_the_best_setup(pictures):

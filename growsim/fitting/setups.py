@@ -6,8 +6,8 @@ model is adding an entry. :func:`fit_config` builds the experiment config of one
 pictures as the silhouette objective's target), :func:`refine` refines a fit's best at
 a finer raster size (coarse to fine), :func:`sweep_discrete` tries every value of its
 discrete parameters and :func:`arrange` searches its branches' arrangement. The command
-itself (arguments, the chain of sizes, bare and leafy fits, the files written) is
-:mod:`growsim.cli.fit_image`.
+itself (the chain of sizes, bare and leafy fits, the files written) is
+:func:`growsim.fitting.fit.fit_image`.
 """
 
 from __future__ import annotations
@@ -133,13 +133,18 @@ class FitSetup:
     each size, for a model with the ``draws`` capability (``--arrange``; 0: the model's own random
     arrangement, as its seed gives it); ``blur``: the search's score at the first size is
     the NCC of views blurred by this sigma (pixels, scaled with the size; ``--blur``), the
-    searches at the final size on the binary NCC (0: binary throughout).
+    searches at the final size on the binary NCC (0: binary throughout); ``shape``: the
+    file the fitted tree is written to in the results (a mesh, ``.glb``, ``.vtp``, ``.ply``
+    or ``.obj``: :func:`growsim.phenotypes.plant.mesh.export`; or ``.png``: its front
+    view's picture, for a model without a mesh).
 
     Examples
     --------
     >>> setup = FIT_SETUPS["honda"]
     >>> setup.tables()["model"]["preset"], setup.line_width, setup.views
     ('cherry', 'radius', ('front', 'side'))
+    >>> setup.shape, FIT_SETUPS["ifs2d"].shape
+    ('tree.glb', 'attractor.png')
     """
 
     tables: Callable[[], dict]
@@ -153,6 +158,7 @@ class FitSetup:
     carry: int = 0
     arrange: int = 0
     blur: float = 0.0
+    shape: str = "tree.glb"
 
 
 def _ifs3d_tables() -> dict:
@@ -206,8 +212,11 @@ FIT_SETUPS: Registry[FitSetup] = Registry(
             carry=2,
             arrange=2000,
         ),
-        # a 2D IFS code fitted to one picture of an attractor (docs/models/ifs2d.md)
-        "ifs2d": FitSetup(_ifs2d_tables, line_width="thin", views=("front",)),
+        # a 2D IFS code fitted to one picture of an attractor (docs/models/ifs2d.md); no
+        # mesh: its picture
+        "ifs2d": FitSetup(
+            _ifs2d_tables, line_width="thin", views=("front",), shape="attractor.png"
+        ),
     },
 )
 
@@ -439,17 +448,13 @@ class _Scorer:
 
     def params(self, x: np.ndarray) -> dict:
         """The ``{name: value}`` of every model parameter for evolved values ``x`` ``(k,)``."""
-        return self.fitness.param_dict(self.fitness.full_params(x[None, :])[0])
+        return self.fitness.phenotype_of(x, grow=False).params
 
     def develop(self, x: np.ndarray, draws=None):
         """The phenotype of evolved values ``x`` ``(k,)`` with ``draws`` (default: this
         scorer's)."""
-        f = self.fitness
-        full = f.full_params(x[None, :])
-        seed = int(f.model_seeds(full, None)[0])
         draws = self.draws if draws is None else draws
-        kw = {} if draws is None else {"draws": draws}
-        return f.model.develop(f.param_dict(full[0]), seed=seed, env=f.env, **kw)
+        return self.fitness.phenotype_of(x, draws=draws).phenotype
 
     def exact(self, x: np.ndarray, draws=None) -> float:
         """The reported score of evolved values ``x`` ``(k,)``: each objective's ``exact``

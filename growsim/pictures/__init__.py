@@ -1,8 +1,13 @@
 """Pictures of trees as silhouettes: reading a picture (a drawing by its grey levels, a
 colour photo by its sky and ground), checking and framing it for a fit.
 
-- :mod:`~growsim.pictures.images`: reading, grey-level thresholds, checks, framing;
-- :mod:`~growsim.pictures.photo`: colour photos, the tree apart from sky and ground.
+- :mod:`~growsim.pictures.images`: grey-level thresholds, framing, the silhouettes of a
+  front and a side picture by either segmentation;
+- :mod:`~growsim.pictures.photo`: colour photos, the tree apart from sky and ground;
+- :mod:`~growsim.pictures.reading`: opening a picture file, the checks every silhouette
+  passes.
+
+Each module imports only the ones listed after it (an import-linter contract).
 
 Fitting a model to pictures is :mod:`growsim.fitting`, a layer above (it runs experiments).
 """

@@ -2,13 +2,15 @@
 
 A user's front and side pictures (PNG, JPEG, ... any size) become binary silhouettes:
 
-1. :func:`load_gray`: the picture as grey levels in ``[0, 1]`` (transparent pixels count as
-   white background);
+1. :func:`~growsim.pictures.reading.load_gray`: the picture as grey levels in ``[0, 1]``
+   (transparent pixels count as white background);
 2. :func:`silhouette`: a threshold (Otsu's by default, or a number), the polarity (dark tree
    on a light background, light on dark, or ``"auto"``: the class that covers less of the
    picture's border is the tree), an optional mask picture (only its white part is looked
-   at); then :func:`check_silhouette` refuses, naming the file, a silhouette that cannot be
-   a tree: empty, too small, too noisy, or filling the frame (the thresholds below);
+   at); then :func:`~growsim.pictures.reading.check_silhouette` refuses, naming the file, a
+   silhouette that cannot be a tree: empty, too small, too noisy, or filling the frame (the
+   thresholds in :mod:`growsim.pictures.reading`); a colour photo is segmented by
+   :func:`growsim.pictures.photo.segment_photo` instead (:func:`picture_silhouettes`);
 3. :func:`frame_silhouettes`: both views into ``(2, S, S)`` rasters with the framing of
    rendered plants (:mod:`growsim.kernels.views`: the same scale rule,
    :func:`~growsim.kernels.views.frame_scale`, and placement,
@@ -51,16 +53,14 @@ import numpy as np
 
 from growsim.errors import UserInputError
 from growsim.kernels.views import frame_scale, frame_view
+from growsim.pictures.photo import segment_photo
+from growsim.pictures.reading import check_silhouette, load_gray
 
 __all__ = [
-    "check_silhouette",
     "frame_silhouettes",
     "frame_thin_lines",
-    "load_gray",
     "otsu_threshold",
-    "over_white",
     "picture_silhouettes",
-    "read_picture",
     "read_silhouettes",
     "silhouette",
     "silhouette_image",
@@ -73,90 +73,6 @@ BASE_BAND = 0.02
 #: tree's NCC against its own framed silhouette at 64/128/256 px, zelkova 0.94/0.93/0.92
 #: with 0.4, 0.93/0.91/0.91 with 0.5, 0.92/0.86/0.87 setting every pixel touched)
 COVER_SHARE = 0.4
-
-# What :func:`check_silhouette` refuses. Measured on growsim's own drawings of trees (the
-# Table 1 tree in 1-pixel lines or tubes at 32-512 pixels, Honda trees rendered with
-# pyvista at 400 pixels) against uniform noise and random specks at densities 1-50 %:
-#: fewer foreground pixels than this: too small (a dot, a few strokes)
-MIN_PIXELS = 30
-#: a smaller share of the picture (or of the mask's white part): too small (a 3-pixel
-#: wide stick tree in a wide margin is 0.45 %, Honda renders 5 %; crop a distant tree)
-MIN_SHARE = 0.002
-#: a larger share: the silhouette fills the frame (a crown cropped to its outline covers
-#: 60-80 %; a dark picture with a light edge, or the wrong polarity, more)
-MAX_SHARE = 0.9
-#: connected pieces (foreground 8-connected, background 4-connected) smaller than this
-#: many pixels are specks
-SPECK = 5
-#: more than this share of the foreground in specks: too noisy (isolated dots; trees:
-#: < 1 %, sparse specks: 20-100 %)
-MAX_SPECK_SHARE = 0.2
-#: more specks, of foreground or of background (holes), per picture pixel: too noisy (1-pixel
-#: line drawings, whose crossings enclose tiny holes, reach 0.009; noise 0.034-0.06)
-MAX_SPECK_DENSITY = 0.02
-
-
-def load_gray(path: str | os.PathLike) -> np.ndarray:
-    """A picture file as ``(H, W)`` float64 grey levels in ``[0, 1]`` (0 black, 1 white).
-
-    Colour is converted by luminance; transparency is composited over white. An unreadable
-    or missing file raises :class:`UserInputError` naming it.
-
-    Examples
-    --------
-    >>> import tempfile, pathlib
-    >>> from PIL import Image
-    >>> p = pathlib.Path(tempfile.mkdtemp()) / "a.png"
-    >>> Image.new("L", (4, 3), 255).save(p)
-    >>> load_gray(p).shape
-    (3, 4)
-    """
-
-    def grey(im):
-        if im.mode in ("RGBA", "LA", "PA") or "transparency" in im.info:
-            im = over_white(im)
-        return np.asarray(im.convert("L"), dtype=np.float64) / 255.0
-
-    gray = read_picture(path, grey)
-    if gray.ndim != 2:
-        raise UserInputError(f"{Path(path)}: the image is empty")
-    return gray
-
-
-def over_white(im):
-    """A PIL image with its transparency composited over white (mode RGBA)."""
-    from PIL import Image
-
-    rgba = im.convert("RGBA")
-    return Image.alpha_composite(Image.new("RGBA", rgba.size, (255, 255, 255, 255)), rgba)
-
-
-def read_picture(path: str | os.PathLike, convert) -> np.ndarray:
-    """``convert(image)`` of the PIL image in the file at ``path`` (the one place a
-    picture is opened): a missing, unreadable or empty file raises
-    :class:`UserInputError` naming it.
-
-    Examples
-    --------
-    >>> read_picture("no/such.png", np.asarray)
-    Traceback (most recent call last):
-    ...
-    growsim.errors.UserInputError: no/such.png: image file not found
-    """
-    from PIL import Image, UnidentifiedImageError
-
-    path = Path(path)
-    if not path.is_file():
-        raise UserInputError(f"{path}: image file not found")
-    try:
-        with Image.open(path) as im:
-            im.load()
-            out = convert(im)
-    except (UnidentifiedImageError, OSError, ValueError) as exc:
-        raise UserInputError(f"{path}: cannot read the image ({exc})") from None
-    if out.size == 0:
-        raise UserInputError(f"{path}: the image is empty")
-    return out
 
 
 def otsu_threshold(gray: np.ndarray, bins: int = 256) -> float:
@@ -201,7 +117,8 @@ def silhouette(
     of the border is the tree; ties go to dark); ``mask``: optional picture or path of the
     same size, only its light part (> 0.5) is kept. ``name`` labels errors. Raises
     :class:`UserInputError` naming ``name`` (or the file) if the silhouette is empty, covers
-    the whole picture, is too small, too noisy or fills the frame (:func:`check_silhouette`).
+    the whole picture, is too small, too noisy or fills the frame
+    (:func:`~growsim.pictures.reading.check_silhouette`).
 
     Examples
     --------
@@ -257,69 +174,6 @@ def silhouette(
     fg = fg & keep
     check_silhouette(fg, keep, name=name, how=f"threshold {t:.3f}, polarity {polarity}")
     return fg
-
-
-def check_silhouette(fg, keep=None, *, name: str = "image", how: str = "") -> None:
-    """Refuse, with :class:`UserInputError` naming ``name``, a silhouette ``fg`` ``(H, W)``
-    bool that cannot be fitted as a tree; ``keep`` (optional, same shape) is the part of the
-    picture looked at (a mask's white part), ``how`` says how ``fg`` was found.
-
-    Refused: an empty silhouette; one covering the whole picture; a too small one (fewer
-    than :data:`MIN_PIXELS` pixels, or under :data:`MIN_SHARE` of the picture: a dot would
-    be framed into a block half the raster wide); one filling the frame (over
-    :data:`MAX_SHARE`); a too noisy one (:func:`scipy.ndimage.label`: over
-    :data:`MAX_SPECK_SHARE` of its pixels in specks, 8-connected pieces under :data:`SPECK`
-    pixels, or more than :data:`MAX_SPECK_DENSITY` specks per pixel counting the
-    background's 4-connected holes under :data:`SPECK` pixels: noise thresholded).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> tree = np.zeros((60, 40), bool); tree[10:, 20] = True; tree[20, 10:30] = True
-    >>> check_silhouette(tree)
-    >>> check_silhouette(np.eye(10, dtype=bool), name="dot.png")  # doctest: +ELLIPSIS
-    Traceback (most recent call last):
-    ...
-    growsim.errors.UserInputError: dot.png: the silhouette is too small: 10 pixels ...
-    """
-    fg = np.asarray(fg, dtype=bool)
-    keep = np.ones(fg.shape, dtype=bool) if keep is None else np.asarray(keep, dtype=bool)
-    fg = fg & keep
-    how = f" ({how})" if how else ""
-    n, area = int(fg.sum()), int(keep.sum())
-    if n == 0:
-        raise UserInputError(f"{name}: the silhouette is empty{how}")
-    if n == area:
-        raise UserInputError(
-            f"{name}: the silhouette covers the whole picture{how}; is it a blank or uniform image?"
-        )
-    if n < MIN_PIXELS or n < MIN_SHARE * area:
-        raise UserInputError(
-            f"{name}: the silhouette is too small: {n} pixels (at least {MIN_PIXELS}, and "
-            f"{100 * MIN_SHARE:g} % of the picture){how}; crop the picture closer to the tree"
-        )
-    if n > MAX_SHARE * area:
-        raise UserInputError(
-            f"{name}: the silhouette fills the frame: {100 * n / area:.0f} % of the picture "
-            f"(at most {100 * MAX_SHARE:g} %){how}; is the tree cropped, or is --polarity wrong?"
-        )
-    from scipy import ndimage
-
-    labels, _ = ndimage.label(fg, structure=np.ones((3, 3), dtype=bool))
-    sizes = np.bincount(labels.ravel())[1:]
-    specks = sizes < SPECK
-    holes, _ = ndimage.label(keep & ~fg)
-    hole_specks = np.bincount(holes.ravel())[1:] < SPECK
-    in_specks = int(sizes[specks].sum()) / n
-    density = (int(specks.sum()) + int(hole_specks.sum())) / area
-    if in_specks > MAX_SPECK_SHARE or density > MAX_SPECK_DENSITY:
-        raise UserInputError(
-            f"{name}: the silhouette is too noisy: {100 * in_specks:.0f} % of its pixels in "
-            f"{int(specks.sum())} specks of fewer than {SPECK} pixels (at most "
-            f"{100 * MAX_SPECK_SHARE:g} %), {1000 * density:.1f} specks or pinholes per 1,000 "
-            f"pixels (at most {1000 * MAX_SPECK_DENSITY:g}){how}; is it a photo of a tree "
-            "against a plain background?"
-        )
 
 
 def _view_geometry(mask: np.ndarray):
@@ -499,8 +353,6 @@ def picture_silhouettes(
     if side is not None:
         views.append((side, mask_side, "side"))
     if segmentation == "photo":
-        from growsim.pictures.photo import segment_photo
-
         return [segment_photo(img, mask=m, name=label).tree for img, m, label in views]
     return [
         silhouette(img, threshold=threshold, polarity=polarity, mask=m, name=label)

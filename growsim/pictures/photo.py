@@ -3,8 +3,9 @@
 :func:`segment_photo` turns a colour picture (a tree standing on a ground strip under a
 sky) into the tree's silhouette, or refuses it naming the picture; :func:`load_rgb`
 reads a picture in colour. :func:`growsim.pictures.images.picture_silhouettes` calls it for
-``segmentation = "photo"``; the grey-level threshold, the checks every silhouette
-passes and the framing for fitting are in :mod:`growsim.pictures.images`.
+``segmentation = "photo"``; the grey-level threshold and the framing for fitting are in
+:mod:`growsim.pictures.images`, the checks every silhouette passes in
+:mod:`growsim.pictures.reading`.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from growsim.errors import UserInputError
-from growsim.pictures.images import SPECK, check_silhouette, load_gray, over_white, read_picture
+from growsim.pictures.reading import SPECK, check_silhouette, load_gray, over_white, read_picture
 
 __all__ = [
     "Segmentation",
