@@ -80,11 +80,11 @@ def test_a_pixel_identical_table1_tree_lies_outside_the_parameter_tolerance():
     """At 64x64 the Table 1 silhouettes cannot pin the leader's azimuth to 5 degrees.
 
     These maps were found by CMA-ES on the Table 1 target (seed 0, free azimuths:
-    docs/reproduction.md, "Identifiability"): both views equal the target's pixel for
-    pixel (NCC exactly 1, also after rounding to 4 decimals and under 1e-6 noise), yet the
-    leader (the untilted map) is turned 5.4 degrees about the trunk beyond the 90-degree
-    symmetry, more than the issue's 5-degree tolerance. No fit to these images can tell
-    it from Table 1.
+    benchmarks/log/reproduction-history.md, "Identifiability"): both views equal the
+    target's pixel for pixel (NCC exactly 1, also after rounding to 4 decimals and under
+    1e-6 noise), yet the leader (the untilted map) is turned 5.4 degrees about the trunk
+    beyond the 90-degree symmetry, more than the issue's 5-degree tolerance. No fit to these
+    images can tell it from Table 1.
     """
     from growsim.kernels.ifs3d import compose_tree, render_views
 

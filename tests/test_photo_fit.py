@@ -124,7 +124,7 @@ def test_thin_twigs_are_tree_where_covered_at_least_half():
             assert abs(np.median(seg.coverage[r, 56:90]) - cover) < 0.05, (r, cover)
     assert seg.tree[20:100, 47:53].all()
     # the same twig colours averaged as sRGB values (a render's anti-aliasing, not a
-    # camera's) read darker: a pixel covered 0.45 is then taken (docs/models/fitting.md)
+    # camera's) read darker: a pixel covered 0.45 is then taken (benchmarks/log/fitting.md)
     srgb = _scene()
     srgb[20:108, 47:53] = BARK
     srgb[46, 53:90] = 0.45 * np.array(BARK) + 0.55 * np.array(SKY)
@@ -137,7 +137,7 @@ def test_segmentation_generalises_to_new_pictures(picture):
     rgb, truth, _ = make_photo(picture, size=384)
     seg = segment_photo(rgb / 255.0)
     iou = (seg.tree & truth).sum() / (seg.tree | truth).sum()
-    assert iou >= 0.93, iou  # 512 px: 0.985, 0.974 (docs/models/fitting.md)
+    assert iou >= 0.93, iou  # 512 px: 0.985, 0.974 (benchmarks/log/fitting.md)
 
 
 @pytest.mark.parametrize(

@@ -385,7 +385,7 @@ def fit_image(
     # every restart's binary NCC at the end of the first size
     first_size = {f"{KINDS[m]} seed {s}": f.ncc for (m, s), f in fits.items()}
     # the restarts of each kind that scored best at the first size go on to the finer
-    # sizes (the score there foretells the final one: docs/models/fitting.md)
+    # sizes (the score there foretells the final one: benchmarks/log/fitting.md)
     carried = []
     for m in modes:
         ranked = sorted((r for r in runs if r[0] == m), key=lambda r: -fits[r].ncc)

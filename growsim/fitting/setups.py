@@ -40,9 +40,10 @@ __all__ = [
     "sweep_discrete",
 ]
 
-#: The package data file holding the best ifs3d setup (see docs/models/ifs3d.md for how it
-#: was chosen): its ``[model]``, ``[ga]`` and ``[output]`` tables are what ``fit-image
-#: --model ifs3d`` runs; ``experiments/ifs_tree_best.toml`` is a link to it.
+#: The package data file holding the best ifs3d setup (how it was chosen:
+#: benchmarks/log/reproduction-history.md): its ``[model]``, ``[ga]`` and ``[output]``
+#: tables are what ``fit-image --model ifs3d`` runs; ``experiments/ifs_tree_best.toml`` is a
+#: link to it.
 BEST_SETUP = "ifs_tree_best.toml"
 
 #: Honda parameters fitted to pictures (the rest come from the ``cherry`` preset; the
@@ -198,7 +199,7 @@ FIT_SETUPS: Registry[FitSetup] = Registry(
         # of different quality by its seed (the plane's photo: 0.70-0.87 at 256 px over
         # twelve fits) and the score at 64 px foretells the final one (the fits that scored
         # best there ended best), so more GA runs and refining only the best gives better
-        # fits for about the time of four whole fits (docs/models/fitting.md; mean of
+        # fits for about the time of four whole fits (benchmarks/log/fitting.md; mean of
         # eight 0.833 -> 0.853 with the sweep of the leaves). The arrangement search: the
         # photos whose tree was not grown with the fit's seed 0.68 -> 0.76 at 256 px
         # (ginkgo 0.39 -> 0.51), mean of eight 0.842 -> 0.861. No blur: 1 px lifts the

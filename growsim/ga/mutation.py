@@ -258,23 +258,14 @@ class SelfAdaptiveGaussian(Mutation):
         r_gauss = rng.random((m, p)) if gauss_rate < 1.0 else np.zeros((m, p))
         out_x = np.empty((m, p))
         out_s = np.empty(m)
+        rates = (1.0 / np.sqrt(p) if self.tau is None else self.tau, self.min_sigma,
+                 self.max_sigma, poly_rate, self.polynomial_eta, gauss_rate)  # fmt: skip
         K.self_adaptive_mutation(
             np.ascontiguousarray(x, dtype=np.float64),
-            genome.low,
-            genome.high,
-            np.nextafter(genome.high, -np.inf),
+            (genome.low, genome.high, np.nextafter(genome.high, -np.inf)),
             np.asarray(strategy, dtype=np.float64),
-            1.0 / np.sqrt(p) if self.tau is None else self.tau,
-            self.min_sigma,
-            self.max_sigma,
-            poly_rate,
-            self.polynomial_eta,
-            gauss_rate,
-            r_hit,
-            r_u,
-            z_tau,
-            z,
-            r_gauss,
+            tuple(float(v) for v in rates),
+            (r_hit, r_u, z_tau, z, r_gauss),
             out_x,
             out_s,
         )
@@ -306,7 +297,7 @@ class Portfolio(SelfAdaptiveGaussian):
 
     Coordinate moves keep a gene that sits on a bound there while others move (the
     linear slope of BBOB f5) and suit separable problems; isotropic moves suit rotated
-    ones; differential trials suit rotated multimodal ones. Measured in docs/ga.md.
+    ones; differential trials suit rotated multimodal ones. Measured in benchmarks/log/ga.md.
 
     Examples
     --------
@@ -422,23 +413,14 @@ class Portfolio(SelfAdaptiveGaussian):
         out_s = np.empty((m, strategy.shape[1]))
         # one numba pass (the NumPy steps it replaces cost ~0.1 ms per generation at
         # population 20)
+        rates = (1.0 / np.sqrt(p) if self.tau is None else self.tau, self.min_sigma,
+                 self.max_sigma, poly_rate, self.polynomial_eta)  # fmt: skip
         K.portfolio_mutation(
             np.ascontiguousarray(x, dtype=np.float64),
-            genome.low,
-            genome.high,
-            np.nextafter(genome.high, -np.inf),
+            (genome.low, genome.high, np.nextafter(genome.high, -np.inf)),
             strategy,
-            1.0 / np.sqrt(p) if self.tau is None else self.tau,
-            self.min_sigma,
-            self.max_sigma,
-            poly_rate,
-            self.polynomial_eta,
-            r_hit,
-            r_u,
-            z_tau,
-            z,
-            r_axis,
-            flip,
+            tuple(float(v) for v in rates),
+            (r_hit, r_u, z_tau, z, r_axis, flip),
             out_x,
             out_s,
         )

@@ -44,12 +44,12 @@ __all__ = [
     "GAOptions",
 ]
 
-#: the reals' default portfolio options (issue 15, third round, docs/ga.md): wider
+#: the reals' default portfolio options (issue 15, third round, benchmarks/log/ga.md): wider
 #: polynomial steps (eta 10, not 20), a smaller first Gaussian step (0.005 of the ranges,
 #: not 0.01) and more DE crossers at first (0.35, not 0.25)
 PORTFOLIO_DEFAULTS = {"polynomial_eta": 10.0, "sigma": 0.005, "differential_share": 0.35}
 #: default operators per genome kind, chosen by ``benchmarks/bbob.py`` (reals) and its bit
-#: suite (bits); see docs/ga.md. Before issue 15 the reals' were a tournament of 4, SBX
+#: suite (bits); see benchmarks/log/ga.md. Before issue 15 the reals' were a tournament of 4, SBX
 #: (eta 15) and polynomial mutation under the generational model: configs that relied on
 #: them name them. The reals' first issue-15 defaults (SBX eta 15 + "self_adaptive") are
 #: named the same way: ``crossover="sbx", mutation="self_adaptive"``; the second round's
