@@ -1,7 +1,9 @@
 """Conformance: every registered model, phenotype and objective honours its contract.
 
 Parametrised over the registries, so a new model or objective is tested the day it is
-registered (docs/extending.md).
+registered (docs/extending.md). The optional capabilities are declared, not probed: a
+model or phenotype overrides exactly the capability methods it declares, and each
+declared one, called on a small example, gives what its contract documents.
 """
 
 from __future__ import annotations
@@ -13,10 +15,12 @@ import pytest
 
 from growsim.env import Environment
 from growsim.models import MODELS, get_model
+from growsim.models.base import CAPABILITIES as MODEL_CAPABILITIES
 from growsim.models.base import Model
 from growsim.objectives import OBJECTIVES, get_objective
 from growsim.objectives.base import Objective
 from growsim.phenotypes import PHENOTYPES, Phenotype, load_phenotype
+from growsim.phenotypes.base import CAPABILITIES as PHENOTYPE_CAPABILITIES
 
 MODEL_NAMES = sorted(MODELS)
 OBJECTIVE_NAMES = sorted(OBJECTIVES)
@@ -94,6 +98,99 @@ def test_pickled_model_develops_the_same(name, tmp_path):
     params = _cases(name)[-1][1]
     clone = pickle.loads(pickle.dumps(model))
     assert same_phenotype(model.develop(params, seed=1), clone.develop(params, seed=1), tmp_path)
+
+
+# --------------------------------------------------------------------------- capabilities
+
+
+def _rows(model, params, n=2):
+    """``n`` copies of the full parameter row of ``params`` and the column names."""
+    values = model.resolve(params)
+    names = list(values)
+    return np.array([[float(values[k]) for k in names]] * n), names
+
+
+def _overrides(cls, base, method: str) -> bool:
+    return getattr(cls, method) is not getattr(base, method)
+
+
+@pytest.mark.parametrize("name", MODEL_NAMES)
+def test_model_overrides_exactly_the_capabilities_it_declares(name):
+    model = get_model(name)
+    caps = model.capabilities
+    assert isinstance(caps, frozenset) and caps <= set(MODEL_CAPABILITIES), caps
+    for cap in MODEL_CAPABILITIES:
+        assert _overrides(type(model), Model, cap) == (cap in caps), f"{name}: {cap}"
+    rows, names = _rows(model, {})
+    for cap in sorted(set(MODEL_CAPABILITIES) - caps):
+        method = getattr(model, cap)
+        with pytest.raises(NotImplementedError, match=cap):
+            method() if cap == "draws" else method(rows, names)
+
+
+#: every (model, capability) it declares
+MODEL_CAPABILITY_PAIRS = [
+    (m, c) for m in MODEL_NAMES for c in sorted(get_model(m).capabilities)
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(("name", "cap"), MODEL_CAPABILITY_PAIRS)
+def test_declared_model_capability_gives_its_documented_type(name, cap, tmp_path):
+    import pandas as pd
+
+    model = get_model(name)
+    params = _cases(name)[-1][1]
+    rows, names = _rows(model, params)
+    seeds = np.array([0, 3], dtype=np.uint64)
+    if cap == "population":  # a DataFrame of per-plant totals, one row per individual
+        table = model.population(rows, names, seeds, env=Environment())
+        assert isinstance(table, pd.DataFrame) and len(table) == len(rows)
+    elif cap == "map_groups":  # (rows, maps (k, N, 4), depth) groups of the population
+        groups = list(model.map_groups(rows, names))
+        assert groups
+        for idx, maps, depth in groups:
+            assert isinstance(idx, np.ndarray) and idx.dtype.kind == "i"
+            assert set(idx.tolist()) <= set(range(len(rows)))
+            assert maps.ndim == 3 and maps.shape[0] == len(idx) and maps.shape[2] == 4
+            assert isinstance(depth, int) and depth >= 0
+    elif cap == "collisions":  # (n,) counts, each as the developed phenotype's
+        counts = model.collisions(rows, names, seeds, env=Environment())
+        assert isinstance(counts, np.ndarray) and counts.shape == (len(rows),)
+        for c, s in zip(counts, seeds):
+            assert c == model.develop(params, seed=int(s)).collisions
+    elif cap == "draws":  # a 2D float array that develop(..., draws=) takes back
+        d = model.draws(params, seed=4)
+        assert isinstance(d, np.ndarray) and d.ndim == 2 and d.dtype == np.float64
+        again = model.develop(params, seed=4, draws=d)
+        assert same_phenotype(again, model.develop(params, seed=4), tmp_path)
+    else:  # pragma: no cover - a capability added to CAPABILITIES needs its check here
+        pytest.fail(f"no conformance check for model capability {cap!r}")
+
+
+def _example(kind):
+    """A small phenotype of ``kind``, grown by the first model that grows that kind."""
+    model = next(get_model(m) for m in MODEL_NAMES if get_model(m).phenotype == kind)
+    return model.develop(_cases(model.name)[-1][1], seed=0)
+
+
+@pytest.mark.parametrize("name", sorted(PHENOTYPES))
+def test_phenotype_overrides_exactly_the_capabilities_it_declares(name):
+    cls = PHENOTYPES.get(name)
+    caps = cls.capabilities
+    assert isinstance(caps, frozenset) and caps <= set(PHENOTYPE_CAPABILITIES), caps
+    for cap in PHENOTYPE_CAPABILITIES:
+        assert _overrides(cls, Phenotype, cap) == (cap in caps), f"{name}: {cap}"
+    ph = _example(name)
+    for cap in sorted(set(PHENOTYPE_CAPABILITIES) - caps):
+        with pytest.raises(NotImplementedError, match=cap):
+            getattr(ph, cap)()
+    for cap in sorted(caps):
+        if cap == "front_view":  # (size, size) uint8, 1 where the phenotype is
+            view = ph.front_view(16)
+            assert isinstance(view, np.ndarray) and view.shape == (16, 16)
+            assert view.dtype == np.uint8 and set(np.unique(view)) <= {0, 1} and view.any()
+        else:  # pragma: no cover
+            pytest.fail(f"no conformance check for phenotype capability {cap!r}")
 
 
 @pytest.mark.parametrize("name", sorted(PHENOTYPES))

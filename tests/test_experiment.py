@@ -9,14 +9,16 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import ROOT
+from conftest import growsim as _growsim
 
 import growsim
 from growsim.errors import UserInputError
 from growsim.experiment import Fitness, build_fitness, load_config, load_run, run, sweep
 from growsim.experiment.results import RunDir
+from growsim.objectives.base import Objective
 from growsim.phenotypes.plant import Plant
 
-ROOT = Path(__file__).resolve().parents[1]
 QUICK = ROOT / "experiments" / "quickstart.toml"
 TINY = [
     "ga.population=8",
@@ -79,6 +81,51 @@ def test_run_writes_a_complete_results_directory(tiny_run):
     assert Plant.load(r.out / "best_plant.npz").n_segments == r.best_plant.n_segments
     again = load_run(r.out)
     assert again.best_fitness == r.best_fitness and again.best_plant.n_segments > 0
+
+
+def test_one_record_type_for_a_run_and_a_run_read_back(tiny_run, tmp_path):
+    from growsim.experiment import RunRecord, RunResult, read_run
+
+    assert RunResult is RunRecord
+    again, read = load_run(tiny_run.out), read_run(tiny_run.out)
+    for rec in (tiny_run, again, read):
+        assert type(rec) is RunRecord
+        assert rec.out == rec.path == tiny_run.out
+    for rec in (again, read):
+        assert rec.best == tiny_run.best and rec.summary == tiny_run.summary
+        assert rec.config == tiny_run.config and rec.best_params == tiny_run.best_params
+        assert rec.stop_reason == tiny_run.stop_reason == "generations"
+        history_eq(rec.history, tiny_run.history)
+    assert tiny_run.best == json.loads((tiny_run.out / "best.json").read_text())
+    assert tiny_run.summary == json.loads((tiny_run.out / "summary.json").read_text())
+    # the best phenotype grown again from best.json (no saved file) is the saved one
+    import shutil
+
+    copy = tmp_path / "copy"
+    shutil.copytree(tiny_run.out, copy)
+    (copy / "best_plant.npz").unlink()
+    grown = read_run(copy).best_phenotype
+    saved = Plant.load(tiny_run.out / "best_plant.npz")
+    grown.save(tmp_path / "grown.npz")
+    with np.load(tmp_path / "grown.npz") as a, np.load(tiny_run.out / "best_plant.npz") as b:
+        assert a.files == b.files and all(np.array_equal(a[k], b[k]) for k in a.files)
+    assert grown.n_segments == saved.n_segments
+
+
+def test_load_plan_is_the_one_way_into_a_plan():
+    from growsim.experiment import Config, ExperimentPlan, load_plan
+    from growsim.experiment.load import read_config
+
+    plan = load_plan(QUICK, TINY)
+    data = plan.config.to_dict()
+    for source in (QUICK, str(QUICK), data, plan.config, plan):
+        other = load_plan(source, [] if source is plan else TINY)
+        assert isinstance(other, ExperimentPlan)
+        assert other.config.to_dict() == data
+    assert load_plan(plan) is plan
+    assert load_plan(plan, ["ga.population=6"]).config.ga.population == 6
+    assert isinstance(read_config(plan), Config)
+    assert build_fitness(plan).evolved == plan.fitness().evolved
 
 
 def test_same_seed_same_results_whatever_the_workers(tiny_run, tmp_path):
@@ -178,11 +225,11 @@ def test_sweep_grid_and_reuse(tmp_path):
 # ---- the Fitness glue, with fake objectives -----------------------------------------
 
 
-class CountingHeight:
+class CountingHeight(Objective):
     name = "height"
     maximize = True
 
-    def __init__(self):
+    def setup(self):
         self.calls = 0
 
     def __call__(self, plant):
@@ -190,7 +237,7 @@ class CountingHeight:
         return plant.height()
 
 
-class BatchF:
+class BatchF(Objective):
     """A batch objective on the raw parameter matrix: minimise f."""
 
     name = "batchf"
@@ -243,14 +290,13 @@ def test_noise_modes():
     assert np.all(np.isfinite(c)) and c[0] != c[1]
 
 
-def test_dask_local_cluster_gives_the_same_results(tiny_run, tmp_path):
-    pytest.importorskip("dask.distributed")
-    other = run(
-        QUICK, tmp_path / "dask", overrides=TINY, scheduler="local", workers=2, progress=False
-    )
+def test_dask_local_cluster_gives_the_same_results(tiny_run, tmp_path, dask_cluster):
+    # the session's local cluster, reached by its address
+    address = dask_cluster.scheduler_address
+    other = run(QUICK, tmp_path / "dask", overrides=TINY, scheduler=address, progress=False)
     history_eq(tiny_run.history, other.history)
     assert other.best_params == tiny_run.best_params
-    assert other.summary["scheduler"] == "local"
+    assert other.summary["scheduler"] == address
 
 
 def test_light_objective_formula_and_environment():
@@ -405,21 +451,6 @@ def test_sweep_refuses_run_dirs_made_with_another_config(tmp_path):
     again = sweep(QUICK, ["env.light=1.0,0.5"], repeats=1, out=sw, overrides=ov, progress=False)
     pd.testing.assert_frame_equal(
         df.drop(columns=["wall_seconds"]), again.drop(columns=["wall_seconds"])
-    )
-
-
-def _growsim(*args, **kw):
-    import os
-    import subprocess
-    import sys
-
-    return subprocess.run(
-        [sys.executable, "-m", "growsim", *map(str, args)],
-        capture_output=True,
-        text=True,
-        timeout=240,
-        env={**os.environ, "MPLBACKEND": "Agg"},
-        **kw,
     )
 
 

@@ -290,8 +290,12 @@ def test_species_and_weights():
 
 
 def test_ochoa_refuses_a_phenotype_without_a_2d_view():
+    from growsim.models import get_model
+
+    swim = get_model("fish").develop({"frames": 20}, seed=0)  # a trajectory: no front view
+    assert "front_view" not in swim.capabilities
     with pytest.raises(UserInputError, match="no 2D view"):
-        plane_view(object(), 32)
+        plane_view(swim, 32)
 
 
 # --------------------------------------------------------------------------- species run

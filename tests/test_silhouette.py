@@ -42,17 +42,17 @@ def test_batch_equals_call_for_ifs3d(table1_obj):
     )
     rows[:, 0], rows[:, 1] = 5, 5
     rows[:, NAMES.index("leaves")] = np.round(rows[:, NAMES.index("leaves")])  # some leafy
-    got = table1_obj.batch(ifs3d, rows, NAMES, np.zeros(len(rows), np.uint64))
+    got = table1_obj.batch(ifs3d.MODEL, rows, NAMES, np.zeros(len(rows), np.uint64))
     want = [table1_obj(ifs3d.develop(dict(zip(NAMES, r)))) for r in rows]
     np.testing.assert_allclose(got, want, atol=1e-12)
     # columns in any order; a smaller depth and fewer maps grouped apart
     perm = np.random.default_rng(0).permutation(len(NAMES))
-    got2 = table1_obj.batch(ifs3d, rows[:, perm], [NAMES[i] for i in perm])
+    got2 = table1_obj.batch(ifs3d.MODEL, rows[:, perm], [NAMES[i] for i in perm])
     np.testing.assert_allclose(got2, got)
     spec3 = ifs3d.param_spec({"n_maps": 3})
     p3 = {p.name: p.default for p in spec3} | {"n_maps": 3, "depth": 4}
     names3 = [p.name for p in spec3]
-    b3 = table1_obj.batch(ifs3d, np.array([[p3[n] for n in names3]]), names3)
+    b3 = table1_obj.batch(ifs3d.MODEL, np.array([[p3[n] for n in names3]]), names3)
     assert b3[0] == pytest.approx(table1_obj(ifs3d.develop(p3)))
 
 
@@ -63,7 +63,7 @@ def test_blur_option_batch_equals_call_and_exact_is_binary(table1_obj):
     rows[:, NAMES.index("leaves")] = np.round(rows[:, NAMES.index("leaves")])
     rows = np.vstack([rows, _row(ifs3d.PRESETS["table1"]), _row(ifs3d.PRESETS["seed_ga"])])
     rows[:, 0], rows[:, 1] = 5, 5
-    got = obj.batch(ifs3d, rows, NAMES)
+    got = obj.batch(ifs3d.MODEL, rows, NAMES)
     plants = [ifs3d.develop(dict(zip(NAMES, r))) for r in rows]
     np.testing.assert_allclose(got, [obj(p) for p in plants], atol=1e-12)
     # the true tree still scores near 1 (anti-aliased vs binary target), and far better
@@ -75,27 +75,31 @@ def test_blur_option_batch_equals_call_and_exact_is_binary(table1_obj):
 
 
 def test_batch_none_for_other_models(table1_obj):
-    class Other:
-        NAME = "honda"
+    from growsim.models import get_model
+    from growsim.models.base import Model
 
-    class NamedOnly:  # the name alone does not give the fast path: the capability does
-        NAME = "ifs3d"
+    class NamedOnly(Model):  # the name alone does not give the fast path: the capability does
+        name = "ifs3d"
 
-    assert table1_obj.batch(Other, np.zeros((2, 3)), ["a", "b", "c"]) is None
-    assert table1_obj.batch(NamedOnly, np.zeros((2, 3)), ["a", "b", "c"]) is None
+        def develop(self, params, *, seed=None, env=None):
+            raise AssertionError("not developed here")
+
+    other = get_model("honda")
+    assert table1_obj.batch(other, np.zeros((2, 3)), ["a", "b", "c"]) is None
+    assert table1_obj.batch(NamedOnly(), np.zeros((2, 3)), ["a", "b", "c"]) is None
     wide = SilhouetteObjective(target_model="ifs3d", target_preset="table1", line_width="radius")
-    assert wide.batch(ifs3d, np.array([_row(ifs3d.PRESETS["table1"])]), NAMES) is None
+    assert wide.batch(ifs3d.MODEL, np.array([_row(ifs3d.PRESETS["table1"])]), NAMES) is None
     assert wide(ifs3d.develop(ifs3d.PRESETS["table1"])) == 1.0
 
 
 def test_batch_uses_the_map_groups_capability(table1_obj):
-    class Renamed:  # any model object offering map_groups
-        NAME = "my_ifs"
-        map_groups = staticmethod(ifs3d.map_groups)
+    class Renamed(type(ifs3d.MODEL)):  # any model declaring map_groups
+        name = "my_ifs"
 
+    assert "map_groups" in Renamed.capabilities
     rows = np.array([_row(ifs3d.PRESETS[k]) for k in ifs3d.PRESETS])
-    got = table1_obj.batch(Renamed, rows, NAMES)
-    np.testing.assert_array_equal(got, table1_obj.batch(ifs3d, rows, NAMES))
+    got = table1_obj.batch(Renamed(), rows, NAMES)
+    np.testing.assert_array_equal(got, table1_obj.batch(ifs3d.MODEL, rows, NAMES))
     assert got[0] == 1.0 and (got[1:] < 1.0).all()
 
 
@@ -135,8 +139,8 @@ def test_area_rejection_in_batch():
     sparse = dict(ifs3d.PRESETS["table1"]) | {f"s_{k}": 0.1 for k in range(1, 6)}
     plain = SilhouetteObjective(target_model="ifs3d", target_preset="table1")
     row = np.array([[sparse[n] for n in NAMES]])
-    assert plain.batch(ifs3d, row, NAMES)[0] > 0
-    assert obj.batch(ifs3d, row, NAMES)[0] == 0.0
+    assert plain.batch(ifs3d.MODEL, row, NAMES)[0] > 0
+    assert obj.batch(ifs3d.MODEL, row, NAMES)[0] == 0.0
     assert obj(ifs3d.develop(sparse)) == 0.0
 
 

@@ -7,15 +7,24 @@ The package holds one concept per module:
 
 - :mod:`~growsim.experiment.schema`: the sections and :class:`Config`;
 - :mod:`~growsim.experiment.load`: reading, ``--set`` overrides, validation
-  (:func:`load_config`, :func:`load_plan`, :func:`parse_overrides`);
+  (:func:`load_config`, :func:`parse_overrides`) and :func:`load_plan`, the one way into
+  a plan (from a path, dict, :class:`Config` or plan);
 - :mod:`~growsim.experiment.plan`: :class:`ExperimentPlan`, a config compiled once
   (model, parameters, genome, objectives built once, environment, GA options, outputs);
-- :mod:`~growsim.experiment.fitness`: :class:`Fitness`, the unit shipped to workers;
-- :mod:`~growsim.experiment.runner`: :func:`run` into a results directory, and reading
-  results back (:func:`load_run`, :func:`best_phenotype`);
+- :mod:`~growsim.experiment.fitness`: :class:`Fitness`, the unit shipped to workers, and
+  :meth:`Fitness.phenotype_of`, the one way to rebuild an individual;
+- :mod:`~growsim.experiment.runner`: :func:`run` into a results directory;
+- :mod:`~growsim.experiment.results`: the results directory, written (``best.json``,
+  ``summary.json``) and read back: :class:`RunRecord` (also named :data:`RunResult`), the
+  one description of a run, which :func:`run` returns and :func:`load_run` reads;
+  :func:`best_phenotype`;
 - :mod:`~growsim.experiment.executors`: serial, process-pool or Dask evaluation;
 - :mod:`~growsim.experiment.sweep`: :func:`sweep`, a grid of variants x repeats;
+- :mod:`~growsim.experiment.species`: :func:`~growsim.experiment.species.evolve_species`;
 - :mod:`~growsim.experiment.docs`: ``docs/configs.md``.
+
+Inside the package the modules import downwards only (import-linter checks it):
+species | sweep > runner > results > load > plan > fitness > schema | executors.
 
 Randomness: one seed per run (``experiment.seed``, or ``--seed``). The GA spawns its own
 generator and one seed per evaluation (by the evaluation's global index) from it, so the
@@ -35,17 +44,18 @@ Examples
 """
 
 from growsim.experiment.docs import config_docs
-from growsim.experiment.fitness import Fitness, build_fitness
-from growsim.experiment.load import load_config, load_plan, parse_overrides
+from growsim.experiment.fitness import Fitness
+from growsim.experiment.load import build_fitness, load_config, load_plan, parse_overrides
 from growsim.experiment.plan import ExperimentPlan, ModelPlan, compile_plan
-from growsim.experiment.runner import (
+from growsim.experiment.results import (
+    RunRecord,
     RunResult,
     best_phenotype,
     best_plant,
-    default_out,
     load_run,
-    run,
+    read_run,
 )
+from growsim.experiment.runner import default_out, run
 from growsim.experiment.schema import (
     Config,
     ExperimentConfig,
@@ -66,6 +76,7 @@ __all__ = [
     "ModelPlan",
     "ObjectiveConfig",
     "OutputConfig",
+    "RunRecord",
     "RunResult",
     "best_phenotype",
     "best_plant",
@@ -78,6 +89,7 @@ __all__ = [
     "load_run",
     "parse_overrides",
     "parse_vary",
+    "read_run",
     "run",
     "sweep",
 ]

@@ -1,18 +1,21 @@
 """The fitness of an experiment: the unit shipped to evaluation workers.
 
 :class:`Fitness` develops each individual with the model, scores it with every
-objective (or an objective's population fast path), weights and sums.
+objective (or an objective's population fast path), weights and sums;
+:meth:`Fitness.phenotype_of` is the one way to rebuild an individual from its evolved
+values. It reads a plan by its attributes only, so this module imports no other module
+of :mod:`growsim.experiment` (``plan`` builds a Fitness; ``load`` compiles plans).
 """
 
 from __future__ import annotations
 
 import sys
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any, NamedTuple
 
 import numpy as np
 
-__all__ = ["Fitness", "Individual", "build_fitness", "one_blas_thread"]
+__all__ = ["Fitness", "Individual", "one_blas_thread"]
 
 
 class Individual(NamedTuple):
@@ -65,7 +68,8 @@ class Fitness:
     ``__call__`` takes the GA's ``(n, k)`` matrix of evolved parameters (columns in
     ``evolved`` order) and returns ``(n,)`` float64 fitness values to maximise:
     ``sum_i weight_i * sign_i * score_i`` with ``sign_i = -1`` for objectives that
-    minimise. An objective with ``batch(model, params, names, seeds)`` scores the whole
+    minimise. The objectives are :class:`growsim.objectives.base.Objective` instances: an
+    objective's :meth:`~growsim.objectives.base.Objective.batch` scores the whole
     ``(n, p)`` matrix of every model parameter at once when it returns an array.
 
     Examples
@@ -92,7 +96,7 @@ class Fitness:
         self.evolved = tuple(p.name for p in plan.evolved)
         self.objectives = list(objectives)
         self.weights = np.asarray(weights, dtype=np.float64)
-        self.signs = np.array([1.0 if getattr(o, "maximize", True) else -1.0 for o in objectives])
+        self.signs = np.array([1.0 if o.maximize else -1.0 for o in self.objectives])
         self.env = plan.environment
         self.noise = plan.noise
         self.seed = int(plan.seed)
@@ -133,10 +137,11 @@ class Fitness:
 
     def phenotype_of(self, x, *, grow: bool = True, draws=None) -> Individual:
         """The one way to rebuild an individual from its ``(k,)`` evolved values ``x``
-        (columns in :attr:`evolved` order), as the evaluation built it: every parameter
-        (integers rounded), the model's seed (``model.noise = "fixed"``: the ``seed``
-        parameter or the run's) and the phenotype (``grow=False``: None). ``draws``: the
-        arrangement's draws for a model with the ``"draws"`` capability.
+        (columns in :attr:`evolved` order; or a ``{name: value}`` mapping holding every
+        evolved name, e.g. ``best.json``'s ``params``), as the evaluation built it: every
+        parameter (integers rounded), the model's seed (``model.noise = "fixed"``: the
+        ``seed`` parameter or the run's) and the phenotype (``grow=False``: None).
+        ``draws``: the arrangement's draws for a model with the ``"draws"`` capability.
 
         Examples
         --------
@@ -145,7 +150,11 @@ class Fitness:
         >>> ind = f.phenotype_of([0.8, 80.0, 5.0, 0.2, 8.0, 4.0])
         >>> ind.params["f"], ind.seed, ind.phenotype.phenotype
         (0.8, 3, 'plant')
+        >>> f.phenotype_of(ind.params, grow=False) == ind._replace(phenotype=None)
+        True
         """
+        if isinstance(x, Mapping):
+            x = [x[n] for n in self.evolved]
         row = self.full_params(np.asarray(x, dtype=np.float64)[None, :])[0]
         params = self.param_dict(row)
         seed = int(self.model_seeds(row[None, :], None)[0])
@@ -164,10 +173,8 @@ class Fitness:
             key, k = obj.name, 2
             while key in out:
                 key, k = f"{obj.name}#{k}", k + 1
-            terms = getattr(obj, "terms", None)
             out[key] = {"score": float(obj(phenotype))}
-            if terms is not None:
-                out[key].update({n: float(v) for n, v in terms(phenotype).items()})
+            out[key].update({n: float(v) for n, v in obj.terms(phenotype).items()})
         return out
 
     def __call__(self, x: np.ndarray, seeds: np.ndarray | None = None) -> np.ndarray:
@@ -181,10 +188,7 @@ class Fitness:
         total = np.zeros(n, dtype=np.float64)
         pending = []
         for obj, w, s in zip(self.objectives, self.weights, self.signs):
-            batch = getattr(obj, "batch", None)
-            vals = None
-            if batch is not None:
-                vals = batch(self.model, full, self.names, mseeds)
+            vals = obj.batch(self.model, full, self.names, mseeds)
             if vals is None:
                 pending.append((obj, w * s))
             else:
@@ -196,25 +200,3 @@ class Fitness:
                     total[i] += ws * float(obj(phenotype))
         return total
 
-
-def build_fitness(config) -> Fitness:
-    """The picklable :class:`Fitness` of a config (a :class:`Config` or anything
-    :func:`~growsim.experiment.load.load_plan` takes), or of an ``ExperimentPlan``.
-
-    Examples
-    --------
-    >>> f = build_fitness("experiments/quickstart.toml")
-    >>> f.model.name
-    'honda'
-    """
-    from growsim.experiment.load import load_plan
-    from growsim.experiment.plan import ExperimentPlan, compile_plan
-    from growsim.experiment.schema import Config
-
-    if isinstance(config, ExperimentPlan):
-        plan = config
-    elif isinstance(config, Config):
-        plan = compile_plan(config)
-    else:
-        plan = load_plan(config)
-    return Fitness(plan)

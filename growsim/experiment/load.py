@@ -1,9 +1,13 @@
 """Loading a config: read TOML, apply ``--set`` overrides, validate, compile.
 
 - :func:`parse_overrides`: ``key.path=value`` strings into (path parts, value) pairs;
-- :func:`load_plan`: read, override, validate and compile a config into an
-  :class:`~growsim.experiment.plan.ExperimentPlan` (every objective built once);
-- :func:`load_config`: the same, returning only the resolved :class:`Config`.
+- :func:`load_plan`: the one way into a plan: read, override, validate and compile a
+  config (a TOML path, a dict, a :class:`Config` or an
+  :class:`~growsim.experiment.plan.ExperimentPlan`) into an ``ExperimentPlan`` (every
+  objective built once); ``run``, ``sweep``, the species run, the report and
+  ``fit-image`` all come in here;
+- :func:`load_config`: the same, returning only the resolved :class:`Config`;
+- :func:`build_fitness`: ``load_plan(source).fitness()``.
 
 Every problem raises :class:`growsim.errors.ConfigError` (or ``UserInputError`` for an
 unreadable file) with one line naming the key path.
@@ -22,11 +26,14 @@ from pydantic import ValidationError
 
 from growsim.env.environment import SHORTHANDS, expand_shorthands
 from growsim.errors import ConfigError, UserInputError
+from growsim.experiment.fitness import Fitness
+from growsim.experiment.plan import ExperimentPlan, compile_plan
 from growsim.experiment.schema import Config
 from growsim.options import key_path, validation_message
 
 __all__ = [
     "UNSET",
+    "build_fitness",
     "config_difference",
     "flatten_config",
     "load_config",
@@ -260,28 +267,23 @@ def validate(data: Mapping[str, Any], label: str = "config") -> Config:
 
 
 def read_config(source, overrides: Sequence[str] = ()) -> Config:
-    """Read a path, dict or :class:`Config`, apply ``overrides``, make relative file
-    names absolute and validate against the schema (nothing is compiled or built).
+    """Read a path, dict, :class:`Config` or ``ExperimentPlan`` (its config), apply
+    ``overrides``, make relative file names absolute and validate against the schema
+    (nothing is compiled or built).
 
     Examples
     --------
     >>> read_config("experiments/quickstart.toml", ["env.light=0.5"]).environment.light.intensity
     0.5
     """
-    data, bases = _config_data(source, overrides)
-    _absolute_paths(data, bases)
-    return validate(data)
-
-
-def _config_data(source, overrides: Sequence[str]) -> tuple[dict, list[Path]]:
-    """Config data of a path, dict or Config with overrides applied; and where relative
-    file names are looked up."""
+    if isinstance(source, ExperimentPlan):
+        source = source.config
     if isinstance(source, Config):
-        data = source.to_dict()
+        data, bases = source.to_dict(), [Path.cwd()]
     elif isinstance(source, Mapping):
-        data = copy.deepcopy(dict(source))
+        data, bases = copy.deepcopy(dict(source)), [Path.cwd()]
     else:
-        data = read_toml(Path(source))
+        data, bases = read_toml(Path(source)), [Path(source).resolve().parent, Path.cwd()]
     env = data.get("environment") if isinstance(data, dict) else None
     if isinstance(env, dict):  # shorthands as tables, so overrides of their keys apply
         try:
@@ -290,31 +292,39 @@ def _config_data(source, overrides: Sequence[str]) -> tuple[dict, list[Path]]:
             raise ConfigError(f"environment.{exc}") from None
     for parts, value in parse_overrides(overrides):
         set_path(data, parts, value, "--set " + key_path(parts))
-    bases = [Path.cwd()]
-    if not isinstance(source, (Mapping, Config)):
-        bases.insert(0, Path(source).resolve().parent)
-    return data, bases
+    _absolute_paths(data, bases)
+    return validate(data)
 
 
-def load_plan(source, overrides: Sequence[str] = ()):
-    """Read, override, validate and compile a config: an
-    :class:`~growsim.experiment.plan.ExperimentPlan`.
+def load_plan(source, overrides: Sequence[str] = ()) -> ExperimentPlan:
+    """Read, override, validate and compile a config: an :class:`ExperimentPlan`. The
+    one way into a plan.
 
-    ``source`` is a TOML path, a dict of the same shape or a :class:`Config`.
-    ``overrides`` are ``key.path=value`` strings applied before validation. The model, its
-    preset, fixed and evolved parameters, the objectives (built once, each checked to
-    accept the model's phenotype) and the GA operators are all checked here, so a bad
-    config fails before anything runs. Relative file paths in objective tables are looked
-    up next to the config file, then in the working directory, and made absolute.
+    ``source`` is a TOML path, a dict of the same shape, a :class:`Config` or an
+    ``ExperimentPlan``. ``overrides`` are ``key.path=value`` strings applied before
+    validation. The model, its preset, fixed and evolved parameters, the objectives (built
+    once, each checked to accept the model's phenotype) and the GA operators are all
+    checked here, so a bad config fails before anything runs. Relative file paths in
+    objective tables are looked up next to the config file, then in the working
+    directory, and made absolute. A plan without overrides is returned as it is (its
+    objectives are not built again); a :class:`Config` without overrides is compiled as
+    it is (it was validated when made).
 
     Examples
     --------
     >>> plan = load_plan("experiments/quickstart.toml", ["ga.population=8"])
     >>> plan.model.name, plan.config.ga.population, len(plan.objectives)
     ('honda', 8, 1)
+    >>> load_plan(plan) is plan, load_plan(plan, ["ga.population=6"]).config.ga.population
+    (True, 6)
+    >>> load_plan(plan.config).config == plan.config
+    True
     """
-    from growsim.experiment.plan import compile_plan
-
+    if not overrides:
+        if isinstance(source, ExperimentPlan):
+            return source
+        if isinstance(source, Config):
+            return compile_plan(source)
     return compile_plan(read_config(source, overrides))
 
 
@@ -332,3 +342,16 @@ def load_config(source, overrides: Sequence[str] = ()) -> Config:
     (8, 20)
     """
     return load_plan(source, overrides).config
+
+
+def build_fitness(source, overrides: Sequence[str] = ()) -> Fitness:
+    """The picklable :class:`Fitness` of anything :func:`load_plan` takes:
+    ``load_plan(source, overrides).fitness()``.
+
+    Examples
+    --------
+    >>> f = build_fitness("experiments/quickstart.toml")
+    >>> f.model.name
+    'honda'
+    """
+    return load_plan(source, overrides).fitness()

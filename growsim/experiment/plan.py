@@ -4,6 +4,8 @@ Compiling resolves the model and its parameters (preset, fixed values, evolved r
 builds the genome, builds every objective once (with the run's environment) and checks
 that each accepts the model's phenotype, and checks the GA set-up. ``run``, ``sweep``,
 ``fit-image``, ``show`` and the report take the plan; a seed override is a copy of it.
+Plans are made by :func:`growsim.experiment.load.load_plan` (from a path, dict, Config or
+plan); :func:`compile_plan` is its last step.
 """
 
 from __future__ import annotations
@@ -11,13 +13,13 @@ from __future__ import annotations
 import dataclasses
 import fnmatch
 import math
-from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 
 from growsim.env import Environment
 from growsim.errors import ConfigError, GrowsimError, UserInputError
+from growsim.experiment.fitness import Fitness
 from growsim.experiment.schema import Config
 from growsim.models.base import Model, Param
 
@@ -58,9 +60,11 @@ class ModelPlan:
         """Names of the integer parameters."""
         return frozenset(p.name for p in self.spec if p.kind == "int")
 
-    def develop(self, params: Mapping[str, float], seed: int):
-        """Grow the phenotype of a full parameter dict (see :meth:`Model.develop`)."""
-        return self.model.develop(dict(params), seed=int(seed), env=self.environment)
+    def fitness(self) -> Fitness:
+        """The :class:`~growsim.experiment.fitness.Fitness` of the model part, without
+        objectives: its :meth:`~growsim.experiment.fitness.Fitness.phenotype_of` grows an
+        individual as the run did."""
+        return Fitness(self, (), ())
 
 
 @dataclasses.dataclass(frozen=True)
@@ -102,10 +106,8 @@ class ExperimentPlan(ModelPlan):
             raise UserInputError(f"--seed: expected an integer >= 0, got {seed!r}")
         return dataclasses.replace(self, config=self.config.with_seed(int(seed)), seed=int(seed))
 
-    def fitness(self):
+    def fitness(self) -> Fitness:
         """The picklable :class:`~growsim.experiment.fitness.Fitness` of the plan."""
-        from growsim.experiment.fitness import Fitness
-
         return Fitness(self)
 
     def build_ga(self, fitness, batch_size: int | None = None):

@@ -1,11 +1,15 @@
 """The results directory of a run: the one place that writes and reads it back.
 
-:class:`RunDir` writes (atomic writes, a lock, the paths of every file);
-:func:`read_run` and :func:`find_runs` read finished runs back as :class:`RunRecord`
-(``growsim show``, ``compare``, ``sweep`` and the Python API use them);
-:func:`plot_fitness` draws a run's ``fitness.png``.
+:class:`RunDir` writes (atomic writes, a lock, the paths of every file) and builds
+``best.json`` (:meth:`RunDir.write_best`) and ``summary.json``
+(:meth:`RunDir.write_summary`) from the facts the runner passes;
+:class:`RunRecord` is the one description of a run: what
+:func:`growsim.experiment.run` returns, and what :func:`read_run` (also
+:func:`load_run`) and :func:`find_runs` read back (``growsim show``, ``compare``,
+``sweep`` and the Python API use them); :func:`best_phenotype` reads or regrows a run's
+best; :func:`plot_fitness` draws a run's ``fitness.png``.
 
-A run directory holds (see ``ARCHITECTURE.md``)::
+A run directory holds (see ``docs/design.md``)::
 
     config.toml        the resolved config (written first)
     checkpoint.npz     GA state incl. RNG state (the GA writes it every generation)
@@ -28,14 +32,30 @@ import json
 import logging
 import os
 import tomllib
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from growsim.errors import UserInputError
-from growsim.files import atomic_path, atomic_write
+import numpy as np
 
-__all__ = ["RunDir", "RunRecord", "find_runs", "plot_fitness", "read_run", "write_parquet"]
+from growsim.errors import UserInputError
+from growsim.experiment.load import validate
+from growsim.experiment.plan import plan_model
+from growsim.experiment.schema import Config
+from growsim.files import atomic_path, atomic_write, jsonable
+
+__all__ = [
+    "RunDir",
+    "RunRecord",
+    "RunResult",
+    "best_phenotype",
+    "best_plant",
+    "find_runs",
+    "load_run",
+    "plot_fitness",
+    "read_run",
+    "write_parquet",
+]
 
 log = logging.getLogger(__name__)
 
@@ -198,18 +218,152 @@ class RunDir:
             writer(tmp)
         return self.path / name
 
+    def write_best(
+        self,
+        *,
+        fitness: float,
+        generation: int,
+        params: Mapping[str, float],
+        evolved: Sequence[str],
+        model: str,
+        phenotype: str,
+        plant_seed: int,
+        terms: Mapping[str, Mapping[str, float]],
+        genome=None,
+    ) -> dict[str, Any]:
+        """Write ``best.json`` from the facts of the best individual; return its data.
+
+        ``params``: every model parameter (integers as ints); ``evolved``: the evolved
+        names (``best.json`` repeats their values under ``evolved``); ``phenotype``: its
+        kind; ``plant_seed``: the seed it grows with; ``terms``: each objective's score
+        and terms (:meth:`growsim.experiment.fitness.Fitness.terms`); ``genome``: the
+        raw genome, when there is one.
+
+        Examples
+        --------
+        >>> import tempfile
+        >>> rd = RunDir(tempfile.mkdtemp())
+        >>> best = rd.write_best(fitness=2.0, generation=1, params={"a": 0.5, "n": 3},
+        ...                      evolved=["a"], model="m", phenotype="plant", plant_seed=1,
+        ...                      terms={})
+        >>> list(best), best["evolved"]
+        (['fitness', 'generation', 'evolved', 'params', 'model', 'phenotype', 'plant_seed', \
+'terms'], {'a': 0.5})
+        """
+        best: dict[str, Any] = {
+            "fitness": float(fitness),
+            "generation": int(generation),
+            "evolved": {n: params[n] for n in evolved},
+            "params": dict(params),
+            "model": model,
+            "phenotype": phenotype,
+            "plant_seed": int(plant_seed),
+            "terms": terms,
+        }
+        if genome is not None:
+            best["genome"] = np.asarray(genome).tolist()
+        best = jsonable(best)
+        self.write_json("best.json", best)
+        return best
+
+    def write_summary(
+        self,
+        config: Config,
+        best: Mapping[str, Any],
+        history,
+        *,
+        evaluations: int,
+        wall_seconds: float,
+        ga_seconds: float,
+        stop_reason: str,
+        stops: Mapping[str, int],
+        resumed: bool,
+        started: str,
+        finished: str,
+        workers: int | None,
+        scheduler: str | None,
+        measures: Mapping[str, float],
+        warnings: Sequence[str],
+    ) -> dict[str, Any]:
+        """Write ``summary.json`` (last: its presence marks a finished run) from the run's
+        config, its best (:meth:`write_best`'s data), its history and the facts of the
+        run; return its data.
+
+        Examples
+        --------
+        >>> import tempfile, pandas as pd
+        >>> from growsim.experiment import load_config
+        >>> rd = RunDir(tempfile.mkdtemp())
+        >>> cfg = load_config("experiments/quickstart.toml")
+        >>> best = {"fitness": 2.0, "generation": 1, "phenotype": "plant", "terms": {}}
+        >>> s = rd.write_summary(cfg, best, pd.DataFrame({"generation": [0, 1]}),
+        ...     evaluations=20, wall_seconds=1.0, ga_seconds=0.5, stop_reason="generations",
+        ...     stops={}, resumed=False, started="", finished="", workers=None,
+        ...     scheduler=None, measures={}, warnings=[])
+        >>> s["generations"], s["best_fitness"], rd.is_complete()
+        (2, 2.0, True)
+        """
+        from growsim import __version__
+
+        summary = {
+            "experiment": config.experiment.name,
+            "description": config.experiment.description,
+            "model": config.model.kind,
+            "phenotype": best["phenotype"],
+            "objectives": [o.kind for o in config.objective],
+            "seed": config.experiment.seed,
+            "best_fitness": float(best["fitness"]),
+            "best_generation": int(best["generation"]),
+            "generations": int(history["generation"].max()) + 1 if len(history) else 0,
+            "evaluations": int(evaluations),
+            "wall_seconds": round(wall_seconds, 3),
+            "ga_seconds": round(ga_seconds, 3),
+            "history_seconds": float(history["seconds"].max()) if "seconds" in history else None,
+            "stop_reason": str(stop_reason),
+            "failures": int(history["failures"].sum()) if "failures" in history else 0,
+            "stops": stops,
+            "resumed": bool(resumed),
+            "started": started,
+            "finished": finished,
+            "growsim_version": __version__,
+            "workers": workers,
+            "scheduler": scheduler,
+            "measures": measures,
+            "terms": best["terms"],
+            "warnings": list(warnings),
+        }
+        summary = jsonable(summary)
+        self.write_json("summary.json", summary)
+        return summary
+
+
+#: a record whose best phenotype has not been read yet
+_UNREAD = object()
+
 
 @dataclasses.dataclass
 class RunRecord:
-    """A results directory read back: ``summary`` (None while unfinished), ``config``
-    (the resolved config as data), ``best`` (best.json), ``history`` (DataFrame, or None
-    when not read).
+    """A run's results, the one description of a run: what :func:`growsim.experiment.run`
+    returns (also named :data:`RunResult`) and what :func:`read_run` reads back.
+
+    Fields: ``path`` (the results directory; also ``out``), ``config`` (the resolved
+    config as data, as in ``config.toml``), ``best`` (``best.json``'s data), ``summary``
+    (``summary.json``'s; None while unfinished) and ``history`` (DataFrame, one row per
+    generation and island: generation, evaluations, best, mean, std, worst, best_so_far,
+    diversity, seconds...; None when not read). Read from them: ``best_params`` (every
+    model parameter of the best individual), ``best_fitness``, ``stop_reason``,
+    ``finished``, and ``best_phenotype`` (also ``best_plant``): what the best grows, read
+    or grown again on first use (None when that fails; :meth:`phenotype` raises
+    instead).
 
     Examples
     --------
     >>> r = read_run("runs/quickstart-20261122-101500")  # doctest: +SKIP
     >>> r.best_fitness, r.phenotype().phenotype  # doctest: +SKIP
     (112.5, 'plant')
+    >>> rec = RunRecord(Path("r"), {}, {"fitness": 2.0, "params": {"f": 0.5}})
+    >>> rec.out, rec.best_fitness, rec.best_params, rec.finished, rec.stop_reason
+    (PosixPath('r'), 2.0, {'f': 0.5}, False, '')
     """
 
     path: Path
@@ -217,6 +371,20 @@ class RunRecord:
     best: dict[str, Any]
     summary: dict[str, Any] | None = None
     history: Any = None
+    _phenotype: Any = dataclasses.field(default=_UNREAD, init=False, repr=False, compare=False)
+
+    @classmethod
+    def of_run(cls, rd: RunDir, best, summary, history, phenotype) -> RunRecord:
+        """The record of a run that just finished in ``rd`` (its best phenotype as grown:
+        None when growing it failed)."""
+        rec = cls(rd.path, rd.read_config(), best, summary, history)
+        rec._phenotype = phenotype
+        return rec
+
+    @property
+    def out(self) -> Path:
+        """The results directory (``path``)."""
+        return self.path
 
     @property
     def finished(self) -> bool:
@@ -228,21 +396,50 @@ class RunRecord:
         """The best fitness of the run."""
         return float(self.best["fitness"])
 
+    @property
+    def best_params(self) -> dict[str, float]:
+        """Every model parameter of the best individual (``best.json``'s ``params``)."""
+        return self.best["params"]
+
+    @property
+    def stop_reason(self) -> str:
+        """Why the GA stopped (``""`` while unfinished)."""
+        return str((self.summary or {}).get("stop_reason", ""))
+
+    @property
+    def best_phenotype(self):
+        """The best phenotype (see :meth:`phenotype`), or None when it cannot be had."""
+        if self._phenotype is _UNREAD:
+            try:
+                self._phenotype = self.phenotype()
+            except Exception as exc:  # the table and history stay readable without it
+                log.warning("%s: the best phenotype could not be read: %s", self.path, exc)
+                self._phenotype = None
+        return self._phenotype
+
+    @property
+    def best_plant(self):
+        """The best phenotype (named for plant models)."""
+        return self.best_phenotype
+
     def phenotype(self):
-        """The best phenotype: its saved ``best_<kind>.npz``, else grown again from
-        ``best.json`` and the model of ``config.toml`` (no objective is built)."""
+        """The best phenotype: as the run grew it, else its saved ``best_<kind>.npz``,
+        else grown again from ``best.json`` and the model of ``config.toml`` (no objective
+        is built) by :meth:`growsim.experiment.fitness.Fitness.phenotype_of`."""
+        if self._phenotype is not _UNREAD and self._phenotype is not None:
+            return self._phenotype
         from growsim.phenotypes import load_phenotype
 
         kind = self.best.get("phenotype", "plant")
         saved = RunDir(self.path).phenotype_path(kind)
         if saved.is_file():
             return load_phenotype(saved)
-        from growsim.experiment.load import validate
-        from growsim.experiment.plan import plan_model
-
         mp = plan_model(validate(self.config, str(self.path / "config.toml")))
-        params = {n: float(self.best["params"][n]) for n in mp.names}
-        return mp.develop(params, int(self.best.get("plant_seed", mp.seed)))
+        return mp.fitness().phenotype_of(self.best["params"]).phenotype
+
+
+#: the name :func:`growsim.experiment.run` users know: the same class as :class:`RunRecord`
+RunResult = RunRecord
 
 
 def _read_json(path: Path) -> dict:
@@ -275,6 +472,35 @@ def read_run(path: str | Path, *, finished: bool = True, history: bool = True) -
         except (OSError, ValueError) as exc:
             raise UserInputError(f"{rd.history_path}: unreadable ({exc})") from None
     return RunRecord(rd.path, config, _read_json(rd.best_path), summary, frame)
+
+
+def load_run(path: str | Path) -> RunRecord:
+    """Read a finished results directory back (:func:`read_run` with its history): the
+    same :class:`RunRecord` that :func:`growsim.experiment.run` returned.
+
+    Examples
+    --------
+    >>> r = load_run("runs/quickstart-20261122-101500")  # doctest: +SKIP
+    >>> r.best_plant.height()  # doctest: +SKIP
+    41.2
+    """
+    return read_run(path)
+
+
+def best_phenotype(path: str | Path):
+    """The best phenotype of a results directory: its saved ``best_<kind>.npz``, or grown
+    again from ``best.json`` and the model of ``config.toml`` (no objective is built).
+
+    Examples
+    --------
+    >>> best_phenotype("runs/quickstart-20261122-101500").n_segments  # doctest: +SKIP
+    1023
+    """
+    return read_run(path, finished=False, history=False).phenotype()
+
+
+#: the name used before phenotypes other than plants existed
+best_plant = best_phenotype
 
 
 def find_runs(dirs: Sequence[str | Path]) -> list[RunRecord]:

@@ -1,16 +1,16 @@
 """Running one experiment into a results directory.
 
-:func:`run` takes a config (path, dict, :class:`Config`) or a compiled
-:class:`~growsim.experiment.plan.ExperimentPlan`, evolves it with the GA, and writes
-history, best, the best phenotype and its artefacts, and the summary (last) through
-:class:`growsim.experiment.results.RunDir`. :func:`load_run` and :func:`best_phenotype` read a
-results directory back (through :func:`growsim.experiment.results.read_run`).
+:func:`run` takes a config (anything :func:`~growsim.experiment.load.load_plan` takes: a
+path, dict, :class:`Config` or compiled :class:`~growsim.experiment.plan.ExperimentPlan`),
+evolves it with the GA, and writes history, best, the best phenotype and its artefacts,
+and the summary (last) through :class:`growsim.experiment.results.RunDir`; it returns the
+run's :class:`~growsim.experiment.results.RunRecord`, the type
+:func:`~growsim.experiment.results.read_run` reads back.
 """
 
 from __future__ import annotations
 
 import contextlib
-import dataclasses
 import logging
 import math
 import signal
@@ -25,21 +25,13 @@ import numpy as np
 
 from growsim.errors import ConfigError, UserInputError
 from growsim.experiment.executors import check_executor_args, executor_workers, make_executor
+from growsim.experiment.load import load_plan
 from growsim.experiment.plan import ExperimentPlan
+from growsim.experiment.results import RunDir, RunRecord, plot_fitness
 from growsim.experiment.schema import Config
-from growsim.files import jsonable
 from growsim.ga.evaluate import open_executor
 
-__all__ = [
-    "Progress",
-    "RunResult",
-    "best_phenotype",
-    "best_plant",
-    "default_out",
-    "interrupts_deferred",
-    "load_run",
-    "run",
-]
+__all__ = ["Progress", "default_out", "interrupts_deferred", "run"]
 
 log = logging.getLogger("growsim.experiment")
 
@@ -100,37 +92,6 @@ def _interrupted(exc: BaseException) -> bool:
         seen.add(id(e))
         e = e.__cause__ or e.__context__
     return False
-
-
-@dataclasses.dataclass
-class RunResult:
-    """What :func:`run` returns.
-
-    ``history``: DataFrame, one row per generation (and island): generation, evaluations,
-    best, mean, std, worst, best_so_far, diversity, seconds; ``best_params``: every model
-    parameter of the best individual; ``best_fitness``; ``best_phenotype``: what it grows
-    (a :class:`growsim.phenotypes.plant.Plant` for plant models; also ``best_plant``); ``out``: the
-    results directory; ``summary``: the dict of summary.json.
-
-    Examples
-    --------
-    >>> r = run("experiments/quickstart.toml", out="runs/doc")  # doctest: +SKIP
-    >>> r.best_fitness > 0  # doctest: +SKIP
-    True
-    """
-
-    history: Any
-    best_params: dict[str, float]
-    best_fitness: float
-    best_phenotype: Any
-    out: Path
-    summary: dict[str, Any]
-    stop_reason: str = ""
-
-    @property
-    def best_plant(self):
-        """The best phenotype (named for plant models)."""
-        return self.best_phenotype
 
 
 def default_out(cfg: Config, root: str | Path = "runs", kind: str = "") -> Path:
@@ -205,21 +166,6 @@ class Progress:
             self.bar.close()
 
 
-def as_plan(config, overrides: Sequence[str] = ()) -> ExperimentPlan:
-    """An :class:`ExperimentPlan` from a plan (as is), a :class:`Config` or anything
-    :func:`~growsim.experiment.load.load_plan` reads, with ``overrides`` applied."""
-    from growsim.experiment.load import load_plan
-    from growsim.experiment.plan import compile_plan
-
-    if isinstance(config, ExperimentPlan) and not overrides:
-        return config
-    if isinstance(config, ExperimentPlan):
-        config = config.config
-    if isinstance(config, Config) and not overrides:
-        return compile_plan(config)
-    return load_plan(config, overrides)
-
-
 def run(
     config: str | Path | Mapping[str, Any] | Config | ExperimentPlan | None = None,
     out: str | Path | None = None,
@@ -232,11 +178,13 @@ def run(
     progress: bool = True,
     callback=None,
     executor=None,
-) -> RunResult:
-    """Run one experiment into a results directory; return its :class:`RunResult`.
+) -> RunRecord:
+    """Run one experiment into a results directory; return its
+    :class:`~growsim.experiment.results.RunRecord` (also named ``RunResult``).
 
     ``config``: a TOML path, dict, :class:`Config` or compiled ``ExperimentPlan``
-    (``None`` with ``resume=True``: the ``config.toml`` saved in ``out``). ``out``: the
+    (:func:`~growsim.experiment.load.load_plan`; ``None`` with ``resume=True``: the
+    ``config.toml`` saved in ``out``). ``out``: the
     results directory (default ``runs/<name>-<timestamp>``); a fresh run refuses a
     directory that already holds a run, and a second run on a directory in use refuses
     at once; everything that can be checked (the config, the GA's options and budget,
@@ -261,8 +209,6 @@ def run(
     >>> sorted(p.name for p in r.out.iterdir())[:3]  # doctest: +SKIP
     ['best.json', 'best.vtp', 'best_front.png']
     """
-    from growsim.experiment.results import RunDir
-
     check_executor_args(workers, scheduler)
     if resume:
         if out is None:
@@ -270,9 +216,9 @@ def run(
         rd = RunDir(out)
         if not rd.config_path.is_file():
             raise UserInputError(f"{rd.path}: no config.toml here; nothing to resume")
-        plan = as_plan(rd.config_path)
+        plan = load_plan(rd.config_path)
         if config is not None:
-            given = as_plan(config, overrides)
+            given = load_plan(config, overrides)
             if seed is not None:
                 given = given.with_seed(seed)
             if given.config.to_dict() != plan.config.to_dict():
@@ -285,7 +231,7 @@ def run(
     else:
         if config is None:
             raise UserInputError("no config given")
-        plan = as_plan(config, overrides)
+        plan = load_plan(config, overrides)
         if seed is not None:
             plan = plan.with_seed(seed)
         rd = RunDir(out if out is not None else default_out(plan.config))
@@ -352,7 +298,7 @@ def _census(fitness, result, warnings: list[str], executor=None) -> dict[str, in
     The population is grown again in 4 tasks per worker of ``executor`` (None: serially;
     an int: a process pool of that size, as the GA's): it costs about as much as one or
     two generations' evaluations (the final population's plants are the grown ones)."""
-    population = getattr(result, "population", None)
+    population = result.population
     if "population" not in fitness.model.capabilities or population is None:
         return {}
     if not len(population):
@@ -387,14 +333,11 @@ def _census(fitness, result, warnings: list[str], executor=None) -> dict[str, in
 
 def _run_locked(
     plan, rd, workers, scheduler, resume, progress, callback, executor, fitness, ga
-) -> RunResult:
-    from growsim import __version__
-
+) -> RunRecord:
     cfg = plan.config
     g = cfg.ga
     show_bar = bool(progress) and sys.stderr.isatty()
     bar = Progress(g.generations, show_bar, callback, rd=rd)
-    t0 = time.perf_counter()
     started = time.strftime("%Y-%m-%dT%H:%M:%S%z")
     try:
         result = ga.run(
@@ -407,14 +350,13 @@ def _run_locked(
     finally:
         bar.close()
     t_ga = time.perf_counter()
-    # the GA's own clock covers every session of a resumed run
-    ga_seconds = float(getattr(result, "seconds", t_ga - t0))
+    ga_seconds = float(result.seconds)  # the GA's own clock covers every session
 
-    best_row = fitness.full_params(np.asarray(result.best.params, dtype=np.float64)[None, :])[0]
-    best_params = fitness.param_dict(best_row)
-    for n in plan.int_names:
-        best_params[n] = round(best_params[n])
-    plant_seed = int(fitness.model_seeds(best_row[None, :], None)[0])
+    x = result.best.params
+    individual = fitness.phenotype_of(x, grow=False)
+    best_params = {
+        n: round(v) if n in plan.int_names else v for n, v in individual.params.items()
+    }
     history = result.history
     # every file of the end of the run is finished before a Ctrl-C stops it
     with interrupts_deferred():
@@ -423,67 +365,48 @@ def _run_locked(
     warnings: list[str] = []
     phenotype, terms = None, {}
     try:
-        phenotype = fitness.develop(best_row, plant_seed)
+        phenotype = fitness.phenotype_of(x).phenotype
         terms = fitness.terms(phenotype)
     except Exception as exc:  # the best genome scored, so this is a model bug: report it
         warnings.append(f"developing the best phenotype failed: {exc}")
         log.warning("developing the best phenotype failed: %s", exc)
-    best = {
-        "fitness": float(result.best.fitness),
-        "generation": int(result.best.generation),
-        "evolved": {n: best_params[n] for n in fitness.evolved},
-        "params": best_params,
-        "model": cfg.model.kind,
-        "phenotype": plan.model.phenotype,
-        "plant_seed": plant_seed,
-        "terms": terms,
-    }
-    raw = getattr(result.best, "raw", None)
-    if raw is not None:
-        best["genome"] = np.asarray(raw).tolist()
     with interrupts_deferred():
-        rd.write_json("best.json", jsonable(best))
+        best = rd.write_best(
+            fitness=result.best.fitness,
+            generation=result.best.generation,
+            params=best_params,
+            evolved=fitness.evolved,
+            model=cfg.model.kind,
+            phenotype=plan.model.phenotype,
+            plant_seed=individual.seed,
+            terms=terms,
+            genome=result.best.raw,
+        )
     warnings += _artefacts(cfg, rd, phenotype, history)
 
-    summary = {
-        "experiment": cfg.experiment.name,
-        "description": cfg.experiment.description,
-        "model": cfg.model.kind,
-        "phenotype": plan.model.phenotype,
-        "objectives": [o.kind for o in cfg.objective],
-        "seed": cfg.experiment.seed,
-        "best_fitness": float(result.best.fitness),
-        "best_generation": int(result.best.generation),
-        "generations": int(history["generation"].max()) + 1 if len(history) else 0,
-        "evaluations": int(result.evaluations),
-        "wall_seconds": round(ga_seconds + time.perf_counter() - t_ga, 3),
-        "ga_seconds": round(ga_seconds, 3),
-        "history_seconds": float(history["seconds"].max()) if "seconds" in history else None,
-        "stop_reason": str(result.stop_reason),
-        "failures": int(history["failures"].sum()) if "failures" in history else 0,
-        "stops": _census(fitness, result, warnings, executor),
-        "resumed": bool(resume),
-        "started": started,
-        "finished": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
-        "growsim_version": __version__,
-        "workers": workers,
-        "scheduler": scheduler,
-        "measures": _measures(phenotype, plan) if phenotype is not None else {},
-        "terms": terms,
-        "warnings": warnings,
-    }
-    summary = jsonable(summary)
+    wall_seconds = ga_seconds + time.perf_counter() - t_ga
+    stops = _census(fitness, result, warnings, executor)
+    finished = time.strftime("%Y-%m-%dT%H:%M:%S%z")
+    measures = _measures(phenotype, plan) if phenotype is not None else {}
     with interrupts_deferred():
-        rd.write_json("summary.json", summary)  # last: its presence marks a complete run
-    return RunResult(
-        history=history,
-        best_params=best_params,
-        best_fitness=float(result.best.fitness),
-        best_phenotype=phenotype,
-        out=rd.path,
-        summary=summary,
-        stop_reason=str(result.stop_reason),
-    )
+        summary = rd.write_summary(
+            cfg,
+            best,
+            history,
+            evaluations=result.evaluations,
+            wall_seconds=wall_seconds,
+            ga_seconds=ga_seconds,
+            stop_reason=result.stop_reason,
+            stops=stops,
+            resumed=resume,
+            started=started,
+            finished=finished,
+            workers=workers,
+            scheduler=scheduler,
+            measures=measures,
+            warnings=warnings,
+        )
+    return RunRecord.of_run(rd, best, summary, history, phenotype)
 
 
 #: measures of the light on the leaves: left out of summaries for a phenotype without
@@ -537,57 +460,5 @@ def _artefacts(cfg: Config, rd, phenotype, history) -> list[str]:
         for name, writer in files.items():
             attempt(name, lambda name=name, writer=writer: writer(rd.path / name))
     if o.plot and len(history):
-
-        def plot():
-            from growsim.experiment.results import plot_fitness
-
-            plot_fitness(history, rd.path / "fitness.png")
-
-        attempt("fitness.png", plot)
+        attempt("fitness.png", lambda: plot_fitness(history, rd.path / "fitness.png"))
     return warnings
-
-
-def load_run(path: str | Path) -> RunResult:
-    """Read a finished results directory back into a :class:`RunResult`.
-
-    Examples
-    --------
-    >>> r = load_run("runs/quickstart-20261122-101500")  # doctest: +SKIP
-    >>> r.best_plant.height()  # doctest: +SKIP
-    41.2
-    """
-    from growsim.experiment.results import read_run
-
-    rec = read_run(path)
-    phenotype = None
-    try:
-        phenotype = rec.phenotype()
-    except Exception as exc:  # the table and history stay readable without it
-        log.warning("%s: the best phenotype could not be read: %s", rec.path, exc)
-    return RunResult(
-        history=rec.history,
-        best_params=rec.best["params"],
-        best_fitness=rec.best_fitness,
-        best_phenotype=phenotype,
-        out=rec.path,
-        summary=rec.summary,
-        stop_reason=rec.summary.get("stop_reason", ""),
-    )
-
-
-def best_phenotype(path: str | Path):
-    """The best phenotype of a results directory: its saved ``best_<kind>.npz``, or grown
-    again from ``best.json`` and the model of ``config.toml`` (no objective is built).
-
-    Examples
-    --------
-    >>> best_phenotype("runs/quickstart-20261122-101500").n_segments  # doctest: +SKIP
-    1023
-    """
-    from growsim.experiment.results import read_run
-
-    return read_run(path, finished=False, history=False).phenotype()
-
-
-#: the name used before phenotypes other than plants existed
-best_plant = best_phenotype

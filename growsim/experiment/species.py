@@ -10,6 +10,8 @@ from __future__ import annotations
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.experiment.load import load_plan
+from growsim.experiment.runner import run
 from growsim.files import atomic_path
 from growsim.objectives.ochoa import TERMS
 
@@ -55,8 +57,9 @@ def evolve_species(config, *, out=None, seed: int | None = None, overrides=(), p
     :func:`growsim.objectives.ochoa.ochoa_terms` of that generation's best), ``generations.png``
     (the best plant of
     the first, middle and last generation side by side: the seed's Fig. 2-3) and
-    ``terms.png`` (the four terms over generations). Returns ``(result, table)``: the
-    :class:`growsim.experiment.RunResult` and the table.
+    ``terms.png`` (the four terms over generations). ``config``: anything
+    :func:`~growsim.experiment.load.load_plan` takes. Returns ``(result, table)``: the
+    run's :class:`~growsim.experiment.results.RunRecord` and the table.
 
     Examples
     --------
@@ -67,9 +70,7 @@ def evolve_species(config, *, out=None, seed: int | None = None, overrides=(), p
     """
     import pandas as pd
 
-    from growsim.experiment.runner import as_plan, run
-
-    plan = as_plan(config, overrides)
+    plan = load_plan(config, overrides)
     if seed is not None:
         plan = plan.with_seed(int(seed))
     objective = next((o for o in plan.objectives if o.name == "ochoa"), None)
@@ -80,9 +81,7 @@ def evolve_species(config, *, out=None, seed: int | None = None, overrides=(), p
     fitness = plan.fitness()
     rows, plants = [], []
     for generation, score, x in rec.rows:
-        full = fitness.full_params(np.asarray(x, dtype=np.float64)[None, :])
-        params = fitness.param_dict(full[0])
-        plant = fitness.develop(full[0], int(fitness.model_seeds(full, None)[0]))
+        params, _, plant = fitness.phenotype_of(x)
         plants.append(plant)
         rows.append({"generation": generation, "fitness": score, **objective.terms(plant),
                      **{f"param_{k}": params[k] for k in fitness.evolved}})  # fmt: skip

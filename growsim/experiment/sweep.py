@@ -29,8 +29,10 @@ from growsim.experiment.load import (
     validate,
 )
 from growsim.experiment.plan import ExperimentPlan
+from growsim.experiment.results import RunDir, read_run, write_parquet
 from growsim.experiment.runner import default_out, run
 from growsim.experiment.schema import Config
+from growsim.files import atomic_write
 from growsim.options import key_path
 
 __all__ = ["parse_vary", "sweep"]
@@ -125,14 +127,9 @@ def sweep(
     >>> len(df)  # doctest: +SKIP
     4
     """
-
     import pandas as pd
 
-    from growsim.files import atomic_write
-
     check_executor_args(workers, scheduler)
-    if isinstance(config, ExperimentPlan):
-        config = config.config
     base = read_config(config, overrides)  # each variant is compiled below, once
     grid = parse_vary(vary)
     n_rep = base.experiment.repeats if repeats is None else repeats
@@ -170,8 +167,6 @@ def sweep(
         close()
     df = pd.DataFrame(rows)
     atomic_write(root / "sweep.csv", df.to_csv(index=False))
-    from growsim.experiment.results import write_parquet
-
     write_parquet(root / "sweep.parquet", df)
     return df
 
@@ -185,8 +180,6 @@ def _check_run_dir(run_dir: Path, plan: ExperimentPlan) -> None:
     """Refuse (``UserInputError``, one line, nothing written) a run directory that holds
     a run whose saved resolved config is not ``plan``'s: neither reuse its results nor
     resume it with its old config."""
-    from growsim.experiment.results import RunDir
-
     rd = RunDir(run_dir)
     if not rd.config_path.is_file():
         if rd.path.exists():
@@ -210,8 +203,6 @@ def _check_run_dir(run_dir: Path, plan: ExperimentPlan) -> None:
 
 
 def _sweep_runs(variants, labels, n_rep, root, executor, workers, scheduler, progress):
-    from growsim.experiment.results import RunDir, read_run
-
     rows = []
     if isinstance(executor, int):  # a process-pool size: let each run make its pool
         executor = None

@@ -15,7 +15,9 @@ A model is a :class:`Model` (one instance per model, registered by name in
 - the optional capabilities it implements, declared by name in :attr:`Model.capabilities`
   (one of :data:`CAPABILITIES` each; the base methods refuse): :meth:`Model.population`,
   :meth:`Model.map_groups`, :meth:`Model.collisions`, :meth:`Model.draws`. Callers ask
-  ``"population" in model.capabilities``, never ``getattr``.
+  ``"population" in model.capabilities``, never ``getattr``. The conformance suite
+  (``tests/test_conformance.py``) checks that a model overrides exactly the methods it
+  declares and that each gives what its docstring says.
 """
 
 from __future__ import annotations

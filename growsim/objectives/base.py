@@ -13,7 +13,10 @@ An objective is a :class:`Objective` subclass registered by name in
 
 and implements ``__call__(phenotype) -> float``, optionally :meth:`~Objective.terms`
 (named parts of the score, reported for the best individual) and
-:meth:`~Objective.batch` (a fast path scoring a whole population's parameters).
+:meth:`~Objective.batch` (a fast path scoring a whole population's parameters). The
+base declares both with their defaults (no terms; no fast path: ``None``), so the
+fitness (:class:`growsim.experiment.fitness.Fitness`) reads :attr:`~Objective.maximize`
+and calls ``terms`` and ``batch`` on every objective, never probing for them.
 An objective is built once per run, with the run's environment, and is picklable.
 """
 

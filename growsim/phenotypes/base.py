@@ -20,7 +20,9 @@ A phenotype:
 - declares the optional capabilities it implements in :attr:`Phenotype.capabilities`
   (names in :data:`CAPABILITIES`): ``"front_view"``, its own 2D raster view
   (:meth:`Phenotype.front_view`; an attractor's points), which 2D scores read instead of
-  drawing the phenotype's skeleton.
+  drawing the phenotype's skeleton. Callers ask ``"front_view" in
+  phenotype.capabilities``, never ``getattr``; the conformance suite checks that a
+  phenotype overrides exactly the methods it declares.
 """
 
 from __future__ import annotations

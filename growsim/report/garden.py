@@ -86,10 +86,7 @@ def grow_in_gardens(families: list[Family], notes: list[str]):
                 for garden, env in gardens:
                     data = {**r.config, "environment": env}
                     fitness = load_plan(data).fitness()
-                    params = r.best["params"]
-                    full = np.array([float(params[n]) for n in fitness.names])
-                    seed = int(r.best.get("plant_seed", fitness.seed))
-                    phenotype = fitness.develop(full, seed)
+                    phenotype = fitness.phenotype_of(r.best["params"]).phenotype
                     terms = fitness.terms(phenotype)
                     total = 0.0
                     for (_, t), w, s in zip(terms.items(), fitness.weights, fitness.signs):
@@ -103,11 +100,9 @@ def grow_in_gardens(families: list[Family], notes: list[str]):
                     }
                     for kind, t in terms.items():
                         row.update({f"{kind}.{k}": float(v) for k, v in t.items()})
-                    measures = getattr(phenotype, "measures", None)
-                    if measures is not None:
-                        for k, v in measures(fitness.env).items():
-                            if isinstance(v, (int, float)) and not isinstance(v, bool):
-                                row[str(k)] = float(v)
+                    for k, v in phenotype.measures(fitness.env).items():
+                        if isinstance(v, (int, float)) and not isinstance(v, bool):
+                            row[str(k)] = float(v)
                     row["path"] = str(r.path)
                     rows.append(row)
     return pd.DataFrame(rows)
