@@ -4,7 +4,6 @@ sweep, compare, show, and exit code 2 with a one-line message for bad input."""
 from __future__ import annotations
 
 import json
-import os
 import signal
 import subprocess
 import sys
@@ -15,10 +14,10 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
+from conftest import ROOT, growsim
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-ROOT = Path(__file__).resolve().parents[1]
 QUICK = str(ROOT / "experiments" / "quickstart.toml")
 TINY = [
     "--set",
@@ -32,17 +31,6 @@ TINY = [
     "--set",
     "model.params.generations=6",
 ]
-
-
-def growsim(*args, cwd=None, timeout=240):
-    return subprocess.run(
-        [sys.executable, "-m", "growsim", *map(str, args)],
-        capture_output=True,
-        text=True,
-        cwd=cwd,
-        timeout=timeout,
-        env={**os.environ, "MPLBACKEND": "Agg"},
-    )
 
 
 def assert_clean_error(p, needle):

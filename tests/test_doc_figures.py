@@ -5,13 +5,11 @@ from __future__ import annotations
 
 import json
 import re
-from pathlib import Path
 
 import pytest
+from conftest import ROOT
 
 from growsim.experiment import run
-
-ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.mark.slow

@@ -7,11 +7,11 @@ from __future__ import annotations
 
 import json
 import os
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import ROOT
 from PIL import Image
 
 from growsim.cli import main
@@ -22,8 +22,6 @@ from growsim.models import honda
 from growsim.phenotypes.plant import LEAF, STEM, colors
 from growsim.phenotypes.plant import views as viz
 from growsim.phenotypes.plant.mesh import plant_mesh, triangle_segments
-
-ROOT = Path(__file__).resolve().parents[1]
 
 # light travelling +x, i.e. coming from -x: the -x side of a tree is the lit one
 FROM_MINUS_X = Environment.model_validate({"light": {"direction": [1.0, 0.0, 0.0]}})

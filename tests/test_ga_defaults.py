@@ -165,7 +165,7 @@ def test_self_adaptive_kernel_matches_its_oracle(seed):
     draws += [rng.standard_normal((m, p)), rng.random((m, p))]
     args = (x, low, high, top, rng.uniform(0.01, 0.3, m), 0.4, 1e-6, 0.25, 0.3, 20.0, 0.7)
     out_x, out_s = np.empty((m, p)), np.empty(m)
-    K.self_adaptive_mutation(*args, *draws, out_x, out_s)
+    K.self_adaptive_mutation(x, (low, high, top), args[4], args[5:], tuple(draws), out_x, out_s)
     want_x, want_s = naive_ga.self_adaptive_mutation(*args, *draws)
     assert np.allclose(out_x, want_x, rtol=0, atol=1e-12) and np.allclose(out_s, want_s)
     assert (out_x >= low).all() and (out_x <= top).all()
@@ -182,13 +182,14 @@ def test_differential_kernel_matches_its_oracle(seed):
     idx = [rng.integers(0, n, k) for _ in range(4)]
     u, forced = rng.random((k, p)), rng.integers(0, p, k)
     out = np.empty((k, p))
-    K.differential_trials(pop, *idx, u, forced, np.full(k, 1.3), np.full(k, 0.6), low, top, out)
+    picks, bounds = tuple(idx), (low, high, top)
+    K.differential_trials(pop, picks, u, forced, np.full(k, 1.3), np.full(k, 0.6), bounds, out)
     want = naive_ga.differential_trials(pop, *idx, u, forced, 1.3, 0.6, low, top)
     assert np.array_equal(out, want)
     assert (out >= low).all() and (out <= top).all()
     # one scale factor and crossover rate per trial (an adaptive portfolio's)
     f, cr = rng.uniform(0.1, 1.0, k), rng.random(k)
-    K.differential_trials(pop, *idx, u, forced, f, cr, low, top, out)
+    K.differential_trials(pop, picks, u, forced, f, cr, bounds, out)
     assert np.array_equal(out, naive_ga.differential_trials(pop, *idx, u, forced, f, cr, low, top))
 
 
@@ -204,7 +205,7 @@ def test_portfolio_kernel_matches_its_oracle(seed):
     draws += [rng.standard_normal((m, p)), rng.random((m, p)), rng.random((2, m)) < 0.3]
     args = (x, low, high, top, strategy, 0.4, 1e-6, 0.25, 0.3, 20.0)
     out_x, out_s = np.empty((m, p)), np.empty((m, 3))
-    K.portfolio_mutation(*args, *draws, out_x, out_s)
+    K.portfolio_mutation(x, (low, high, top), strategy, args[5:], tuple(draws), out_x, out_s)
     want_x, want_s = naive_ga.portfolio_mutation(*args, *draws)
     assert np.allclose(out_x, want_x, rtol=0, atol=1e-12) and np.allclose(out_s, want_s)
     assert (out_x >= low).all() and (out_x <= top).all()
@@ -213,7 +214,7 @@ def test_portfolio_kernel_matches_its_oracle(seed):
     wide = np.column_stack([strategy, rng.random((m, 2))])
     out_w = np.empty((m, 5))
     wide_args = (x, low, high, top, wide, *args[5:])
-    K.portfolio_mutation(*wide_args, *draws, out_x, out_w)
+    K.portfolio_mutation(x, (low, high, top), wide, args[5:], tuple(draws), out_x, out_w)
     want_x, want_w = naive_ga.portfolio_mutation(*wide_args, *draws)
     assert np.allclose(out_x, want_x, rtol=0, atol=1e-12) and np.allclose(out_w, want_w)
     assert np.array_equal(out_w[:, 3:], wide[:, 3:]) and np.allclose(out_w[:, :3], out_s)

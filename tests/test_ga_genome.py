@@ -252,7 +252,7 @@ def test_sbx_kernel_matches_oracle(seed, m, eta):
     b[:, 2] = top[2]
     r = [rng.random((m, L)) for _ in range(3)]
     c1, c2 = np.empty_like(a), np.empty_like(b)
-    K.sbx(a, b, low, high, top, eta, 0.5, *r, c1, c2)
+    K.sbx(a, b, (low, high, top), eta, 0.5, tuple(r), c1, c2)
     w1, w2 = naive_ga.sbx(a, b, low, high, top, eta, 0.5, *r)
     assert np.allclose(c1, w1, rtol=1e-12, atol=1e-12)
     assert np.allclose(c2, w2, rtol=1e-12, atol=1e-12)

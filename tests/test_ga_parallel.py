@@ -34,26 +34,19 @@ def _same(a, b):
     assert np.array_equal(a.fitness, b.fitness)
 
 
-def test_process_pool_matches_serial():
+def test_process_pool_matches_serial(process_pool):
     serial = _run(None)
-    _same(serial, _run(2))
-    _same(serial, _run(2, batch_size=7))
+    _same(serial, _run(2))  # GA.run opens (and shuts) a pool of its own
+    _same(serial, _run(process_pool, batch_size=7))
     from concurrent.futures import ThreadPoolExecutor
 
     with ThreadPoolExecutor(3) as ex:
         _same(serial, _run(ex, batch_size=5))
 
 
-def test_dask_local_cluster_matches_serial():
-    distributed = pytest.importorskip("dask.distributed")
+def test_dask_local_cluster_matches_serial(dask_client):
     serial = _run(None)
-    with (
-        distributed.LocalCluster(
-            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-        ) as cluster,
-        distributed.Client(cluster) as client,
-    ):
-        _same(serial, _run(client.get_executor(pure=False), batch_size=9))
+    _same(serial, _run(dask_client.get_executor(pure=False), batch_size=9))
 
 
 def _page_faults_of_churn(_=None):
@@ -67,10 +60,13 @@ def _page_faults_of_churn(_=None):
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="glibc's malloc thresholds")
+# the session's cluster holds Dask's port 8787: this one moves (and Dask's retry drops a socket)
+@pytest.mark.filterwarnings("ignore:Port 8787 is already in use", "ignore:unclosed <socket")
 def test_local_cluster_workers_keep_freed_memory_mapped():
     """Dask's default MALLOC_TRIM_THRESHOLD_ makes every large array fault all its pages
     again (about 49,000 faults here); growsim's local cluster leaves glibc's thresholds
-    alone, even after a cluster with Dask's defaults wrote the variable into os.environ."""
+    alone, even after a cluster with Dask's defaults wrote the variable into os.environ.
+    (A cluster of its own, not the session's: the one started with that variable set.)"""
     distributed = pytest.importorskip("dask.distributed")
     from growsim.experiment.executors import local_cluster
 

@@ -6,13 +6,18 @@ bit. History columns are compared as text (a float's shortest round-trip repr).
 """
 
 import json
-from pathlib import Path
 
 import pytest
+from conftest import ROOT
+from golden.make import BUDGETS, HERE, golden
 
-from tests.golden.make import BUDGETS, golden
 
-HERE = Path(__file__).resolve().parent / "golden"
+def test_every_shipped_experiment_has_a_budget_and_a_pin():
+    """A new ``experiments/*.toml`` fails here until it gets a budget in
+    ``tests/golden/make.py`` and its pin (``python -m tests.golden.make NAME``)."""
+    shipped = {p.stem for p in (ROOT / "experiments").glob("*.toml")}
+    assert set(BUDGETS) == shipped
+    assert {p.stem for p in HERE.glob("*.json")} == shipped
 
 
 @pytest.mark.parametrize("name", sorted(BUDGETS))

@@ -6,10 +6,9 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import subprocess
-import sys
 
 import pytest
+from conftest import growsim
 
 from growsim.cli import main
 from growsim.errors import UserInputError
@@ -82,9 +81,7 @@ def test_bad_input_exit_2(tmp_path, capsys, args, msg):
 
 
 def test_unknown_model_and_console_script(tmp_path):
-    r = subprocess.run(
-        [sys.executable, "-m", "growsim", "grow", "nosuch"], capture_output=True, text=True
-    )
+    r = growsim("grow", "nosuch")
     assert r.returncode == 2 and "unknown model 'nosuch'" in r.stderr
 
 

@@ -7,6 +7,7 @@ import os
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import growsim
 from PIL import Image
 
 from growsim.errors import UserInputError
@@ -142,9 +143,8 @@ def test_offscreen_rendering_prints_nothing_on_stderr(tmp_path, tree):
                        env=env)  # fmt: skip
     assert r.returncode == 0 and png.is_file()
     assert r.stderr == ""
-    grow = [sys.executable, "-m", "growsim", "grow", "honda", "--set", "generations=3"]
-    r = subprocess.run([*grow, "--screenshot", str(tmp_path / "g.png"), "--size", "64"],
-                       capture_output=True, text=True, env=env)  # fmt: skip
+    r = growsim("grow", "honda", "--set", "generations=3", "--screenshot", tmp_path / "g.png",
+                "--size", "64", env=env)  # fmt: skip
     assert r.returncode == 0 and r.stderr == ""
     before = vtkObject.GetGlobalWarningDisplay()
     viz.render_image(tree, size=(32, 32))
