@@ -189,12 +189,8 @@ def compare(
                 log.warning("renders.png failed: %s", exc)
     extra = ""
     if garden:
-        from growsim.report.garden import (
-            garden_html,
-            garden_stats,
-            grow_in_gardens,
-            variance_shares,
-        )
+        from growsim.report.garden import garden_stats, grow_in_gardens, variance_shares
+        from growsim.report.html import garden_html
 
         grown = grow_in_gardens(families, notes)
         g_stats, shares = garden_stats(grown), variance_shares(grown)

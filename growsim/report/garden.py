@@ -32,11 +32,10 @@ from typing import Any
 import numpy as np
 
 from growsim.report.groups import Family
-from growsim.report.statistics import _flat, _pair_test, holm
+from growsim.report.statistics import holm, is_flat, pair_test
 
 __all__ = [
     "GARDEN_STATS_COLUMNS",
-    "garden_html",
     "garden_stats",
     "grow_in_gardens",
     "variance_shares",
@@ -118,7 +117,7 @@ def _quantities(table) -> list[str]:
             continue
         v = table[c].to_numpy(np.float64)
         finite = v[np.isfinite(v)]
-        if not len(finite) or _flat(finite):
+        if not len(finite) or is_flat(finite):
             continue
         if any(np.array_equal(v, w, equal_nan=True) for w in seen):
             continue
@@ -165,7 +164,7 @@ def garden_stats(table):
                             continue
                         frows.append(
                             {"family": fam, "contrast": contrast, "within": w, "measure": q,
-                             "group_a": a, "group_b": b, **_pair_test(x, y)}
+                             "group_a": a, "group_b": b, **pair_test(x, y)}
                         )  # fmt: skip
         for col in ("welch_t_p", "mann_whitney_p"):
             adj = holm([r[col] for r in frows])
@@ -214,36 +213,3 @@ def variance_shares(table):
                          "residual": ss_res / total, "n": len(y)})  # fmt: skip
     cols = ["family", "measure", "origin", "garden", "interaction", "residual", "n"]
     return pd.DataFrame(rows, columns=cols)
-
-
-def garden_html(stats, shares) -> str:
-    """The garden's section of ``report.html``: the variance shares, then the tests whose
-    Holm-adjusted p is below 0.05 (all of them are in ``garden_stats.csv``)."""
-    from growsim.report.html import _g, _table, _tests_table
-
-    if not len(shares) and not len(stats):
-        return ""
-    parts = ["<h2>Common garden</h2>", f"<p class='n'>{_e_doc()}</p>"]
-    body = [[r.family, r.measure, _g(r.origin), _g(r.garden), _g(r.interaction),
-             _g(r.residual), str(r.n)] for r in shares.itertuples()]  # fmt: skip
-    head = ["family", "quantity", "origin (genetic)", "garden (plastic)", "interaction",
-            "residual", "n"]  # fmt: skip
-    parts.append(_table(head, body, "Shares of each quantity's sum of squares"))
-    sig = stats[(stats.welch_t_p_holm < 0.05) | (stats.mann_whitney_p_holm < 0.05)]
-    for contrast in ("genetic", "plastic"):
-        sub = sig[sig.contrast == contrast]
-        recs = [
-            {**r, "measure": f"{r['measure']} (in {r['within']})"} for r in sub.to_dict("records")
-        ]
-        what = "origins in one garden" if contrast == "genetic" else "gardens for one origin"
-        parts.append(_tests_table(recs, f"{contrast}: {what}, Holm p < 0.05 ({len(recs)})"))
-    return "\n".join(parts)
-
-
-def _e_doc() -> str:
-    return (
-        "Every run's best genome grown again in the environment of every group of its "
-        "family. <i>genetic</i>: genomes from different origins grown in the same garden; "
-        "<i>plastic</i>: the same genomes grown in two gardens. Welch and Mann-Whitney "
-        "tests, Holm-adjusted over all of a family's garden tests."
-    )

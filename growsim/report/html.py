@@ -21,7 +21,7 @@ from growsim.report.configs import MISSING, fmt_value, from_preset
 from growsim.report.groups import Family
 from growsim.report.statistics import FamilyStats, ci95
 
-__all__ = ["format_mean_ci", "report_html"]
+__all__ = ["format_mean_ci", "garden_html", "report_html"]
 
 
 def format_mean_ci(mean: float, ci: float) -> str:
@@ -323,3 +323,34 @@ def report_html(families, fam_stats, fam_rows, fam_images, runs_df, notes, title
     body = [[_e(_g(v) if isinstance(v, float) else v) for v in row] for row in runs_df[cols].values]
     parts += ["<h2>Runs</h2>", _table([_e(c) for c in cols], body), "</body></html>"]
     return "\n".join(parts)
+
+
+def garden_html(stats, shares) -> str:
+    """The garden's section of ``report.html``: the variance shares, then the tests whose
+    Holm-adjusted p is below 0.05 (all of them are in ``garden_stats.csv``)."""
+    if not len(shares) and not len(stats):
+        return ""
+    parts = ["<h2>Common garden</h2>", f"<p class='n'>{_e_doc()}</p>"]
+    body = [[r.family, r.measure, _g(r.origin), _g(r.garden), _g(r.interaction),
+             _g(r.residual), str(r.n)] for r in shares.itertuples()]  # fmt: skip
+    head = ["family", "quantity", "origin (genetic)", "garden (plastic)", "interaction",
+            "residual", "n"]  # fmt: skip
+    parts.append(_table(head, body, "Shares of each quantity's sum of squares"))
+    sig = stats[(stats.welch_t_p_holm < 0.05) | (stats.mann_whitney_p_holm < 0.05)]
+    for contrast in ("genetic", "plastic"):
+        sub = sig[sig.contrast == contrast]
+        recs = [
+            {**r, "measure": f"{r['measure']} (in {r['within']})"} for r in sub.to_dict("records")
+        ]
+        what = "origins in one garden" if contrast == "genetic" else "gardens for one origin"
+        parts.append(_tests_table(recs, f"{contrast}: {what}, Holm p < 0.05 ({len(recs)})"))
+    return "\n".join(parts)
+
+
+def _e_doc() -> str:
+    return (
+        "Every run's best genome grown again in the environment of every group of its "
+        "family. <i>genetic</i>: genomes from different origins grown in the same garden; "
+        "<i>plastic</i>: the same genomes grown in two gardens. Welch and Mann-Whitney "
+        "tests, Holm-adjusted over all of a family's garden tests."
+    )

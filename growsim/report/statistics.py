@@ -25,7 +25,16 @@ import numpy as np
 from growsim.experiment.results import RunRecord
 from growsim.report.groups import Family
 
-__all__ = ["STATS_COLUMNS", "FamilyStats", "ci95", "family_stats", "holm", "quantities"]
+__all__ = [
+    "STATS_COLUMNS",
+    "FamilyStats",
+    "ci95",
+    "family_stats",
+    "holm",
+    "is_flat",
+    "pair_test",
+    "quantities",
+]
 
 log = logging.getLogger(__name__)
 
@@ -78,8 +87,14 @@ def holm(pvalues: Sequence[float]) -> np.ndarray:
     return out
 
 
-def _flat(v: np.ndarray) -> bool:
-    """True when the values are equal up to rounding (no variance to speak of)."""
+def is_flat(v: np.ndarray) -> bool:
+    """True when the values are equal up to rounding (no variance to speak of).
+
+    Examples
+    --------
+    >>> is_flat(np.array([1.0, 1.0 + 1e-15])), is_flat(np.array([1.0, 1.1]))
+    (True, False)
+    """
     return bool(np.ptp(v) <= 1e-12 * np.max(np.abs(v))) if len(v) else True
 
 
@@ -101,23 +116,30 @@ def ci95(x: np.ndarray) -> float:
     n = len(x)
     if n < 2:
         return float("nan")
-    if _flat(x):
+    if is_flat(x):
         return 0.0
     return float(stats.t.ppf(0.975, n - 1) * np.std(x, ddof=1) / math.sqrt(n))
 
 
-def _pair_test(x: np.ndarray, y: np.ndarray) -> dict[str, Any]:
+def pair_test(x: np.ndarray, y: np.ndarray) -> dict[str, Any]:
     """Welch's t and Mann-Whitney U (two-sided) of x against y, with effect sizes:
     difference of means (and its Welch 95 % CI), Cohen's d (pooled SD), Cliff's delta.
-    Zero variance is handled here, so scipy never warns."""
+    Zero variance is handled here, so scipy never warns.
+
+    Examples
+    --------
+    >>> r = pair_test(np.array([1.0, 2.0, 3.0]), np.array([4.0, 5.0, 6.0]))
+    >>> r["difference"], r["cliffs_delta"]
+    (-3.0, -1.0)
+    """
     from scipy import stats
 
     nx, ny = len(x), len(y)
     mx, my = float(np.mean(x)), float(np.mean(y))
-    vx = 0.0 if _flat(x) else float(np.var(x, ddof=1))
-    vy = 0.0 if _flat(y) else float(np.var(y, ddof=1))
+    vx = 0.0 if is_flat(x) else float(np.var(x, ddof=1))
+    vy = 0.0 if is_flat(y) else float(np.var(y, ddof=1))
     diff = mx - my
-    same = _flat(np.concatenate([x, y]))
+    same = is_flat(np.concatenate([x, y]))
     notes = []
     row: dict[str, Any] = {
         "n_a": nx,
@@ -232,7 +254,7 @@ def family_stats(fam: Family, notes: list[str]) -> tuple[FamilyStats, list[dict[
         v = col[n]
         if not np.isfinite(v).any():
             continue
-        constant = _flat(v[np.isfinite(v)]) and bool(np.isfinite(v).all())
+        constant = is_flat(v[np.isfinite(v)]) and bool(np.isfinite(v).all())
         twin = next((m for m in tested if np.array_equal(col[m], v, equal_nan=True)), None)
         if twin is not None and (not constant or twin == "best_fitness"):  # measured twice
             skipped[n] = f"same values as {twin}"
@@ -267,7 +289,7 @@ def family_stats(fam: Family, notes: list[str]) -> tuple[FamilyStats, list[dict[
                 continue
             rows.append(
                 {"family": fam.label, "measure": n, "group_a": ga.label, "group_b": gb.label}
-                | _pair_test(x, y)
+                | pair_test(x, y)
             )
     for c in ("welch_t_p", "mann_whitney_p"):
         adj = holm([r[c] for r in rows])
