@@ -459,12 +459,12 @@ class _Scorer:
 
     def exact(self, x: np.ndarray, draws=None) -> float:
         """The reported score of evolved values ``x`` ``(k,)``: each objective's ``exact``
-        (the silhouette's binary NCC, whatever its ``blur``) where it has one."""
+        (the silhouette's binary NCC, whatever its ``blur``)."""
         f = self.fitness
         plant = self.develop(np.asarray(x, dtype=np.float64), draws)
         return float(
             sum(
-                w * s * float(getattr(o, "exact", o)(plant))
+                w * s * float(o.exact(plant))
                 for o, w, s in zip(f.objectives, f.weights, f.signs)
             )
         )

@@ -87,7 +87,7 @@ def default_tank():
 
 
 def _tank(env):
-    tank = None if env is None else getattr(env, "tank", None)
+    tank = None if env is None else env.tank
     return default_tank() if tank is None else tank
 
 

@@ -101,6 +101,11 @@ class Objective(abc.ABC):
         """Named parts of the score (e.g. leaf area and wood volume); default none."""
         return {}
 
+    def exact(self, phenotype) -> float:
+        """The score reported for a phenotype, where the search scores something smoother
+        (the silhouette's binary NCC whatever its ``blur``); default: the score itself."""
+        return float(self(phenotype))
+
     def batch(self, model, params: np.ndarray, names, seeds=None) -> np.ndarray | None:
         """Score a whole ``(n, p)`` matrix of ``model`` parameters (columns ``names``) at
         once, or return None when there is no fast path (the default)."""
