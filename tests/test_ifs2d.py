@@ -6,6 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from conftest import ROOT
+from naive import ifs2d as naive
+from naive import ochoa as naive_ochoa
 
 from growsim.errors import ConfigError, UserInputError
 from growsim.kernels import ifs2d as K
@@ -14,8 +17,6 @@ from growsim.kernels.views import ncc
 from growsim.models import ifs2d
 from growsim.objectives.ochoa import SPECIES, TERMS, OchoaObjective, ochoa_terms, plane_view
 from growsim.phenotypes.attractor import Attractor, singular_values
-from tests.naive import ifs2d as naive
-from tests.naive import ochoa as naive_ochoa
 
 FERN = ifs2d.TABLE1
 
@@ -305,7 +306,7 @@ def test_species_run_end_to_end(tmp_path):
     from growsim.experiment.species import evolve_species
 
     overrides = ["ga.population=4", "ga.generations=3", "model.params.iterations=20000"]
-    result, table = evolve_species("experiments/ifs_species.toml", out=tmp_path / "run",
+    result, table = evolve_species(ROOT / "experiments/ifs_species.toml", out=tmp_path / "run",
                                    overrides=overrides)  # fmt: skip
     assert list(table["generation"]) == [0, 1, 2]
     assert table["fitness"].is_monotonic_increasing  # elite 1: the best survives
@@ -337,7 +338,7 @@ def test_the_silhouette_objective_scores_attractors_against_a_2d_target():
 def test_the_fit_setup_is_the_fern_fit_experiment():
     import tomllib
 
-    with open("experiments/ifs_fern_fit.toml", "rb") as fh:
+    with open(ROOT / "experiments/ifs_fern_fit.toml", "rb") as fh:
         cfg = tomllib.load(fh)
     tables = ifs2d.fit_tables()
     assert tables["model"] == cfg["model"] and tables["ga"] == cfg["ga"]
@@ -381,7 +382,7 @@ def test_collage_of_the_fern_is_the_fern():
 def test_the_fern_fit_experiment_compiles():
     from growsim.experiment import load_plan
 
-    plan = load_plan("experiments/ifs_fern_fit.toml")
+    plan = load_plan(ROOT / "experiments/ifs_fern_fit.toml")
     assert [o.name for o in plan.objectives] == ["silhouette", "collage"]
     assert len(plan.evolved) == 28
     fern = ifs2d.develop({**ifs2d.PRESETS["fern"], "iterations": 20000})
