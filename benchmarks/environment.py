@@ -82,7 +82,7 @@ def gravity(plants, n_plants: int, n_segments: int) -> dict:
     def kernel():
         o = loads_kernel(
             plants.start, plants.end, plants.radius, radius_end, plants.parent, plants.kind,
-            strength, g.density, g.leaf_mass_per_area, g.g, out,
+            strength, (g.density, g.leaf_mass_per_area, g.g), out,
         )  # fmt: skip
         return first_break_kernel(o[3], offsets)
 

@@ -106,14 +106,12 @@ def breakdown(env, repeats: int, dims: int = 3) -> dict:
     p = hormone.resolve_params(hormone.PARAMS, hormone.PRESETS[f"demo_{dims}d"])
     n, s = hormone.seedling(p, env)
     for _ in range(60):
-        if n >= s["cap"]:
+        if n >= len(s["modules"].parent):  # the cap
             break
         n, _code = K.grow_step(n, *s.values())
 
     def copy():  # the scratch is shared, as in growth (left as given by every step)
-        return {
-            k: v.copy() if isinstance(v, np.ndarray) and k != "scratch" else v for k, v in s.items()
-        }
+        return {**s, "modules": K.Modules(*(a.copy() for a in s["modules"]))}
 
     def timed(fn) -> float:  # CPU time: a busy machine's other jobs do not count
         fn(copy())  # compile
@@ -126,20 +124,17 @@ def breakdown(env, repeats: int, dims: int = 3) -> dict:
             best = min(best, (time.process_time() - t0) / 50)
         return best
 
-    w = s["light_w"]
+    w = s["env"].weights
 
     def step(weights):
         def fn(x):
-            x["light_w"] = weights
+            x["env"] = x["env"]._replace(weights=weights)
             K.grow_step(n, *x.values())
 
         return fn
 
     def hormone_step(x):
-        K.step_kernel(n, x["cap"], x["dims"], x["walls"], x["parent"], x["R"], x["length"],
-                      x["radius"], x["nutrient"], x["chlorophyll"], x["lignin"], x["apex"],
-                      x["laterals"], x["hormone"], x["wall_light"], x["met"], x["genes"],
-                      x["c"])  # fmt: skip
+        K.step_kernel(n, x["dims"], x["modules"], x["genes"], x["c"])
 
     t = {"full": timed(step(w)), "no_light": timed(step(np.zeros_like(w)))}
     for j in np.flatnonzero(w):
@@ -148,7 +143,7 @@ def breakdown(env, repeats: int, dims: int = 3) -> dict:
     us = {k: v / n * 1e6 for k, v in t.items()}
     return {
         "modules": n,
-        "walls": s["walls"],
+        "walls": s["modules"].hormone.shape[1],
         "light_passes": int(np.count_nonzero(w)),
         "us_per_module": {k: round(v, 3) for k, v in us.items()},
         "light_us_per_module": round(us["full"] - us["no_light"], 3),

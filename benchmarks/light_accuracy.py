@@ -41,7 +41,7 @@ def random_scene(rng):
 
 
 def agreement(resolution: int, seeds: int, bias: float) -> dict:
-    from naive.light import segment_exposure_kernel as exact
+    from naive.light import segment_exposure_into as exact
 
     from growsim.env.light import segment_light, view_basis
 
@@ -50,7 +50,8 @@ def agreement(resolution: int, seeds: int, bias: float) -> dict:
         start, end, radius, offsets, d = random_scene(np.random.default_rng(seed))
         got = segment_light(start, end, radius, offsets, d, resolution=resolution, bias=bias) > 0
         u, v = view_basis(d)
-        want = exact(start, end, radius, offsets, None, u, v, d, resolution, bias, 1) > 0
+        segments, shadow = (start, end, radius, offsets), (resolution, bias, False, None)
+        want = exact(segments, None, (u, v, d), 1, shadow) > 0
         # a segment along the light gets cos = 0 either way: judge the shadow only
         cos = np.linalg.norm(np.cross(end - start, d), axis=1) > 0
         got, want = got[cos], want[cos]

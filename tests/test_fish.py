@@ -5,12 +5,10 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import ROOT, growsim
 from naive import fish as naive
 
 from growsim.env import Environment, Tank
@@ -21,7 +19,6 @@ from growsim.models.fish import MODEL, PARAMS, default_tank, develop, fish_table
 from growsim.phenotypes import load_phenotype
 from growsim.phenotypes.trajectory import Trajectory
 
-ROOT = Path(__file__).resolve().parents[1]
 CONFIG = ROOT / "experiments" / "fish_tank.toml"
 NAMES = [p.name for p in PARAMS]
 EMPTY = np.zeros((0, 4))
@@ -237,15 +234,9 @@ def test_random_reasonable_tanks_are_solved_within_200_generations():
 
 
 # ---------------------------------------------------------------- CLI end to end, bad input
-def _growsim(*args, cwd=ROOT):
-    return subprocess.run(
-        [sys.executable, "-m", "growsim", *args], capture_output=True, text=True, cwd=cwd
-    )
-
-
 def test_cli_run_show_and_compare_end_to_end(tmp_path):
     out = tmp_path / "r"
-    p = _growsim("run", str(CONFIG), "--out", str(out), "--set", "ga.generations=30",
+    p = growsim("run", str(CONFIG), "--out", str(out), "--set", "ga.generations=30",
                  "--set", "model.params.frames=4000", "--set", "output.size=[64, 64]")  # fmt: skip
     assert p.returncode == 0, p.stderr
     best = json.loads((out / "best.json").read_text())
@@ -253,9 +244,9 @@ def test_cli_run_show_and_compare_end_to_end(tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     assert "collisions" in summary["measures"] and (out / "best_iso.png").exists()
     shot = tmp_path / "s.png"
-    p = _growsim("show", str(out), "--screenshot", str(shot), "--size", "48", "48")
+    p = growsim("show", str(out), "--screenshot", str(shot), "--size", "48", "48")
     assert p.returncode == 0 and shot.exists(), p.stderr
-    p = _growsim("compare", str(out), "--out", str(tmp_path / "cmp"))
+    p = growsim("compare", str(out), "--out", str(tmp_path / "cmp"))
     assert p.returncode == 0, p.stderr
 
 
@@ -272,7 +263,7 @@ def test_cli_run_show_and_compare_end_to_end(tmp_path):
 )  # fmt: skip
 def test_bad_input_exits_2_naming_the_key_and_writes_nothing(tmp_path, override, key):
     out = tmp_path / "r"
-    p = _growsim("run", str(CONFIG), "--out", str(out), "--set", override)
+    p = growsim("run", str(CONFIG), "--out", str(out), "--set", override)
     assert p.returncode == 2, p.stderr
     assert key in p.stderr and "growsim: error:" in p.stderr
     assert not out.exists()
@@ -297,7 +288,7 @@ def test_a_tank_preset_can_be_varied_after_the_config_is_resolved():
     own = Tank.model_validate({"preset": "small", "size": [500, 500, 500]}).model_dump()
     assert own["size"] == [500.0, 500.0, 500.0]  # a size of one's own is kept
     for name in TANKS:
-        cfg = load_config("experiments/fish_tank.toml", [f'environment.tank.preset="{name}"'])
+        cfg = load_config(CONFIG, [f'environment.tank.preset="{name}"'])
         assert cfg.environment.tank.size == list(TANKS[name])
 
 

@@ -41,12 +41,12 @@ def test_loads_kernel_matches_oracle(seed):
     args = random_skeleton(rng, n, n_roots=int(rng.integers(1, 4)) if n > 3 else 1)
     strength = rng.uniform(1e3, 1e5, n) if seed % 2 else np.array([2e4])
     consts = (float(rng.uniform(100, 1000)), float(rng.uniform(0, 1)), float(rng.uniform(0, 20)))
-    got = loads_kernel(*args, strength, *consts, np.full((4, n), np.nan))
-    want = loads_oracle(*args, strength, *consts)
+    got = loads_kernel(*args, strength, consts, np.full((4, n), np.nan))
+    want = loads_oracle(*args, strength, consts)
     for name, a, b in zip(("mass", "mass_above", "moment", "ratio"), got, want):
         np.testing.assert_allclose(a, b, rtol=1e-7, atol=1e-9, err_msg=name)
     # a reused buffer gives the same result
-    again = loads_kernel(*args, strength, *consts, got.copy())
+    again = loads_kernel(*args, strength, consts, got.copy())
     np.testing.assert_array_equal(again, got)
     offsets = np.array([0, n // 3, n], np.int64)
     ratio = got[3] * 50  # some joints over 1

@@ -47,6 +47,17 @@ def random_state(rng, n, cap, walls, dims):
     return state, inputs
 
 
+def modules(state, inputs):
+    """The :class:`growsim.kernels.hormone.Modules` of a :func:`random_state` (the arrays
+    themselves, not copies)."""
+    cap = len(state["parent"])
+    return K.Modules(
+        state["parent"], state["R"], np.zeros((cap, 3)), state["length"], state["radius"],
+        state["nutrient"], state["chlorophyll"], state["lignin"], state["apex"],
+        state["laterals"], state["hormone"], inputs["wall_light"], inputs["met"], np.zeros(cap),
+    )  # fmt: skip
+
+
 @pytest.mark.parametrize("seed", range(6))
 def test_step_kernel_matches_oracle(seed):
     rng = np.random.default_rng(seed)
@@ -56,12 +67,8 @@ def test_step_kernel_matches_oracle(seed):
     state, inputs = random_state(rng, n, cap, walls, dims)
     a = {k: v.copy() for k, v in state.items()}
     b = {k: v.copy() for k, v in state.items()}
-    got = K.step_kernel(n, cap, dims, walls, a["parent"], a["R"], a["length"], a["radius"],
-                        a["nutrient"], a["chlorophyll"], a["lignin"], a["apex"], a["laterals"],
-                        a["hormone"], **inputs)  # fmt: skip
-    want = naive.step_kernel(n, cap, dims, walls, b["parent"], b["R"], b["length"], b["radius"],
-                             b["nutrient"], b["chlorophyll"], b["lignin"], b["apex"],
-                             b["laterals"], b["hormone"], **inputs)  # fmt: skip
+    got = K.step_kernel(n, dims, modules(a, inputs), inputs["genes"], inputs["c"])
+    want = naive.step_kernel(n, dims, modules(b, inputs), inputs["genes"], inputs["c"])
     assert got[0] == want[0]
     assert got[1] == pytest.approx(want[1], rel=1e-12)
     for k in a:
@@ -262,28 +269,18 @@ def test_an_impossible_environment_is_refused_before_evolution(tmp_path, overrid
     assert not (out / "history.parquet").exists()
 
 
-def test_same_plants_serially_in_a_pool_and_on_dask():
+def test_same_plants_serially_in_a_pool_and_on_dask(process_pool, dask_client):
     # the population path in worker processes: same fitness, bit for bit
-    from concurrent.futures import ProcessPoolExecutor
-
     from growsim.experiment import load_plan
 
-    distributed = pytest.importorskip("dask.distributed")
     plan = load_plan("experiments/hormone_3d.toml", ["model.params.steps=8"])
     f = plan.fitness()
     rng = np.random.default_rng(3)
     x = np.array([[rng.uniform(p.low, p.high) for p in plan.evolved] for _ in range(12)])
     serial = f(x)
-    with ProcessPoolExecutor(2) as pool:
-        pooled = np.concatenate(list(pool.map(f, np.array_split(x, 4))))
+    pooled = np.concatenate(list(process_pool.map(f, np.array_split(x, 4))))
     np.testing.assert_array_equal(pooled, serial)
-    with (
-        distributed.LocalCluster(
-            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-        ) as cluster,
-        distributed.Client(cluster) as client,
-    ):
-        parts = client.gather(client.map(f, np.array_split(x, 3), pure=False))
+    parts = dask_client.gather(dask_client.map(f, np.array_split(x, 3), pure=False))
     np.testing.assert_array_equal(np.concatenate(parts), serial)
     one = [f(x[i : i + 1])[0] for i in range(3)]  # one plant at a time: the same numbers
     np.testing.assert_array_equal(one, serial[:3])

@@ -36,12 +36,30 @@ def random_direction(rng):
     return d / np.linalg.norm(d)
 
 
-def kernel_args(start, end, radius, offsets, d, res=256):
-    """The exposure kernels' arguments up to ``samples`` (frames included)."""
+def exposure_args(start, end, radius, offsets, d, res=256, trans=None, bias=1.5):
+    """The arguments of :func:`growsim.kernels.light.segment_exposure_into` (the production
+    entry, as :func:`growsim.env.light.segment_light` builds them) before the scratch and
+    ``out``: hard shadows, or soft ones with the per-segment ``trans``; one sample."""
     u, v = view_basis(d)
     off = np.asarray(offsets, np.int64)
     frames = kernels.plant_frames(start, end, radius, off, u, v, res)
-    return (start, end, radius, off, frames, u, v, d, res, 1.5, 1)
+    shadow = (res, bias, trans is not None, np.empty(0) if trans is None else trans)
+    return (start, end, radius, off), frames, (u, v, d), 1, shadow
+
+
+def exposure(args):
+    """The production kernel on :func:`exposure_args`, with a fresh scratch."""
+    n = len(args[0][0])
+    return kernels.segment_exposure_into(*args, kernels.shadow_scratch(args[4][0]),
+                                         np.full(n, np.nan))  # fmt: skip
+
+
+def light_at_points(segments, targets, lights, shadow):
+    """:func:`growsim.kernels.light.point_light_into` (the production entry) with a fresh
+    scratch."""
+    return kernels.point_light_into(segments, targets, lights, shadow,
+                                    kernels.shadow_scratch(shadow[0]),
+                                    np.full(len(targets[0]), np.nan))  # fmt: skip
 
 
 def population(rng, k, n):
@@ -56,10 +74,10 @@ def test_segment_kernel_matches_oracle_on_random_trees():
         rng = np.random.default_rng(seed)
         start, end, radius, offsets = population(rng, 3, int(rng.integers(40, 90)))
         d = random_direction(rng)
-        args = kernel_args(start, end, radius, offsets, d)
-        got = kernels.segment_exposure_kernel(*args, np.full(len(start), np.nan))
-        want = naive.segment_exposure_kernel(*args)
-        edge = naive.segment_exposure_kernel(*args, tol_pixels=1.0)
+        args = exposure_args(start, end, radius, offsets, d)
+        got = exposure(args)
+        want = naive.segment_exposure_into(*args)
+        edge = naive.segment_exposure_into(*args, tol_pixels=1.0)
         # every disagreement is within a pixel of a silhouette edge (or of the depth test)
         assert not np.any((got != want) & ~edge), seed
         assert np.mean(got == want) >= 0.95, seed
@@ -77,11 +95,11 @@ def test_soft_kernel_matches_oracle_on_random_trees():
         rng = np.random.default_rng(50 + seed)
         start, end, radius, offsets = population(rng, 2, int(rng.integers(40, 80)))
         d = random_direction(rng)
-        args = kernel_args(start, end, radius, offsets, d)
         trans = rng.uniform(0.1, 0.9, len(start))
-        got = kernels.soft_segment_exposure_kernel(*args, trans, np.empty(len(start)))
-        want = naive.segment_exposure_kernel(*args, trans=trans)
-        edge = naive.segment_exposure_kernel(*args, trans=trans, tol_pixels=1.0)
+        args = exposure_args(start, end, radius, offsets, d, trans=trans)
+        got = exposure(args)
+        want = naive.segment_exposure_into(*args)
+        edge = naive.segment_exposure_into(*args, tol_pixels=1.0)
         same = np.isclose(got, want, rtol=1e-12, atol=0)
         assert np.all(same | edge), seed  # only near an edge may a segment count differently
         assert 0.1 < np.mean(want < 1) < 0.95
@@ -95,12 +113,11 @@ def test_soft_shadows_tend_to_the_hard_map():
     rng = np.random.default_rng(3)
     start, end, radius, offsets = population(rng, 4, 80)
     d = random_direction(rng)
-    args = kernel_args(start, end, radius, offsets, d)
-    hard = kernels.segment_exposure_kernel(*args, np.empty(len(start)))
-    soft = kernels.soft_segment_exposure_kernel(*args, np.zeros(len(start)), np.empty(len(start)))
+    hard = exposure(exposure_args(start, end, radius, offsets, d))
+    soft = exposure(exposure_args(start, end, radius, offsets, d, trans=np.zeros(len(start))))
     assert np.mean(hard == soft) >= 0.99
     # and transmission 1 is no shadow at all
-    none = kernels.soft_segment_exposure_kernel(*args, np.ones(len(start)), np.empty(len(start)))
+    none = exposure(exposure_args(start, end, radius, offsets, d, trans=np.ones(len(start))))
     assert np.all(none == 1.0)
 
 
@@ -118,7 +135,9 @@ def test_soft_stack_of_leaves_passes_a_share_per_leaf():
 
 
 @pytest.mark.parametrize("seed", range(3))
-def test_point_kernel_matches_oracle(seed):
+def test_point_exposure_matches_oracle(seed):
+    # one light, every normal facing it: point_light_into gives each point's exposure
+    # (times a cosine of 1 up to rounding)
     rng = np.random.default_rng(100 + seed)
     start, end, radius, offsets = population(rng, 2, 60)
     d = random_direction(rng)
@@ -127,24 +146,27 @@ def test_point_kernel_matches_oracle(seed):
     pick = [rng.integers(offsets[k], offsets[k + 1], m) for k in range(2)]
     mids = 0.5 * (start + end)
     pts = np.concatenate([mids[i] for i in pick]) + rng.normal(scale=0.5, size=(2 * m, 3))
-    poff = np.array([0, m, 2 * m])
-    s, e, r, off, frames, u, v, d, res, bias, _ = kernel_args(start, end, radius, offsets, d, 128)
-    args = (s, e, r, off, frames, pts, poff, u, v, d, res, bias)
-    got = kernels.point_exposure_kernel(*args, np.empty(2 * m))
-    want = naive.point_exposure_kernel(*args)
-    edge = naive.point_exposure_kernel(*args, tol_pixels=1.0)
-    assert not np.any((got != want) & ~edge)  # only within a pixel of an edge
-    assert np.mean(got == want) >= 0.95
+    targets = (pts, np.array([0, m, 2 * m]), np.tile(-d, (2 * m, 1)))
+    u, v = view_basis(d)
+    lights = (d[None], u[None], v[None], np.ones(1))
+    segments = (start, end, radius, offsets)
+    hard = (128, 1.5, False, np.empty(0))
+    got = light_at_points(segments, targets, lights, hard)
+    want = naive.point_light_into(segments, targets, lights, hard)
+    edge = naive.point_light_into(segments, targets, lights, hard, tol_pixels=1.0)
+    same = np.isclose(got, want, rtol=1e-12, atol=0)
+    assert np.all(same | edge)  # only within a pixel of an edge
+    assert np.mean(same) >= 0.95
     assert 0.05 < np.mean(want == 0) < 0.95
-    trans = rng.uniform(0.1, 0.9, len(s))
-    soft = kernels.soft_point_exposure_kernel(*args, trans, np.empty(2 * m))
-    soft_want = naive.point_exposure_kernel(*args, trans=trans)
-    soft_edge = naive.point_exposure_kernel(*args, trans=trans, tol_pixels=1.0)
-    assert np.all(np.isclose(soft, soft_want, rtol=1e-12, atol=0) | soft_edge)
+    soft = (128, 1.5, True, rng.uniform(0.1, 0.9, len(start)))
+    got = light_at_points(segments, targets, lights, soft)
+    want = naive.point_light_into(segments, targets, lights, soft)
+    edge = naive.point_light_into(segments, targets, lights, soft, tol_pixels=1.0)
+    assert np.all(np.isclose(got, want, rtol=1e-12, atol=0) | edge)
 
 
 @pytest.mark.parametrize("soft", [False, True])
-def test_point_light_kernel_sums_its_lights_as_the_oracle(soft):
+def test_point_light_sums_its_lights_as_the_oracle(soft):
     # a sun and its sky in one call: the weighted sum of the single-light exposures
     rng = np.random.default_rng(7)
     start, end, radius, offsets = population(rng, 2, 40)
@@ -158,11 +180,11 @@ def test_point_light_kernel_sums_its_lights_as_the_oracle(soft):
     nrm /= np.linalg.norm(nrm, axis=1)[:, None]
     poff = np.array([0, m, 2 * m])
     trans = rng.uniform(0.1, 0.9, len(start))
-    args = (start, end, radius, np.asarray(offsets, np.int64), pts, poff, nrm, d, u, v, w, 96,
-            0.1, soft, trans)  # fmt: skip
-    got = kernels.point_light_kernel(*args, np.empty(2 * m))
-    want = naive.point_light_kernel(*args)
-    edge = naive.point_light_kernel(*args, tol_pixels=1.0)
+    args = ((start, end, radius, np.asarray(offsets, np.int64)), (pts, poff, nrm), (d, u, v, w),
+            (96, 0.1, soft, trans if soft else np.empty(0)))  # fmt: skip
+    got = light_at_points(*args)
+    want = naive.point_light_into(*args)
+    edge = naive.point_light_into(*args, tol_pixels=1.0)
     assert np.all(np.isclose(got, want, rtol=1e-12, atol=1e-15) | edge)
     assert np.mean(~edge) > 0.15 and np.ptp(want[~edge]) > 0.5  # enough points judged
     # the public call is the same kernel: one light per row, or a Light with its sky
@@ -181,9 +203,9 @@ def test_simple_scenes_agree_exactly():
     radius = np.array([0.4, 0.3, 0.3, 0.2, 0.1, 0.05])
     for d in ([0.0, -1, 0], [0.3, -1, 0.2], [1.0, -0.2, 0.0], [0, 0, 1]):
         d = np.array(d) / np.linalg.norm(d)
-        args = kernel_args(start, end, radius, [0, 6], d, res=256)
-        got = kernels.segment_exposure_kernel(*args, np.empty(6))
-        np.testing.assert_array_equal(got, naive.segment_exposure_kernel(*args), err_msg=str(d))
+        args = exposure_args(start, end, radius, [0, 6], d, res=256)
+        np.testing.assert_array_equal(exposure(args), naive.segment_exposure_into(*args),
+                                      err_msg=str(d))  # fmt: skip
 
 
 def test_cosines_match_oracle():
@@ -195,7 +217,7 @@ def test_cosines_match_oracle():
     use = rng.random(50) < 0.5
     d = random_direction(rng)
     got = kernels.apply_cosines(start, end, normal, use, d, 1.0, np.ones(50))
-    np.testing.assert_allclose(got, naive.segment_cosines(start, end, normal, use, d), rtol=1e-12)
+    np.testing.assert_allclose(got, naive.apply_cosines(start, end, normal, use, d), rtol=1e-12)
 
 
 def test_frames_match_oracle():
@@ -345,7 +367,7 @@ def test_map_read_at_every_pixel_is_the_pixel_by_pixel_zbuffer(seed):
     # pixel centres on the image plane, at depth 0 along d
     centres = (ox + jj.ravel() * pix)[:, None] * u + (oy + ii.ravel() * pix)[:, None] * v
     depth, seg = kernels.map_depth_kernel(
-        start, end, radius, off, frames, centres, np.array([0, res * res]), u, v, d, res
+        (start, end, radius, off), frames, centres, np.array([0, res * res]), (u, v, d), res
     )
     a = np.stack([(start @ u - ox) / pix, (start @ v - oy) / pix], 1)
     b = np.stack([(end @ u - ox) / pix, (end @ v - oy) / pix], 1)
@@ -428,8 +450,9 @@ def test_kept_scratch_gives_fresh_answers_in_any_thread():
         u, v = view_basis(d)
         frames = kernels.plant_frames(s, e, r, off, u, v, res)
         n = len(s)
-        expo = kernels.segment_exposure_kernel(s, e, r, off, frames, u, v, d, res, 0.1, 1,
-                                               np.empty(n))  # fmt: skip
+        expo = kernels.segment_exposure_into((s, e, r, off), frames, (u, v, d), 1,
+                                             (res, 0.1, False, np.empty(0)),
+                                             kernels.shadow_scratch(res), np.empty(n))  # fmt: skip
         flat = np.zeros((n, 3)), np.zeros(n, np.bool_)
         return kernels.apply_cosines(s, e, *flat, d, 1.0, expo)
 

@@ -1,4 +1,5 @@
-"""Shadow-map light, moderngl backend (growsim.env.shadow_gl) against the numba kernels."""
+"""Shadow-map light, moderngl backend (growsim.env.shadow_gl) against the numba kernels'
+production entries (growsim.kernels.light.segment_exposure_into, point_light_into)."""
 
 from __future__ import annotations
 
@@ -12,7 +13,12 @@ from test_light import random_tree
 from growsim.env import shadow_gl
 from growsim.env.light import view_basis
 from growsim.errors import ResourceError
-from growsim.kernels.light import plant_frames, point_exposure_kernel, segment_exposure_kernel
+from growsim.kernels.light import (
+    plant_frames,
+    point_light_into,
+    segment_exposure_into,
+    shadow_scratch,
+)
 
 try:
     RENDERER = shadow_gl.renderer()
@@ -42,20 +48,28 @@ def both_segments(start, end, radius, offsets, d, res, samples=1, bias=1.5):
     f = plant_frames(start, end, radius, offsets, u, v, res)
     got = shadow_gl.segment_exposure_gl(start, end, radius, offsets, f, u, v, d, res, bias,
                                         samples)  # fmt: skip
-    want = segment_exposure_kernel(start, end, radius, offsets, f, u, v, d, res, bias, samples,
-                                   np.empty(len(start)))  # fmt: skip
+    want = segment_exposure_into((start, end, radius, offsets), f, (u, v, d), samples,
+                                 (res, bias, False, np.empty(0)), shadow_scratch(res),
+                                 np.empty(len(start)))  # fmt: skip
     return got, want
 
 
 def both_points(start, end, radius, offsets, points, point_offsets, d, res, bias=1.5):
-    """(moderngl, numba) point exposures."""
+    """(moderngl, numba) point exposures: numba's from :func:`point_light_into` with the
+    one light, every normal facing it (a cosine of 1 up to rounding)."""
     d = np.asarray(d, np.float64) / np.linalg.norm(d)
     u, v = view_basis(d)
     offsets = np.asarray(offsets, np.int64)
     point_offsets = np.asarray(point_offsets, np.int64)
     f = plant_frames(start, end, radius, offsets, u, v, res)
-    args = (start, end, radius, offsets, f, points, point_offsets, u, v, d, res, bias)
-    return shadow_gl.point_exposure_gl(*args), point_exposure_kernel(*args, np.empty(len(points)))
+    got = shadow_gl.point_exposure_gl(start, end, radius, offsets, f, points, point_offsets, u,
+                                      v, d, res, bias)  # fmt: skip
+    lit = point_light_into((start, end, radius, offsets),
+                           (points, point_offsets, np.tile(-d, (len(points), 1))),
+                           (d[None], u[None], v[None], np.ones(1)),
+                           (res, bias, False, np.empty(0)), shadow_scratch(res),
+                           np.empty(len(points)))  # fmt: skip
+    return got, np.round(lit)
 
 
 def test_random_scenes_agree_with_numba():

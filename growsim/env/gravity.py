@@ -206,9 +206,7 @@ def _kernel(a: dict, gravity: Gravity) -> np.ndarray:
         a["parent"],
         a["kind"],
         a["strength"],
-        float(gravity.density),
-        float(gravity.leaf_mass_per_area),
-        float(gravity.g),
+        (float(gravity.density), float(gravity.leaf_mass_per_area), float(gravity.g)),
         np.empty((4, a["start"].shape[0])),
     )
 

@@ -212,7 +212,7 @@ class Light(Options):
     def passes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """``(d, u, v, w)``: this light's unit directions ``(j, 3)`` (:meth:`directions`),
         their image planes ``u, v`` (:func:`view_basis`) and intensities ``w`` ``(j,)``
-        (intensity times weight): the arrays :func:`growsim.kernels.light.point_light_kernel`
+        (intensity times weight): the lights :func:`growsim.kernels.light.point_light_into`
         takes, for a model that calls it from its own kernel (the hormone model).
 
         Examples
@@ -547,8 +547,8 @@ def segment_light(
         soft = shadows == "soft"
         trans = _transmissions(where, data, transmission, n) if soft else np.empty(0)
         out = kernels.segment_exposure_into(
-            s, e, r, off, frames, u, v, d, res, bias, samples, soft, trans, _scratch(res),
-            np.empty(n),
+            (s, e, r, off), frames, (u, v, d), samples, (res, bias, soft, trans),
+            _scratch(res), np.empty(n),
         )  # fmt: skip
     return kernels.apply_cosines(s, e, normal, use, d, intensity, out)
 
@@ -625,8 +625,8 @@ def point_light(
         soft = shadows == "soft"
         trans = _transmissions(where, data, transmission, s.shape[0]) if soft else np.empty(0)
         return kernels.point_light_into(
-            s, e, r, off, pts, poff, nrm, d, u, v, w, res, bias, soft, trans, _scratch(res),
-            np.empty(m),
+            (s, e, r, off), (pts, poff, nrm), (d, u, v, w), (res, bias, soft, trans),
+            _scratch(res), np.empty(m),
         )  # fmt: skip
     from growsim.env.shadow_gl import point_exposure_gl
 

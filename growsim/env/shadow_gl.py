@@ -1,9 +1,9 @@
 """OpenGL (moderngl) backend of the shadow-map light: hard shadows on the GPU.
 
-Same contract, rules and frames as the numba kernels
-:func:`growsim.kernels.light.segment_exposure_kernel` and
-:func:`growsim.kernels.light.point_exposure_kernel` (see :mod:`growsim.kernels.light`):
-every plant gets its own ``res`` x ``res`` map in the frame of
+Same contract, rules and frames as the numba kernels' hard shadows
+(:func:`growsim.kernels.light.segment_exposure_into`, the exposure part of
+:func:`growsim.kernels.light.point_light_into`; see :mod:`growsim.kernels.light`): every
+plant gets its own ``res`` x ``res`` map in the frame of
 :func:`growsim.kernels.light.plant_frames`; segment ``k`` covers the pixels whose centre
 lies within ``R = radius[k] / pix`` pixels of its projected axis (the true radius, as in
 the numba kernels), with the depth
@@ -31,8 +31,9 @@ Design
   normalised per plant to ``[0, 1/2]`` over the plant's own depth range, so the cleared
   value 1 means empty) and the segment's index. The depth test ``<`` keeps the nearest
   fragment, the first drawn (the lowest index) on a tie, as the numba z-buffer does.
-- **Query.** The samples' pixels are found on the CPU in float64 (numba, the same
-  arithmetic as the numba kernels, so every sample picks the same pixel), then a
+- **Query.** The samples' pixels are found on the CPU in float64 (numba,
+  :mod:`growsim.kernels.shadow_gl`: the same arithmetic as the numba kernels, so every
+  sample picks the same pixel), then a
   transform-feedback pass (at most :data:`CHUNK_SAMPLES` samples each) ``texelFetch``-es
   the depth and id textures and returns one float per sample: 2 when lit for sure
   (outside the frame, empty pixel, own segment), else the pixel's normalised depth. The
@@ -68,8 +69,14 @@ import threading
 import numpy as np
 
 from growsim.errors import ResourceError
-from growsim.kernels.config import njit
-from growsim.kernels.light import project_segment
+from growsim.kernels.shadow_gl import (
+    VERTEX_FLOATS,
+    depth_ranges,
+    point_queries,
+    resolve_exposure,
+    segment_queries,
+    tile_vertices,
+)
 
 __all__ = [
     "ATLAS_SIDE",
@@ -90,8 +97,6 @@ PAD_PIXELS = 0.125
 CHUNK_SEGMENTS = 1 << 17
 #: samples per query pass (12 bytes each, 12 MiB)
 CHUNK_SAMPLES = 1 << 20
-#: vertex layout: ax, ay, bx, by, za, zb (normalised depths), R, tile x, tile y, id
-_VERTEX_FLOATS = 10
 
 _RENDER_VS = """
 #version 330
@@ -340,146 +345,6 @@ def renderer() -> str:
 
 
 # ---------------------------------------------------------------------------------------
-# CPU side (numba): vertices, sample pixels, the final depth test
-
-
-@njit
-def _depth_ranges(start, end, offsets, d, p0, p1, zinfo):
-    """``zinfo[p] = (zmin, 2 (zmax - zmin))`` over plant ``p``'s segment ends: the map
-    stores ``(z - zmin) / zinfo[p, 1]``, in ``[0, 1/2]`` (0 for a plant of no depth)."""
-    for p in range(p0, p1):
-        lo = np.inf
-        hi = -np.inf
-        for s in range(offsets[p], offsets[p + 1]):
-            za = start[s, 0] * d[0] + start[s, 1] * d[1] + start[s, 2] * d[2]
-            zb = end[s, 0] * d[0] + end[s, 1] * d[1] + end[s, 2] * d[2]
-            lo = min(lo, za, zb)
-            hi = max(hi, za, zb)
-        zinfo[p, 0] = lo if lo < np.inf else 0.0
-        zinfo[p, 1] = 2.0 * (hi - lo) if hi > lo else 0.0
-
-
-@njit
-def _vertices(start, end, radius, offsets, frames, u, v, d, p0, p1, c0, c1, cols, res, zinfo,
-              out, out_id):  # fmt: skip
-    """The 4 vertices of each segment ``c0 <= k < c1`` (of plants ``p0:p1``, tile ``p -
-    p0``): rows ``4 (k - c0) + corner`` of ``out`` (float32, :data:`_VERTEX_FLOATS`
-    columns, all four alike; ``out_id`` the same memory as int32): ``ax, ay, bx, by``
-    (pixels in the tile), ``za, zb`` (normalised depths), ``R`` (pixels), the tile's
-    origin in the atlas and ``k``."""
-    for p in range(p0, p1):
-        k0 = max(offsets[p], c0)
-        k1 = min(offsets[p + 1], c1)
-        if k1 <= k0:
-            continue
-        ox, oy, inv = frames[p, 0], frames[p, 1], 1.0 / frames[p, 2]
-        zmin = zinfo[p, 0]
-        scale = 1.0 / zinfo[p, 1] if zinfo[p, 1] > 0.0 else 0.0
-        tile = p - p0
-        tx = float((tile % cols) * res)
-        ty = float((tile // cols) * res)
-        for k in range(k0, k1):
-            ax, ay, bx, by, za, zb = project_segment(start, end, k, u, v, d, ox, oy, inv)
-            rr = radius[k] * inv
-            for c in range(4 * (k - c0), 4 * (k - c0) + 4):
-                out[c, 0] = ax
-                out[c, 1] = ay
-                out[c, 2] = bx
-                out[c, 3] = by
-                out[c, 4] = (za - zmin) * scale
-                out[c, 5] = (zb - zmin) * scale
-                out[c, 6] = rr
-                out[c, 7] = tx
-                out[c, 8] = ty
-                out_id[c, 9] = k
-
-
-@njit
-def _texel(pu, pv, frame, res, tx, ty, width):
-    """Atlas texel (``y * width + x``) of a point given in image-plane coordinates, -1
-    outside the frame (the numba kernels' ``_pixel``, same arithmetic)."""
-    inv = 1.0 / frame[2]
-    x = (pu - frame[0]) * inv
-    y = (pv - frame[1]) * inv
-    if not (x >= 0.0 and y >= 0.0 and x < res and y < res):
-        return -1
-    return (ty + int(y)) * width + tx + int(x)
-
-
-@njit
-def _segment_queries(start, end, offsets, frames, u, v, d, p0, p1, c0, c1, cols, res, width,
-                     samples, q, z):  # fmt: skip
-    """The samples of segments ``c0 <= s < c1`` (of plants ``p0:p1``): row ``i = (s - c0)
-    samples + sample`` holds ``q[i] = (texel, s)`` and the sample's depth ``z[i]``."""
-    for p in range(p0, p1):
-        s0 = max(offsets[p], c0)
-        s1 = min(offsets[p + 1], c1)
-        if s1 <= s0:
-            continue
-        frame = frames[p]
-        tile = p - p0
-        tx = (tile % cols) * res
-        ty = (tile // cols) * res
-        for s in range(s0, s1):
-            for k in range(samples):
-                t = (k + 0.5) / samples
-                qx = start[s, 0] + t * (end[s, 0] - start[s, 0])
-                qy = start[s, 1] + t * (end[s, 1] - start[s, 1])
-                qz = start[s, 2] + t * (end[s, 2] - start[s, 2])
-                pu = qx * u[0] + qy * u[1] + qz * u[2]
-                pv = qx * v[0] + qy * v[1] + qz * v[2]
-                i = (s - c0) * samples + k
-                q[i, 0] = _texel(pu, pv, frame, res, tx, ty, width)
-                q[i, 1] = s
-                z[i] = qx * d[0] + qy * d[1] + qz * d[2]
-
-
-@njit
-def _point_queries(points, point_offsets, frames, u, v, d, p0, p1, c0, c1, cols, res, width, q,
-                   z):  # fmt: skip
-    """The points ``c0 <= m < c1`` (of plants ``p0:p1``): row ``m - c0`` holds ``q = (texel,
-    -1)`` and the point's depth ``z``."""
-    for p in range(p0, p1):
-        m0 = max(point_offsets[p], c0)
-        m1 = min(point_offsets[p + 1], c1)
-        if m1 <= m0:
-            continue
-        frame = frames[p]
-        tile = p - p0
-        tx = (tile % cols) * res
-        ty = (tile // cols) * res
-        for m in range(m0, m1):
-            pu = points[m, 0] * u[0] + points[m, 1] * u[1] + points[m, 2] * u[2]
-            pv = points[m, 0] * v[0] + points[m, 1] * v[1] + points[m, 2] * v[2]
-            q[m - c0, 0] = _texel(pu, pv, frame, res, tx, ty, width)
-            q[m - c0, 1] = -1
-            z[m - c0] = points[m, 0] * d[0] + points[m, 1] * d[1] + points[m, 2] * d[2]
-
-
-@njit
-def _resolve(val, z, offsets, frames, zinfo, bias_pixels, p0, p1, c0, c1, per, out):
-    """Exposures of the items ``c0 <= s < c1`` (of plants ``p0:p1``; segments with ``per``
-    samples each, or points, ``per = 1``; ``offsets`` the items' offsets) from the query
-    pass's values ``val`` (2: lit, else the pixel's normalised depth) and the samples'
-    depths ``z``: a sample is lit when ``z - depth <= bias_pixels * pix``, ``depth`` back
-    in world units."""
-    for p in range(p0, p1):
-        s0 = max(offsets[p], c0)
-        s1 = min(offsets[p + 1], c1)
-        zmin = zinfo[p, 0]
-        span = zinfo[p, 1]
-        bias = bias_pixels * frames[p, 2]
-        for s in range(s0, s1):
-            e = 0.0
-            for k in range(per):
-                i = (s - c0) * per + k
-                w = val[i]
-                if w > 1.5 or z[i] - (zmin + w * span) <= bias:
-                    e += 1.0
-            out[s] = e / per
-
-
-# ---------------------------------------------------------------------------------------
 # the passes
 
 
@@ -525,8 +390,9 @@ def _run(*args):
 def _run_once(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, item_offsets,
               per, queries):  # fmt: skip
     """Render the maps batch by batch (as many plants as the atlas holds) and resolve the
-    items of ``item_offsets`` (``per`` samples each); ``queries(p0, p1, c0, c1, cols,
-    width, q, z)`` fills the queries of items ``c0:c1``."""
+    items of ``item_offsets`` (``per`` samples each); ``queries(batch, atlas, q, z)``
+    fills the queries of items ``c0:c1`` (``batch`` ``(p0, p1, c0, c1)``, ``atlas``
+    ``(cols, res, width)``: :mod:`growsim.kernels.shadow_gl`)."""
     k = offsets.shape[0] - 1
     out = np.ones(item_offsets[-1])
     if k <= 0 or item_offsets[-1] == item_offsets[0] or offsets[-1] == offsets[0]:
@@ -548,7 +414,7 @@ def _run_once(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, it
             p1 = min(k, p0 + cols * rows)
             if item_offsets[p1] == item_offsets[p0]:
                 continue
-            _depth_ranges(start, end, offsets, d, p0, p1, zinfo)
+            depth_ranges(start, end, offsets, d, p0, p1, zinfo)
             # clear the depth only (a pixel's id counts where its depth is below 1);
             # moderngl applies a framebuffer's masks when it is bound
             gl.fbo.color_mask = (False, False, False, False)
@@ -561,9 +427,9 @@ def _run_once(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, it
             ctx.depth_func = "<"
             for c0 in range(offsets[p0], offsets[p1], CHUNK_SEGMENTS):
                 c1 = min(offsets[p1], c0 + CHUNK_SEGMENTS)
-                vert = np.empty((4 * (c1 - c0), _VERTEX_FLOATS), np.float32)
-                _vertices(start, end, radius, offsets, frames, u, v, d, p0, p1, c0, c1, cols,
-                          res, zinfo, vert, vert.view(np.int32))  # fmt: skip
+                vert = np.empty((4 * (c1 - c0), VERTEX_FLOATS), np.float32)
+                tile_vertices((start, end, radius, offsets), frames, (u, v, d), (p0, p1, c0, c1),
+                              (cols, res, width), zinfo, vert, vert.view(np.int32))  # fmt: skip
                 _stream(gl.vertices, vert)
                 gl.render_vao.render(mgl.TRIANGLES, vertices=6 * (c1 - c0))
             gl.idle.use()  # the atlas is read, not attached, while it is queried
@@ -575,22 +441,22 @@ def _run_once(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, it
                 m = (c1 - c0) * per
                 q = np.empty((m, 2), np.int32)
                 z = np.empty(m)
-                queries(p0, p1, c0, c1, cols, width, q, z)
+                queries((p0, p1, c0, c1), (cols, res, width), q, z)
                 _stream(gl.queries, q)
                 gl.query_vao.transform(gl.results, mgl.POINTS, vertices=m)
                 val = np.frombuffer(gl.results.read(size=4 * m), np.float32)
-                _resolve(val, z, item_offsets, frames, zinfo, bias_pixels, p0, p1, c0, c1, per,
-                         out)  # fmt: skip
+                resolve_exposure(val, z, item_offsets, frames, zinfo, bias_pixels,
+                                 (p0, p1, c0, c1), per, out)  # fmt: skip
     return out
 
 
 def segment_exposure_gl(start, end, radius, offsets, frames, u, v, d, res, bias_pixels,
                         samples) -> np.ndarray:  # fmt: skip
     """Hard shadows on the GPU: each segment's share of its ``samples`` points (at ``t =
-    (q + 0.5) / samples`` of its axis) that are lit, one map per plant. Arguments and
-    result as :func:`growsim.kernels.light.segment_exposure_kernel` (without ``out``):
-    ``(n,)`` float64. :class:`growsim.errors.ResourceError` when no OpenGL 3.3+ context
-    can be created.
+    (q + 0.5) / samples`` of its axis) that are lit, one map per plant: the result of
+    :func:`growsim.kernels.light.segment_exposure_into` with hard shadows, ``(n,)``
+    float64 (its ``segments``, ``plane`` and ``shadow`` here one argument each).
+    :class:`growsim.errors.ResourceError` when no OpenGL 3.3+ context can be created.
 
     Examples
     --------
@@ -606,9 +472,9 @@ def segment_exposure_gl(start, end, radius, offsets, frames, u, v, d, res, bias_
     samples = int(samples)
     res = int(res)
 
-    def queries(p0, p1, c0, c1, cols, width, q, z):
-        _segment_queries(start, end, offsets, frames, u, v, d, p0, p1, c0, c1, cols, res,
-                         width, samples, q, z)  # fmt: skip
+    def queries(batch, atlas, q, z):
+        segment_queries((start, end, radius, offsets), frames, (u, v, d), batch, atlas, samples,
+                        q, z)  # fmt: skip
 
     return _run(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, offsets,
                 samples, queries)  # fmt: skip
@@ -618,9 +484,9 @@ def point_exposure_gl(start, end, radius, offsets, frames, points, point_offsets
                       res, bias_pixels) -> np.ndarray:  # fmt: skip
     """Hard shadows at points on the GPU: 1 where point ``m`` (of plant ``p``:
     ``point_offsets[p] <= m < point_offsets[p + 1]``) is lit in plant ``p``'s map, else
-    0 (outside the frame or on an empty pixel: lit). Arguments as
-    :func:`growsim.kernels.light.point_exposure_kernel` (without ``out``); ``(m,)``
-    float64.
+    0 (outside the frame or on an empty pixel: lit): the exposure one light of
+    :func:`growsim.kernels.light.point_light_into` weighs by its cosine (hard shadows),
+    ``(m,)`` float64.
 
     Examples
     --------
@@ -635,9 +501,8 @@ def point_exposure_gl(start, end, radius, offsets, frames, points, point_offsets
     """
     res = int(res)
 
-    def queries(p0, p1, c0, c1, cols, width, q, z):
-        _point_queries(points, point_offsets, frames, u, v, d, p0, p1, c0, c1, cols, res,
-                       width, q, z)  # fmt: skip
+    def queries(batch, atlas, q, z):
+        point_queries(points, point_offsets, frames, (u, v, d), batch, atlas, q, z)
 
     return _run(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, point_offsets,
                 1, queries)  # fmt: skip

@@ -360,14 +360,10 @@ class SBX(Crossover):
         K.sbx(
             np.asarray(a, np.float64),
             np.asarray(b, np.float64),
-            genome.low,
-            genome.high,
-            top,
+            (genome.low, genome.high, top),
             self.eta,
             self.gene_rate,
-            r_act,
-            r_u,
-            r_flip,
+            (r_act, r_u, r_flip),
             c1,
             c2,
         )
@@ -447,8 +443,8 @@ class Differential(Crossover):
             cr = np.where(np.isnan(parameters[:, 1]), cr, parameters[:, 1])
         out = np.empty((k, p))
         K.differential_trials(
-            np.ascontiguousarray(pool, dtype=np.float64), base, target, r[0], r[1], u,
-            forced, f, cr, genome.low, np.nextafter(genome.high, -np.inf), out,
+            np.ascontiguousarray(pool, dtype=np.float64), (base, target, r[0], r[1]), u, forced,
+            f, cr, (genome.low, genome.high, np.nextafter(genome.high, -np.inf)), out,
         )  # fmt: skip
         return out
 

@@ -18,7 +18,7 @@ import numpy as np
 from numba.cpython.unsafe.numbers import trailing_zeros
 
 from growsim.kernels.config import njit
-from growsim.kernels.raster import _iceil, _ifloor
+from growsim.kernels.raster import iceil, ifloor
 
 __all__ = ["walk_capsule"]
 
@@ -40,8 +40,8 @@ def _setup(ax, ay, bx, by, rr, res):
         ax, ay = ay, ax
         bx, by = by, bx
     r = rr
-    i0 = max(0, _iceil(min(ay, by) - r - 0.5, res))
-    i1 = min(res - 1, _ifloor(max(ay, by) + r - 0.5, res))
+    i0 = max(0, iceil(min(ay, by) - r - 0.5, res))
+    i1 = min(res - 1, ifloor(max(ay, by) + r - 0.5, res))
     dx = bx - ax
     dy = by - ay
     L2 = dx * dx + dy * dy
@@ -56,13 +56,15 @@ def _setup(ax, ay, bx, by, rr, res):
 
 
 @njit(inline="always")
-def _span(i, ax, ay, bx, by, r, dx, dy, L2, slope, half, cap, cap_w, res):
+def _span(i, walk, res):
     """Columns ``j0..j1`` of line ``i`` whose centres lie within ``r`` of the axis (the
     line's chord of the capsule: the union of the two end discs and the body, an interval
     because the capsule is convex; ``j0 > j1`` when the line misses it). With
     ``e = yc - ay`` the body is ``|perpendicular| <= r``: ``x in ax + e dx / dy +- r L /
     |dy|``, and ``0 <= t <= 1``: ``x`` between ``ax - e dy / dx`` and that plus
-    ``L2 / dx`` (for ``dx = 0``: ``0 <= e dy <= L2``)."""
+    ``L2 / dx`` (for ``dx = 0``: ``0 <= e dy <= L2``). ``walk`` is :func:`_setup`'s
+    tuple."""
+    _, ax, ay, bx, by, r, _, _, dx, dy, L2, _, slope, half, cap, cap_w = walk
     yc = i + 0.5
     r2 = r * r
     lo = np.inf
@@ -96,7 +98,7 @@ def _span(i, ax, ay, bx, by, r, dx, dy, L2, slope, half, cap, cap_w, res):
         hi = max(hi, ax, bx)
     if not lo <= hi:
         return 1, 0
-    return max(0, _iceil(lo - 0.5, res)), min(res - 1, _ifloor(hi - 0.5, res))
+    return max(0, iceil(lo - 0.5, res)), min(res - 1, ifloor(hi - 0.5, res))
 
 
 @njit(inline="always")
@@ -108,12 +110,15 @@ def _bits(lo, hi):
 
 
 @njit(inline="always")
-def _meet(px, k, z, head, nxt, qz, qown, bias, soft, trans_k, near_z, near_id, expo):
+def _meet(px, k, z, scratch, queries, bias, soft, trans_k):
     """Segment ``k``, at depth ``z`` over pixel ``px`` (which holds queries): hard shadows
     keep the pixel's nearest depth and segment in ``near_z``/``near_id`` (the first drawn
     wins a tie, as in a z-buffer); soft ones multiply the ``expo`` of each of the pixel's
     queries (a list from ``head[px]`` on, through ``nxt``) that belongs to another segment
-    and lies more than ``bias`` behind ``z`` by ``trans_k``."""
+    and lies more than ``bias`` behind ``z`` by ``trans_k`` (``scratch`` and ``queries``
+    as :func:`walk_capsule`)."""
+    head, _, near_z, near_id = scratch
+    nxt, qz, qown, expo = queries
     if soft:
         q = head[px]
         while q >= 0:
@@ -126,16 +131,21 @@ def _meet(px, k, z, head, nxt, qz, qown, bias, soft, trans_k, near_z, near_id, e
 
 
 @njit(inline="always")
-def walk_capsule(k, ax, ay, bx, by, za, zb, rr, res, head, occ, nxt, qz, qown, bias, soft,
-                 trans_k, near_z, near_id, expo):  # fmt: skip
-    """Rasterise segment ``k`` (pixel coordinates ``a``, ``b``, depths ``za``, ``zb``,
-    radius ``rr`` pixels) and let it meet (:func:`_meet`) the queries of the pixels it
-    covers: those whose centre lies within the radius of the axis. Only pixels holding
-    queries are visited: ``occ`` holds a bit per such pixel, by rows (``W = (res + 63) //
-    64`` words per row) then by columns, and ``head[pixel]`` the pixel's first query,
-    ``nxt[q]`` the next one (-1: no more). A small capsule tests the pixels of its bounding box
-    that hold queries; a larger one is walked line by line along its shorter extent over
-    exactly the columns of each line's chord (closed form, :func:`_span`).
+def walk_capsule(k, ends, rr, res, scratch, queries, bias, soft, trans_k):
+    """Rasterise segment ``k`` (``ends`` ``(ax, ay, bx, by, za, zb)``: its ends ``a``,
+    ``b`` in pixel coordinates and their depths, as
+    :func:`growsim.kernels.light.project_segment` gives them; radius ``rr`` pixels) and let
+    it meet (:func:`_meet`) the queries of the pixels it covers: those whose centre lies
+    within the radius of the axis. Only pixels holding queries are visited: ``scratch``
+    ``(head, occ, near_z, near_id)`` (:func:`growsim.kernels.light.shadow_scratch`):
+    ``occ`` holds a bit per such pixel, by rows (``W = (res + 63) // 64`` words per row)
+    then by columns, ``head[pixel]`` the pixel's first query and, for hard shadows,
+    ``near_z``, ``near_id`` its nearest depth and segment so far; ``queries`` ``(nxt, qz,
+    qown, expo)``: per query the next one in its pixel (-1: no more), its depth, its own
+    segment (-1: none) and its exposure (soft shadows: multiplied by ``trans_k`` for each
+    segment more than ``bias`` in front). A small capsule tests the pixels of its bounding
+    box that hold queries; a larger one is walked line by line along its shorter extent
+    over exactly the columns of each line's chord (closed form, :func:`_span`).
 
     Examples
     --------
@@ -145,21 +155,24 @@ def walk_capsule(k, ax, ay, bx, by, za, zb, rr, res, head, occ, nxt, qz, qown, b
     >>> px = 4 * 8 + 3  # one query, at row 4, column 3
     >>> head[px], near_z[px], near_id[px] = 0, np.inf, -1
     >>> occ[4] |= np.uint64(1 << 3); occ[8 + 3] |= np.uint64(1 << 4)  # its row's, column's bit
-    >>> walk_capsule(7, 0.5, 4.5, 7.5, 4.5, 1.0, 2.0, 0.6, 8, head, occ, np.array([-1]),
-    ...              np.zeros(1), np.array([-1]), 0.0, False, 1.0, near_z, near_id, np.ones(1))
+    >>> queries = (np.array([-1]), np.zeros(1), np.array([-1]), np.ones(1))
+    >>> walk_capsule(7, (0.5, 4.5, 7.5, 4.5, 1.0, 2.0), 0.6, 8, (head, occ, near_z, near_id),
+    ...              queries, 0.0, False, 1.0)
     >>> int(near_id[px]), round(float(near_z[px]), 3)  # segment 7, its depth there
     (7, 1.429)
     """
+    ax, ay, bx, by, za, zb = ends
+    occ = scratch[1]
     W = (res + 63) // 64
     r = rr
     dx = bx - ax
     dy = by - ay
     L2 = dx * dx + dy * dy
     inv_L2 = 1.0 / L2 if L2 > 0.0 else 0.0
-    i0 = max(0, _iceil(min(ay, by) - r - 0.5, res))
-    i1 = min(res - 1, _ifloor(max(ay, by) + r - 0.5, res))
-    j0 = max(0, _iceil(min(ax, bx) - r - 0.5, res))
-    j1 = min(res - 1, _ifloor(max(ax, bx) + r - 0.5, res))
+    i0 = max(0, iceil(min(ay, by) - r - 0.5, res))
+    i1 = min(res - 1, ifloor(max(ay, by) + r - 0.5, res))
+    j0 = max(0, iceil(min(ax, bx) - r - 0.5, res))
+    j1 = min(res - 1, ifloor(max(ax, bx) + r - 0.5, res))
     if i0 > i1 or j0 > j1:
         return
     box = (i1 - i0 + 1) * (j1 - j0 + 1)
@@ -181,12 +194,11 @@ def walk_capsule(k, ax, ay, bx, by, za, zb, rr, res, head, occ, nxt, qz, qown, b
                     px = ax + t * dx - xc
                     py = ay + t * dy - yc
                     if px * px + py * py <= r2:
-                        _meet(i * res + j, k, za + t * (zb - za), head, nxt, qz, qown, bias,
-                              soft, trans_k, near_z, near_id, expo)  # fmt: skip
+                        _meet(i * res + j, k, za + t * (zb - za), scratch, queries, bias, soft,
+                              trans_k)  # fmt: skip
         return
-    tr, ax, ay, bx, by, r, i0, i1, dx, dy, L2, inv_L2, slope, half, cap, cap_w = _setup(
-        ax, ay, bx, by, rr, res
-    )
+    walk = _setup(ax, ay, bx, by, rr, res)
+    tr, ax, ay, bx, by, r, i0, i1, dx, dy, L2, inv_L2, slope, half, _, _ = walk
     # lines whose band chord lies within the body's length (0 <= t <= 1 at both its ends):
     # their chord is the band's, ax + e dx / dy +- half (the end discs lie inside the band)
     inv_dy = 1.0 / dy if dy != 0.0 else 0.0
@@ -201,7 +213,7 @@ def walk_capsule(k, ax, ay, bx, by, za, zb, rr, res, head, occ, nxt, qz, qown, b
             j0 = max(0, math.ceil(c - half - 0.5))
             j1 = min(res - 1, math.floor(c + half - 0.5))
         else:
-            j0, j1 = _span(i, ax, ay, bx, by, r, dx, dy, L2, slope, half, cap, cap_w, res)
+            j0, j1 = _span(i, walk, res)
         if j0 > j1:
             continue
         e = (i + 0.5 - ay) * dy
@@ -214,5 +226,5 @@ def walk_capsule(k, ax, ay, bx, by, za, zb, rr, res, head, occ, nxt, qz, qown, b
                 bits &= bits - np.uint64(1)
                 t = ((j + 0.5 - ax) * dx + e) * inv_L2
                 t = min(1.0, max(0.0, t))
-                _meet(i * line + j * step, k, za + t * (zb - za), head, nxt, qz, qown, bias,
-                      soft, trans_k, near_z, near_id, expo)  # fmt: skip
+                _meet(i * line + j * step, k, za + t * (zb - za), scratch, queries, bias, soft,
+                      trans_k)  # fmt: skip

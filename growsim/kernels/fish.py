@@ -5,7 +5,8 @@ Every fish is one row of a ``(n, len(FISH_FIELDS))`` float64 table (:data:`FISH_
 start position in pixels, scale, view distance, avoidance angle in radians, maximum speed,
 heading and pitch in radians, preferred turn 0/1, the body's half length, width and height
 at scale 1). The tank is its size ``(3,)`` and two ``(k, 4)`` tables of spheres
-``[cx, cy, cz, radius]`` and cubes ``[cx, cy, cz, half edge]``.
+``[cx, cy, cz, radius]`` and cubes ``[cx, cy, cz, half edge]``, passed to the kernels as
+one tuple ``tank = (size, spheres, cubes)``.
 
 One frame (the behaviour of ``docs/models/fish.md``):
 
@@ -114,7 +115,14 @@ def _uniforms(state, out):
 
 
 @njit(inline="always")
-def _point_hits(qx, qy, qz, X, Y, Z, spheres, cubes, walls, near_s, near_c):
+def _point_hits(q, box, obstacles, walls, near):
+    """Collisions of the point ``q`` ``(x, y, z)``: 1 when ``walls`` and on or outside the
+    tank ``box`` ``(X, Y, Z)``, 1 per sphere and cube of ``obstacles`` ``(spheres, cubes)``
+    it lies inside, among those flagged in ``near`` ``(near_s, near_c)``."""
+    qx, qy, qz = q
+    X, Y, Z = box
+    spheres, cubes = obstacles
+    near_s, near_c = near
     n = 0
     if walls and (qx <= 0.0 or qx >= X or qy <= 0.0 or qy >= Y or qz <= 0.0 or qz >= Z):
         n += 1
@@ -138,8 +146,17 @@ def _point_hits(qx, qy, qz, X, Y, Z, spheres, cubes, walls, near_s, near_c):
 
 
 @njit(inline="always")
-def _body_hits(px, py, pz, ch, sh, cp, sp, hl, hw, hh, br, X, Y, Z, spheres, cubes, near_s, near_c):
-    """Collisions of the 7 body points at centre ``p`` and heading/pitch cosines/sines."""
+def _body_hits(p, pose, body, box, obstacles, near):
+    """Collisions of the 7 body points at centre ``p`` ``(x, y, z)`` with ``pose`` the
+    heading's and pitch's cosines and sines ``(ch, sh, cp, sp)``, ``body`` its half
+    length, width and height and bounding radius ``(hl, hw, hh, br)``; ``box``,
+    ``obstacles`` and the scratch flags ``near`` as :func:`_point_hits`."""
+    px, py, pz = p
+    ch, sh, cp, sp = pose
+    hl, hw, hh, br = body
+    X, Y, Z = box
+    spheres, cubes = obstacles
+    near_s, near_c = near
     walls = not (
         px - br > 0.0 and px + br < X and py - br > 0.0 and py + br < Y
         and pz - br > 0.0 and pz + br < Z
@@ -169,20 +186,14 @@ def _body_hits(px, py, pz, ch, sh, cp, sp, hl, hw, hh, br, X, Y, Z, spheres, cub
     fx, fy, fz = cp * ch, sp, cp * sh
     sx, sz = -sh, ch
     ux, uy, uz = -ch * sp, cp, -sh * sp
-    n = _point_hits(px, py, pz, X, Y, Z, spheres, cubes, walls, near_s, near_c)
+    n = _point_hits((px, py, pz), box, obstacles, walls, near)
     for sign in (1.0, -1.0):
         a = sign * hl
-        n += _point_hits(
-            px + a * fx, py + a * fy, pz + a * fz, X, Y, Z, spheres, cubes, walls, near_s, near_c
-        )
+        n += _point_hits((px + a * fx, py + a * fy, pz + a * fz), box, obstacles, walls, near)
         a = sign * hw
-        n += _point_hits(
-            px + a * sx, py, pz + a * sz, X, Y, Z, spheres, cubes, walls, near_s, near_c
-        )
+        n += _point_hits((px + a * sx, py, pz + a * sz), box, obstacles, walls, near)
         a = sign * hh
-        n += _point_hits(
-            px + a * ux, py + a * uy, pz + a * uz, X, Y, Z, spheres, cubes, walls, near_s, near_c
-        )
+        n += _point_hits((px + a * ux, py + a * uy, pz + a * uz), box, obstacles, walls, near)
     return n
 
 
@@ -211,7 +222,13 @@ def _side_wall_seen(d, nx, nz, ch, sh, view):
 
 
 @njit
-def _swim(g, seed, size, spheres, cubes, frames, pos, ang, hits, mode_out, record):
+def _swim(g, seed, tank, frames, track, record):
+    """One fish ``g`` (a row of a fish table) from its random stream's state ``seed`` in
+    ``tank`` ``(size, spheres, cubes)`` for ``frames`` frames: its total collisions; with
+    ``record``, each frame's position, angles, hits and manoeuvre go into ``track``
+    ``(pos, ang, hits, modes)`` (see :func:`swim_path`)."""
+    size, spheres, cubes = tank
+    pos, ang, hits, mode_out = track
     X, Y, Z = size[0], size[1], size[2]
     px, py, pz = g[0], g[1], g[2]
     scale, view, angle, vmax = g[3], g[4], g[5], g[6]
@@ -318,9 +335,8 @@ def _swim(g, seed, size, spheres, cubes, frames, pos, ang, hits, mode_out, recor
         px += d * cp * ch
         py += d * sp
         pz += d * cp * sh
-        n = _body_hits(
-            px, py, pz, ch, sh, cp, sp, hl, hw, hh, br, X, Y, Z, spheres, cubes, near_s, near_c
-        )
+        n = _body_hits((px, py, pz), (ch, sh, cp, sp), (hl, hw, hh, br), (X, Y, Z),
+                       (spheres, cubes), (near_s, near_c))  # fmt: skip
         total += n
         if record:
             pos[f + 1, 0], pos[f + 1, 1], pos[f + 1, 2] = px, py, pz
@@ -332,24 +348,21 @@ def _swim(g, seed, size, spheres, cubes, frames, pos, ang, hits, mode_out, recor
 
 
 @njit
-def _population(fish, seeds, size, spheres, cubes, frames, out):
-    pos = np.zeros((0, 3))
-    ang = np.zeros((0, 7))
-    hits = np.zeros(0, dtype=np.int32)
-    modes = np.zeros(0, dtype=np.int8)
+def _population(fish, seeds, tank, frames, out):
+    track = (np.zeros((0, 3)), np.zeros((0, 7)), np.zeros(0, dtype=np.int32),
+             np.zeros(0, dtype=np.int8))  # fmt: skip
     for i in range(fish.shape[0]):
-        out[i] = _swim(
-            fish[i], seeds[i], size, spheres, cubes, frames, pos, ang, hits, modes, False
-        )
+        out[i] = _swim(fish[i], seeds[i], tank, frames, track, False)
 
 
 @njit
-def _path(g, seed, size, spheres, cubes, frames, pos, ang, hits, modes):
-    return _swim(g, seed, size, spheres, cubes, frames, pos, ang, hits, modes, True)
+def _path(g, seed, tank, frames, track):
+    return _swim(g, seed, tank, frames, track, True)
 
 
 @njit
-def _recount(pos, ang, g, size, spheres, cubes, out):
+def _recount(pos, ang, g, tank, out):
+    size, spheres, cubes = tank
     scale = g[3]
     hl, hw, hh = g[10] * scale, g[11] * scale, g[12] * scale
     br = max(hl, max(hw, hh))
@@ -358,8 +371,8 @@ def _recount(pos, ang, g, size, spheres, cubes, out):
     total = 0
     for f in range(1, pos.shape[0]):
         n = _body_hits(
-            pos[f, 0], pos[f, 1], pos[f, 2], ang[f, 3], ang[f, 4], ang[f, 5], ang[f, 6],
-            hl, hw, hh, br, size[0], size[1], size[2], spheres, cubes, near_s, near_c,
+            (pos[f, 0], pos[f, 1], pos[f, 2]), (ang[f, 3], ang[f, 4], ang[f, 5], ang[f, 6]),
+            (hl, hw, hh, br), (size[0], size[1], size[2]), (spheres, cubes), (near_s, near_c),
         )  # fmt: skip
         out[f] = n
         total += n
@@ -399,7 +412,7 @@ def population_collisions(fish, seeds, size, spheres, cubes, frames: int) -> np.
     seeds = np.ascontiguousarray(seeds, dtype=np.uint64).reshape(len(fish))
     size, spheres, cubes = _geometry(size, spheres, cubes)
     out = np.zeros(len(fish), dtype=np.int64)
-    _population(fish, seeds, size, spheres, cubes, int(frames), out)
+    _population(fish, seeds, (size, spheres, cubes), int(frames), out)
     return out
 
 
@@ -424,7 +437,7 @@ def swim_path(g, seed: int, size, spheres, cubes, frames: int):
     ang = np.zeros((frames + 1, 7))
     hits = np.zeros(frames + 1, dtype=np.int32)
     modes = np.zeros(frames + 1, dtype=np.int8)
-    total = _path(g, np.uint64(seed), size, spheres, cubes, frames, pos, ang, hits, modes)
+    total = _path(g, np.uint64(seed), (size, spheres, cubes), frames, (pos, ang, hits, modes))
     return pos, ang, hits, modes, int(total)
 
 
@@ -446,5 +459,5 @@ def count_collisions(pos, ang, g, size, spheres, cubes):
     pos = np.ascontiguousarray(pos, dtype=np.float64)
     ang = np.ascontiguousarray(ang, dtype=np.float64)
     out = np.zeros(len(pos), dtype=np.int32)
-    total = _recount(pos, ang, g, size, spheres, cubes, out)
+    total = _recount(pos, ang, g, (size, spheres, cubes), out)
     return out, int(total)

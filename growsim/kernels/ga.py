@@ -248,15 +248,28 @@ def _sbx_betaq(beta, u, eta):
 
 
 @njit
-def sbx(a, b, low, high, top, eta, gene_rate, r_act, r_u, r_flip, c1, c2):
+def sbx(a, b, bounds, eta, gene_rate, draws, c1, c2):
     """Bounded simulated binary crossover of pairs ``(a[i], b[i])`` -> ``c1``, ``c2``.
 
-    ``a, b, c1, c2``: ``(m, L)`` float64; ``low, high``: ``(L,)`` bounds; ``top``: ``(L,)``
-    the largest value a child may take (just below ``high``); ``r_act, r_u, r_flip``:
-    ``(m, L)`` uniforms in ``[0, 1)``: gene crossed if ``r_act < gene_rate`` (and the
-    parents differ), spread drawn from ``r_u``, children swapped if ``r_flip < 0.5``.
-    Only the branch each gene takes is computed (two ``pow`` per gene, not four).
+    ``a, b, c1, c2``: ``(m, L)`` float64; ``bounds`` ``(low, high, top)``: ``(L,)`` each,
+    the bounds and the largest value a child may take (just below ``high``); ``draws``
+    ``(r_act, r_u, r_flip)``: ``(m, L)`` uniforms in ``[0, 1)``: gene crossed if ``r_act <
+    gene_rate`` (and the parents differ), spread drawn from ``r_u``, children swapped if
+    ``r_flip < 0.5``. Only the branch each gene takes is computed (two ``pow`` per gene,
+    not four).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a, b, c1, c2 = np.zeros((1, 2)), np.ones((1, 2)), np.empty((1, 2)), np.empty((1, 2))
+    >>> bounds = (np.zeros(2), np.ones(2), np.nextafter(np.ones(2), 0))
+    >>> draws = (np.array([[0.0, 0.9]]), np.full((1, 2), 0.5), np.ones((1, 2)))
+    >>> sbx(a, b, bounds, 10.0, 0.5, draws, c1, c2)  # gene 0 crossed, gene 1 not
+    >>> c1.round(4).tolist(), c2.round(4).tolist()  # gene 0 spread about its mean 0.5
+    ([[0.0305, 0.0]], [[0.9695, 1.0]])
     """
+    low, high, top = bounds
+    r_act, r_u, r_flip = draws
     m, L = a.shape
     for i in range(m):
         for t in range(L):
@@ -283,13 +296,29 @@ def sbx(a, b, low, high, top, eta, gene_rate, r_act, r_u, r_flip, c1, c2):
 
 
 @njit
-def differential_trials(pop, base, target, r1, r2, u, forced, f, cr, low, top, out):
+def differential_trials(pop, picks, u, forced, f, cr, bounds, out):
     """Differential-evolution trials into ``out`` ``(k, p)``: row ``j`` is
     ``pop[target[j]]`` with gene ``t`` taken from the donor ``pop[base[j]] + f[j]
     (pop[r1[j]] - pop[r2[j]])`` where ``u[j, t] < cr[j]`` or ``t == forced[j]``, clipped to
-    ``[low, top]``. ``pop`` ``(n, p)``; index arrays and ``f``, ``cr`` ``(k,)`` (one scale
-    factor and crossover rate per trial); ``u`` ``(k, p)`` uniforms.
+    ``[low, top]``. ``pop`` ``(n, p)``; ``picks`` the index arrays ``(base, target, r1,
+    r2)``, ``(k,)`` each; ``forced``, ``f``, ``cr`` ``(k,)`` (one scale factor and
+    crossover rate per trial); ``u`` ``(k, p)`` uniforms; ``bounds`` ``(low, high, top)``
+    as :func:`sbx` (``high`` unused).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> pop, one = np.array([[0.0, 0.0], [1.0, 1.0], [0.5, 0.5]]), np.array([1])
+    >>> picks = (np.array([2]), np.array([0]), one, np.array([0]))  # base, target, r1, r2
+    >>> bounds = (np.zeros(2), np.ones(2), np.ones(2))
+    >>> out = np.empty((1, 2))
+    >>> differential_trials(pop, picks, np.array([[0.9, 0.0]]), np.array([0]),
+    ...                     np.array([0.5]), np.array([0.5]), bounds, out)
+    >>> out.tolist()  # gene 0 forced, gene 1 by the rate: both 0.5 + 0.5 (1 - 0)
+    [[1.0, 1.0]]
     """
+    base, target, r1, r2 = picks
+    low, top = bounds[0], bounds[2]
     k, p = out.shape
     for j in range(k):
         fj = f[j]
@@ -315,18 +344,32 @@ def _polynomial_gene(v, lo, hi, top, span, u, e):
 
 
 @njit
-def self_adaptive_mutation(
-    x, low, high, top, strategy, tau, min_sigma, max_sigma, poly_rate, poly_eta, gauss_rate,
-    r_hit, r_u, z_tau, z, r_gauss, out_x, out_s,
-):  # fmt: skip
+def self_adaptive_mutation(x, bounds, strategy, rates, draws, out_x, out_s):
     """The self-adaptive Gaussian mutation of ``x`` ``(m, p)`` into ``out_x``, ``out_s``.
 
-    Per child ``i``: Deb's bounded polynomial mutation (index ``poly_eta``) of gene ``t``
-    when ``r_hit[i, t] < poly_rate`` with the uniform ``r_u[i, t]``; then the step
-    ``out_s[i] = clip(strategy[i] exp(tau z_tau[i]), min_sigma, max_sigma)`` and
-    ``+ z[i, t] out_s[i] (high - low) / sqrt(p)`` on each gene with ``r_gauss[i, t] <
-    gauss_rate``; clipped to ``[low, top]``. ``low, high, top``: ``(p,)``; draws as shaped.
+    ``rates`` ``(tau, min_sigma, max_sigma, poly_rate, poly_eta, gauss_rate)`` floats;
+    ``draws`` ``(r_hit, r_u, z_tau, z, r_gauss)``. Per child ``i``: Deb's bounded
+    polynomial mutation (index ``poly_eta``) of gene ``t`` when ``r_hit[i, t] < poly_rate``
+    with the uniform ``r_u[i, t]``; then the step ``out_s[i] = clip(strategy[i] exp(tau
+    z_tau[i]), min_sigma, max_sigma)`` and ``+ z[i, t] out_s[i] (high - low) / sqrt(p)`` on
+    each gene with ``r_gauss[i, t] < gauss_rate``; clipped to ``[low, top]``. ``bounds``
+    ``(low, high, top)`` as :func:`sbx`, ``(p,)`` each; draws as shaped.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x, out_x, out_s = np.full((1, 2), 0.5), np.empty((1, 2)), np.empty(1)
+    >>> bounds = (np.zeros(2), np.ones(2), np.nextafter(np.ones(2), 0))
+    >>> draws = (np.ones((1, 2)), np.zeros((1, 2)), np.zeros(1), np.ones((1, 2)),
+    ...          np.array([[0.0, 1.0]]))  # no polynomial step; a Gaussian one on gene 0
+    >>> self_adaptive_mutation(x, bounds, np.array([0.1]), (0.5, 1e-6, 1.0, 0.5, 20.0, 0.5),
+    ...                        draws, out_x, out_s)
+    >>> out_x.round(6).tolist(), out_s.tolist()  # 0.5 + 0.1 / sqrt(2)
+    ([[0.570711, 0.5]], [0.1])
     """
+    low, high, top = bounds
+    tau, min_sigma, max_sigma, poly_rate, poly_eta, gauss_rate = rates
+    r_hit, r_u, z_tau, z, r_gauss = draws
     m, p = x.shape
     e = poly_eta + 1.0
     root = 1.0 / np.sqrt(p)
@@ -345,21 +388,35 @@ def self_adaptive_mutation(
 
 
 @njit
-def portfolio_mutation(
-    x, low, high, top, strategy, tau, min_sigma, max_sigma, poly_rate, poly_eta,
-    r_hit, r_u, z_tau, z, r_axis, flip, out_x, out_s,
-):  # fmt: skip
+def portfolio_mutation(x, bounds, strategy, rates, draws, out_x, out_s):
     """The portfolio mutation of ``x`` ``(m, p)`` into ``out_x``, ``out_s`` ``(m, c)``.
 
     ``strategy`` ``(m, c)``: step, move (1 isotropic, 0 coordinate-wise), crossover, then
     ``c - 3`` columns copied unchanged (the DE parameters of an adaptive portfolio).
-    Per child ``i``: the move and the crossover switch where ``flip[0, i]``,
-    ``flip[1, i]``; the polynomial step and the step size as
+    ``rates`` ``(tau, min_sigma, max_sigma, poly_rate, poly_eta)`` floats; ``draws``
+    ``(r_hit, r_u, z_tau, z, r_axis, flip)``. Per child ``i``: the move and the crossover
+    switch where ``flip[0, i]``, ``flip[1, i]``; the polynomial step and the step size as
     :func:`self_adaptive_mutation`; then an isotropic mover adds ``z[i, t] s (high - low)
     / sqrt(p)`` to every gene, a coordinate mover ``(z[i, t] sqrt(p)) s (high - low) /
     sqrt(p)`` (the same length along fewer axes) to the genes with ``r_axis[i, t] < 1 /
-    p``; clipped to ``[low, top]``. ``flip``: ``(2, m)`` bool; other draws as shaped.
+    p``; clipped to ``[low, top]``. ``bounds`` as :func:`sbx`; ``flip``: ``(2, m)`` bool;
+    other draws as shaped.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x, out_x, out_s = np.full((1, 2), 0.5), np.empty((1, 2)), np.empty((1, 3))
+    >>> bounds = (np.zeros(2), np.ones(2), np.nextafter(np.ones(2), 0))
+    >>> draws = (np.ones((1, 2)), np.zeros((1, 2)), np.zeros(1), np.ones((1, 2)),
+    ...          np.zeros((1, 2)), np.array([[True], [False]]))  # the move switches
+    >>> portfolio_mutation(x, bounds, np.array([[0.1, 1.0, 0.0]]), (0.5, 1e-6, 1.0, 0.5, 20.0),
+    ...                    draws, out_x, out_s)
+    >>> out_x.tolist(), out_s.tolist()  # coordinate-wise: every gene (r_axis 0 < 1/2)
+    ([[0.6, 0.6]], [[0.1, 0.0, 0.0]])
     """
+    low, high, top = bounds
+    tau, min_sigma, max_sigma, poly_rate, poly_eta = rates
+    r_hit, r_u, z_tau, z, r_axis, flip = draws
     m, p = x.shape
     e = poly_eta + 1.0
     root = 1.0 / np.sqrt(p)

@@ -19,9 +19,7 @@ __all__ = ["first_break_kernel", "loads_kernel", "radius_end_kernel"]
 
 
 @njit
-def loads_kernel(
-    start, end, radius, radius_end, parent, kind, strength, density, leaf_mass_per_area, g, out
-):
+def loads_kernel(start, end, radius, radius_end, parent, kind, strength, material, out):
     """Mass above, bending moment and stress ratio at the base of every segment, in one
     child-to-parent pass.
 
@@ -33,7 +31,7 @@ def loads_kernel(
     kind : ``(n,)`` int8, 0 = stem (a truncated cone of wood of ``density``), 1 = leaf (a
         blade of ``length x 2 radius`` with ``leaf_mass_per_area`` per unit area).
     strength : ``(n,)`` or ``(1,)`` float64 modulus of rupture (``(1,)``: one for all).
-    density, leaf_mass_per_area, g : float.
+    material : ``(density, leaf_mass_per_area, g)`` floats.
     out : ``(4, n)`` float64, overwritten (reuse it across calls to skip allocating).
 
     Returns
@@ -49,10 +47,12 @@ def loads_kernel(
     >>> import numpy as np
     >>> s = np.zeros((1, 3)); e = np.array([[1.0, 0.0, 0.0]])
     >>> r = np.array([0.1]); p = np.array([-1]); k = np.zeros(1, np.int8)
-    >>> out = loads_kernel(s, e, r, r, p, k, np.array([1e6]), 1000.0, 0.1, 10.0, np.empty((4, 1)))
+    >>> material = (1000.0, 0.1, 10.0)  # density, leaf mass per area, g
+    >>> out = loads_kernel(s, e, r, r, p, k, np.array([1e6]), material, np.empty((4, 1)))
     >>> np.round(out[:, 0], 3).tolist()  # mass, mass above, moment (weight x 0.5), ratio
     [31.416, 31.416, 157.08, 0.2]
     """
+    density, leaf_mass_per_area, g = material
     n = start.shape[0]
     mass = out[0]
     mass_above = out[1]

@@ -13,6 +13,7 @@ hormone: bias, gain, decay, then one weight per stimulus) are passed in, never g
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -26,6 +27,8 @@ __all__ = [
     "HORMONES",
     "STIMULI",
     "STOPS",
+    "Modules",
+    "Surroundings",
     "grow_population",
     "grow_step",
     "new_plant",
@@ -66,6 +69,62 @@ STOP_NONE, STOP_CAP, STOP_NAN, STOP_BROKEN = range(4)
  C_INH_TRANSPORT, C_PHOTO, C_HALF_SAT, C_BUILD, C_UPKEEP, C_NEW_COST, C_LIGNIFY, C_GREEN,
  C_CHL_LOSS, C_DROUGHT, C_EXPAND, C_SHARE, C_LATERALS) = range(21)  # fmt: skip
 N_CONSTANTS = 21
+
+
+class Modules(NamedTuple):
+    """A plant's modules, field by field, ``cap`` rows each (the module arrays every kernel
+    here updates in place; :func:`new_module_arrays` makes them)."""
+
+    parent: np.ndarray  #: ``(cap,)`` int64, -1 for the root
+    R: np.ndarray  #: ``(cap, 3, 3)`` pose: columns the two axes across and the growth axis
+    origin: np.ndarray  #: ``(cap, 3)``
+    length: np.ndarray  #: ``(cap,)``
+    radius: np.ndarray  #: ``(cap,)``
+    nutrient: np.ndarray  #: ``(cap,)``
+    chlorophyll: np.ndarray  #: ``(cap,)``
+    lignin: np.ndarray  #: ``(cap,)``
+    apex: np.ndarray  #: ``(cap,)`` bool: a meristem
+    laterals: np.ndarray  #: ``(cap,)`` int64: laterals grown
+    hormone: np.ndarray  #: ``(cap, walls, H)``
+    wall_light: np.ndarray  #: ``(cap, walls)`` the light each wall receives
+    met: np.ndarray  #: ``(cap,)`` the share of each module's water demand met
+    light: np.ndarray  #: ``(cap,)`` the mean wall light
+
+
+class Surroundings(NamedTuple):
+    """The environment as :func:`grow_step` takes it (one tuple, the same for every plant)."""
+
+    dirs: np.ndarray  #: ``(j, 3)`` the lights' unit directions
+    us: np.ndarray  #: ``(j, 3)`` their image planes' first axes
+    vs: np.ndarray  #: ``(j, 3)`` and second axes
+    weights: np.ndarray  #: ``(j,)`` their intensities
+    resolution: int  #: shadow-map pixels across
+    bias: float  #: depth bias in pixels
+    soft: bool  #: soft shadows (else hard)
+    transmission: float  #: a module's transmission (soft shadows)
+    supply: float  #: water supply
+    resistance: float  #: water resistance
+    lift: float  #: water lift, scaled by ``g / 9.81``
+    g: float  #: gravity
+    density: float  #: wood density
+    leaf_mass_per_area: float
+    strength: float  #: wood strength (lignified)
+
+
+def new_module_arrays(cap: int, walls: int, hormones: int = len(HORMONES)) -> Modules:
+    """Uninitialised :class:`Modules` of ``cap`` rows (the wall light, water met and light
+    zeroed); :func:`new_plant` makes them a seedling.
+
+    Examples
+    --------
+    >>> new_module_arrays(4, 2).hormone.shape
+    (4, 2, 10)
+    """
+    return Modules(
+        np.empty(cap, np.int64), np.empty((cap, 3, 3)), np.empty((cap, 3)),
+        *(np.empty(cap) for _ in range(5)), np.empty(cap, np.bool_), np.empty(cap, np.int64),
+        np.empty((cap, walls, hormones)), np.zeros((cap, walls)), np.zeros(cap), np.zeros(cap),
+    )  # fmt: skip
 
 
 @njit
@@ -173,14 +232,15 @@ def _rotate(R, axis, angle):
 
 
 @njit
-def step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient, chlorophyll, lignin,
-                apex, laterals, hormone, wall_light, met, genes, c):  # fmt: skip
-    """One growth step of modules ``0..n-1``; returns the new module count (at most
-    ``cap``) and the nutrient gained by photosynthesis this step.
+def step_kernel(n, dims, modules, genes, c):
+    """One growth step of modules ``0..n-1`` of :class:`Modules` ``modules`` (``cap`` rows,
+    ``walls`` walls: the shape of ``modules.hormone``) in ``dims`` dimensions; returns the
+    new module count (at most ``cap``) and the nutrient gained by photosynthesis this step.
 
-    ``wall_light`` ``(cap, walls)`` the light each wall receives, ``met`` ``(cap,)`` the
-    share of each module's water demand met; ``hormone`` ``(cap, walls, H)`` is updated in
-    place, as are the module fields. See ``docs/models/hormone.md`` for the equations, in
+    Reads ``wall_light`` ``(cap, walls)`` the light each wall receives and ``met``
+    ``(cap,)`` the share of each module's water demand met; ``hormone`` ``(cap, walls,
+    H)`` is updated in place, as are the module fields (``origin`` and ``light`` are not
+    read). See ``docs/models/hormone.md`` for the equations, in
     the order they run: synthesis, transport of the inhibitor, photosynthesis, costs,
     elongation and turning, thickening, lignification and greening, nutrient sharing,
     new modules.
@@ -193,6 +253,10 @@ def step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient, chloro
     >>> MODEL.develop({**MODEL.preset("demo_3d"), "steps": 10}, env=env).n_segments > 1
     True
     """
+    parent, R, _, length, radius, nutrient, chlorophyll, lignin = modules[:8]
+    apex, laterals, hormone = modules[8:11]
+    wall_light, met = modules.wall_light, modules.met
+    cap, walls = hormone.shape[0], hormone.shape[1]
     H = genes.shape[0]
     J = genes.shape[1] - 3
     x = np.empty(J)
@@ -291,8 +355,7 @@ def step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient, chloro
         if apex[m] and grown and mean_h[m, 4] > c[C_THRESHOLD] and nutrient[m] > c[C_NEW_COST]:
             q = n_new
             n_new += 1
-            _new(q, m, R[m], R, parent, length, radius, nutrient, chlorophyll, lignin, apex,
-                 laterals, hormone, c)  # fmt: skip
+            _new(q, m, R[m], modules, c)
             apex[m] = False
         if n_new >= cap:
             break
@@ -331,17 +394,17 @@ def step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient, chloro
             _rotate(Rl, axis, c[C_BRANCH_ANGLE])
             q = n_new
             n_new += 1
-            _new(q, m, Rl, R, parent, length, radius, nutrient, chlorophyll, lignin, apex,
-                 laterals, hormone, c)  # fmt: skip
+            _new(q, m, Rl, modules, c)
             laterals[m] += 1
     return n_new, gained
 
 
 @njit
-def _new(q, m, Rq, R, parent, length, radius, nutrient, chlorophyll, lignin, apex, laterals,
-         hormone, c):  # fmt: skip
+def _new(q, m, Rq, modules, c):
     """Module ``q``: a child of ``m`` with pose ``Rq``, new length and radius, full
     chlorophyll, no lignin, its parent's cost of a new module as its nutrient."""
+    parent, R, _, length, radius, nutrient, chlorophyll, lignin = modules[:8]
+    apex, laterals, hormone = modules[8:11]
     parent[q] = m
     R[q] = Rq
     length[q] = c[C_NEWLEN]
@@ -356,23 +419,21 @@ def _new(q, m, Rq, R, parent, length, radius, nutrient, chlorophyll, lignin, ape
 
 
 @njit
-def new_plant(parent, R, origin, length, radius, nutrient, chlorophyll, lignin, apex, laterals,
-              hormone, c):  # fmt: skip
-    """Reset the module arrays to a seedling: one root module at the origin growing up
-    (``+y``; its walls face ``+-x`` and, in 3D, around), of the new length and radius,
-    nutrient 0.1, full chlorophyll, a meristem. Returns the module count, 1.
+def new_plant(modules, c):
+    """Reset :class:`Modules` ``modules`` to a seedling: one root module at the origin
+    growing up (``+y``; its walls face ``+-x`` and, in 3D, around), of the new length and
+    radius, nutrient 0.1, full chlorophyll, a meristem (the wall light, water met and light
+    are left as they are). Returns the module count, 1.
 
     Examples
     --------
     >>> import numpy as np
-    >>> cap, walls = 4, 2
-    >>> a = [np.empty(cap, np.int64), np.empty((cap, 3, 3)), np.empty((cap, 3))]
-    >>> a += [np.empty(cap) for _ in range(5)]
-    >>> a += [np.empty(cap, np.bool_), np.empty(cap, np.int64), np.empty((cap, walls, 10))]
-    >>> c = np.full(N_CONSTANTS, 0.1)
-    >>> new_plant(*a, c), a[1][0, :, 2].tolist()
+    >>> modules = new_module_arrays(4, 2)
+    >>> new_plant(modules, np.full(N_CONSTANTS, 0.1)), modules.R[0, :, 2].tolist()
     (1, [0.0, 1.0, 0.0])
     """
+    parent, R, origin, length, radius, nutrient, chlorophyll, lignin = modules[:8]
+    apex, laterals, hormone = modules[8:11]
     parent[:] = -1
     R[:] = 0.0
     R[0, 0, 0] = 1.0
@@ -405,35 +466,32 @@ def _ends(n, origin, length, R, end):
 
 
 @njit
-def grow_step(n, cap, dims, walls, parent, R, origin, length, radius, nutrient, chlorophyll,
-              lignin, apex, laterals, hormone, wall_light, met, light, scratch, genes, c,
-              light_dirs, light_u, light_v, light_w, resolution, bias, soft, transmission,
-              supply, resistance, lift, g, density, leaf_mass_per_area, strength,
-              strength_young):  # fmt: skip
-    """One step of a plant in its environment, all in one call; returns ``(n_new, stop)``,
-    ``stop`` an index into :data:`STOPS` (``STOP_CAP`` when the cap held back new modules,
-    which does not stop the plant; ``STOP_NAN``, ``STOP_BROKEN`` stop it).
+def grow_step(n, dims, modules, scratch, genes, c, strength_young, env):
+    """One step of a plant in its environment ``env`` (:class:`Surroundings`), all in one
+    call; returns ``(n_new, stop)``, ``stop`` an index into :data:`STOPS` (``STOP_CAP``
+    when the cap held back new modules, which does not stop the plant; ``STOP_NAN``,
+    ``STOP_BROKEN`` stop it).
 
     1. place the modules end to end (:func:`place_kernel`);
     2. each wall's light at its point (on the surface, halfway along the module) with its
-       outward normal, through the shadow maps of every light ``light_dirs`` ``(j, 3)``
-       with image planes ``light_u, light_v`` and intensities ``light_w``
-       (:func:`growsim.kernels.light.point_light_kernel`; ``resolution``, ``bias`` in
-       pixels, ``soft`` shadows with one ``transmission``) into ``wall_light``;
+       outward normal, through the shadow maps of every light ``env.dirs`` ``(j, 3)``
+       with image planes ``env.us, env.vs`` and intensities ``env.weights``
+       (:func:`growsim.kernels.light.point_light_into`; ``env.resolution``, ``env.bias``
+       in pixels, ``env.soft`` shadows with one ``env.transmission``) into
+       ``modules.wall_light``;
     3. water (:func:`growsim.kernels.water.transport_into_kernel`): demand = mean wall
-       light x side area; ``supply``, ``resistance``, ``lift`` (already scaled by g) give
-       ``met``;
-    4. :func:`step_kernel`; a NaN or infinity in the modules stops the plant (``n``
-       modules kept);
-    5. ``light`` the mean wall light of the old modules (0 for new ones), ``met`` 1 for new
-       ones; modules placed again;
+       light x side area; ``env.supply``, ``env.resistance``, ``env.lift`` (already scaled
+       by g) give ``modules.met``;
+    4. :func:`step_kernel` (``genes``, constants ``c``); a NaN or infinity in the modules
+       stops the plant (``n`` modules kept);
+    5. ``modules.light`` the mean wall light of the old modules (0 for new ones), ``met``
+       1 for new ones; modules placed again;
     6. gravity (:func:`growsim.kernels.gravity.loads_kernel`): strength
-       ``strength_young + (strength - strength_young) x lignin``; a joint whose stress
+       ``strength_young + (env.strength - strength_young) x lignin``; a joint whose stress
        reaches it stops the plant.
 
-    The arrays are as :func:`step_kernel`'s plus ``origin`` ``(cap, 3)`` and ``light``
-    ``(cap,)``, all updated in place, and ``scratch`` the shadow maps' scratch
-    (:func:`growsim.kernels.light.shadow_scratch` of ``resolution``).
+    ``modules`` (:class:`Modules`) are updated in place; ``scratch`` is the shadow maps'
+    scratch (:func:`growsim.kernels.light.shadow_scratch` of ``env.resolution``).
     :func:`growsim.models.hormone.grow` calls this once per step; :func:`grow_population`
     runs whole populations through it.
 
@@ -445,6 +503,9 @@ def grow_step(n, cap, dims, walls, parent, R, origin, length, radius, nutrient, 
     >>> [p.n_segments for p in grow({"dims": 2, "steps": 3}, env=env)]
     [1, 1, 1]
     """
+    parent, R, origin, length, radius, nutrient = modules[:6]
+    lignin, hormone, wall_light, met, light = modules[7], *modules[10:]
+    cap, walls = hormone.shape[0], hormone.shape[1]
     place_kernel(n, parent, R, length, origin)
     start = origin[:n]
     end = _ends(n, origin, length, R, np.empty((n, 3)))
@@ -462,10 +523,12 @@ def grow_step(n, cap, dims, walls, parent, R, origin, length, radius, nutrient, 
                 unit[q * walls + i, k] = normals[q, i, k] / norm
     offsets = np.array([0, n], np.int64)
     point_offsets = np.array([0, m], np.int64)
-    trans = np.full(n, transmission) if soft else np.empty(0)
-    lit = point_light_into(start, end, radius[:n], offsets, points, point_offsets, unit,
-                           light_dirs, light_u, light_v, light_w, resolution, bias, soft,
-                           trans, scratch, np.empty(m))  # fmt: skip
+    trans = np.full(n, env.transmission) if env.soft else np.empty(0)
+    lit = point_light_into(
+        (start, end, radius[:n], offsets), (points, point_offsets, unit),
+        (env.dirs, env.us, env.vs, env.weights), (env.resolution, env.bias, env.soft, trans),
+        scratch, np.empty(m),
+    )  # fmt: skip
     demand = np.empty(n)
     for q in range(n):
         acc = 0.0
@@ -474,11 +537,9 @@ def grow_step(n, cap, dims, walls, parent, R, origin, length, radius, nutrient, 
             acc += lit[q * walls + i]
         light[q] = acc / walls
         demand[q] = light[q] * 2.0 * math.pi * radius[q] * length[q]
-    transport_into_kernel(start, end, radius[:n], parent[:n], demand, supply, resistance, lift,
-                          np.empty(n), met[:n])  # fmt: skip
-    n_new, _ = step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient,
-                           chlorophyll, lignin, apex, laterals, hormone, wall_light, met,
-                           genes, c)  # fmt: skip
+    transport_into_kernel(start, end, radius[:n], parent[:n], demand, env.supply,
+                          env.resistance, env.lift, np.empty(n), met[:n])  # fmt: skip
+    n_new, _ = step_kernel(n, dims, modules, genes, c)
     if not _finite(n_new, R, length, radius, nutrient, hormone):
         return n, STOP_NAN
     for q in range(n, n_new):
@@ -490,9 +551,10 @@ def grow_step(n, cap, dims, walls, parent, R, origin, length, radius, nutrient, 
     r_end = radius_end_kernel(parent[:n_new], kind, radius[:n_new], np.empty(n_new))
     wood = np.empty(n_new)
     for q in range(n_new):
-        wood[q] = strength_young + (strength - strength_young) * lignin[q]
+        wood[q] = strength_young + (env.strength - strength_young) * lignin[q]
     loads = loads_kernel(origin[:n_new], end, radius[:n_new], r_end, parent[:n_new], kind, wood,
-                         density, leaf_mass_per_area, g, np.empty((4, n_new)))  # fmt: skip
+                         (env.density, env.leaf_mass_per_area, env.g),
+                         np.empty((4, n_new)))  # fmt: skip
     for q in range(n_new):
         if loads[3, q] >= 1.0:
             return n_new, STOP_BROKEN
@@ -535,16 +597,14 @@ def total(values, n):
 
 
 @njit
-def grow_population(genes, c, dims, walls, steps, cap, strength_young, light_dirs, light_u,
-                    light_v, light_w, resolution, bias, soft, transmission, supply, resistance,
-                    lift, g, density, leaf_mass_per_area, strength):  # fmt: skip
+def grow_population(genes, c, strength_young, dims, walls, steps, cap, env):
     """Grow ``P`` plants (genes ``(P, H, 3 + J)``, constants ``c`` ``(P, N_CONSTANTS)``,
-    ``strength_young`` ``(P,)``; the settings and the environment shared) for ``steps``
-    steps each, as :func:`growsim.models.hormone.grow` does one at a time, keeping no
-    plant. Returns ``(total, modules, stop, module_steps)``, each ``(P,)``: the nutrient
-    held at the end (NaN for a plant stopped by a NaN), the module count, the stop code
-    (:data:`STOPS`: the last of cap, nan, broken) and the modules alive summed over the
-    steps.
+    ``strength_young`` ``(P,)``; the settings and the environment ``env``
+    (:class:`Surroundings`) shared) for ``steps`` steps each, as
+    :func:`growsim.models.hormone.grow` does one at a time, keeping no plant. Returns
+    ``(total, modules, stop, module_steps)``, each ``(P,)``: the nutrient held at the end
+    (NaN for a plant stopped by a NaN), the module count, the stop code (:data:`STOPS`:
+    the last of cap, nan, broken) and the modules alive summed over the steps.
 
     Examples
     --------
@@ -573,23 +633,19 @@ def grow_population(genes, c, dims, walls, steps, cap, strength_young, light_dir
     wall_light = np.zeros((cap, walls))
     met = np.zeros(cap)
     light = np.zeros(cap)
-    scratch = shadow_scratch(resolution)
+    modules = Modules(parent, R, origin, length, radius, nutrient, chlorophyll, lignin, apex,
+                      laterals, hormone, wall_light, met, light)  # fmt: skip
+    scratch = shadow_scratch(env.resolution)
     out_total = np.empty(P)
     out_modules = np.empty(P, np.int64)
     out_stop = np.zeros(P, np.int64)
     out_steps = np.zeros(P, np.int64)
     for p in range(P):
         cp = c[p]
-        n = new_plant(parent, R, origin, length, radius, nutrient, chlorophyll, lignin, apex,
-                      laterals, hormone, cp)  # fmt: skip
+        n = new_plant(modules, cp)
         stop = STOP_NONE
         for _ in range(steps):
-            n, code = grow_step(n, cap, dims, walls, parent, R, origin, length, radius,
-                                nutrient, chlorophyll, lignin, apex, laterals, hormone,
-                                wall_light, met, light, scratch, genes[p], cp, light_dirs,
-                                light_u, light_v, light_w, resolution, bias, soft,
-                                transmission, supply, resistance, lift, g, density,
-                                leaf_mass_per_area, strength, strength_young[p])  # fmt: skip
+            n, code = grow_step(n, dims, modules, scratch, genes[p], cp, strength_young[p], env)
             out_steps[p] += n
             if code != STOP_NONE:
                 stop = code

@@ -34,16 +34,23 @@ map's writes. The answers are those of the whole map at the pixels read (tested 
 a pixel-by-pixel z-buffer, ``tests/naive/light.py``'s ``render_depth``,
 :func:`map_depth_kernel` read at every pixel centre).
 
-Hard shadows (:func:`segment_exposure_kernel`, :func:`point_exposure_kernel`): the map
-keeps each queried pixel's nearest depth and segment (the first drawn on a tie, as a
-z-buffer). A point at depth ``z`` in pixel ``(i, j)`` is lit (exposure 1) when the pixel
-is empty, when its nearest segment is the point's own segment, or when ``z - depth[i, j]
-<= bias`` (``bias = bias_pixels * pix``); else 0. Points outside the frame are lit.
+Two entries, both what production calls: :func:`segment_exposure_into` (each segment's
+samples, :func:`growsim.env.light.segment_light`) and :func:`point_light_into` (given
+points with normals under several lights: :meth:`growsim.env.Light.point_light` and the
+hormone model's step). State is passed as tuples: ``segments`` ``(start, end, radius,
+offsets)``, ``plane`` ``(u, v, d)``, ``shadow`` ``(res, bias_pixels, soft, trans)``,
+``lights`` ``(dirs, us, vs, weights)``, ``targets`` ``(points, point_offsets, normals)``.
 
-Soft shadows (:func:`soft_segment_exposure_kernel`, :func:`soft_point_exposure_kernel`):
-the deep map (every segment covering a pixel, at its depth there). A point's exposure is
-the product of the transmissions ``trans[s]`` of the other segments ``s`` lying in front
-of it at its pixel by more than the bias: ``exp(-sum k_s)``, ``k_s = -ln trans[s]``. With
+Hard shadows (``soft`` False): the map keeps each queried pixel's nearest depth and
+segment (the first drawn on a tie, as a z-buffer). A point at depth ``z`` in pixel ``(i,
+j)`` is lit (exposure 1) when the pixel is empty, when its nearest segment is the point's
+own segment, or when ``z - depth[i, j] <= bias`` (``bias = bias_pixels * pix``); else 0.
+Points outside the frame are lit.
+
+Soft shadows (``soft`` True, per-segment transmissions ``trans``): the deep map (every
+segment covering a pixel, at its depth there). A point's exposure is the product of the
+transmissions ``trans[s]`` of the other segments ``s`` lying in front of it at its pixel
+by more than the bias: ``exp(-sum k_s)``, ``k_s = -ln trans[s]``. With
 every ``trans -> 0`` it is 0 when anything else lies in front: the binary map, except
 that a steep segment whose own nearest depth at the pixel is in front of an occluder does
 not shield its point here.
@@ -66,15 +73,10 @@ __all__ = [
     "apply_cosines",
     "map_depth_kernel",
     "plant_frames",
-    "point_exposure_kernel",
     "point_light_into",
-    "point_light_kernel",
     "project_segment",
     "segment_exposure_into",
-    "segment_exposure_kernel",
     "shadow_scratch",
-    "soft_point_exposure_kernel",
-    "soft_segment_exposure_kernel",
 ]
 
 
@@ -148,20 +150,27 @@ def project_segment(start, end, k, u, v, d, ox, oy, inv):
 
 
 @njit
-def _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, samples, query,
-           query_offsets, own, trans, soft, expo, depth, seg, scratch):  # fmt: skip
+def _judge(segments, frames, plane, shadow, queries, expo, hits, scratch):
     """Exposure of every query point into ``expo`` ``(m,)``: each plant's shadow map read
     at its queries' pixels only (a pixel holding no query is never written: the same
     answers as a whole z-buffer or deep map, for the pixels read).
 
-    The queries: with ``samples > 0``, each segment's ``samples`` points at ``t = (i +
-    0.5) / samples`` of its axis (query ``s * samples + i``, its own segment ``s``;
-    ``query``, ``query_offsets``, ``own`` unused); with ``samples == 0``, the points
-    ``query`` ``(m, 3)``, plant ``p`` owning ``query_offsets[p]:query_offsets[p + 1]``,
-    ``own[q]`` the segment a query belongs to or -1. ``scratch`` a
-    :func:`shadow_scratch` of ``res``, left as given. For hard shadows, the map's depth
-    and segment at each query's pixel (``inf`` and -1 where empty) go into ``depth`` and
-    ``seg`` ``(m,)`` unless they are empty."""
+    ``segments`` ``(start, end, radius, offsets)``, ``frames`` from :func:`plant_frames`,
+    ``plane`` ``(u, v, d)``, ``shadow`` ``(res, bias_pixels, soft, trans)`` as
+    :func:`segment_exposure_into`. ``queries`` ``(samples, query, query_offsets, own)``:
+    with ``samples > 0``, each segment's ``samples`` points at ``t = (i + 0.5) / samples``
+    of its axis (query ``s * samples + i``, its own segment ``s``; ``query``,
+    ``query_offsets``, ``own`` unused); with ``samples == 0``, the points ``query`` ``(m,
+    3)``, plant ``p`` owning ``query_offsets[p]:query_offsets[p + 1]``, ``own[q]`` the
+    segment a query belongs to or -1. ``scratch`` a :func:`shadow_scratch` of ``res``,
+    left as given. For hard shadows, the map's depth and segment at each query's pixel
+    (``inf`` and -1 where empty) go into ``hits`` ``(depth, seg)`` ``(m,)`` unless they
+    are empty."""
+    start, end, radius, offsets = segments
+    u, v, d = plane
+    res, bias_pixels, soft, trans = shadow
+    samples, query, query_offsets, own = queries
+    depth, seg = hits
     head, occ, near_z, near_id = scratch
     W = (res + 63) // 64
     keep = depth.shape[0] > 0
@@ -222,12 +231,11 @@ def _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, sampl
                 head[pix[i]] = i
             else:
                 pix[i] = -1  # outside the frame: in the open
-        expo_p = expo[q0:q1]
+        plant_queries = (nxt, qz, mine, expo[q0:q1])
         for k in range(offsets[p], offsets[p + 1]):
-            ax, ay, bx, by, za, zb = project_segment(start, end, k, u, v, d, ox, oy, inv)
-            walk_capsule(k, ax, ay, bx, by, za, zb, radius[k] * inv, res, head, occ, nxt, qz,
-                         mine, bias, soft, trans[k] if soft else 1.0, near_z, near_id,
-                         expo_p)  # fmt: skip
+            ends = project_segment(start, end, k, u, v, d, ox, oy, inv)
+            walk_capsule(k, ends, radius[k] * inv, res, scratch, plant_queries, bias, soft,
+                         trans[k] if soft else 1.0)  # fmt: skip
         if not soft:
             for i in range(q1 - q0):
                 z, k = (near_z[pix[i]], near_id[pix[i]]) if pix[i] >= 0 else (np.inf, -1)
@@ -244,13 +252,22 @@ def _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, sampl
 
 
 @njit
-def segment_exposure_into(start, end, radius, offsets, frames, u, v, d, res, bias_pixels,
-                          samples, soft, trans, scratch, out):  # fmt: skip
-    """:func:`segment_exposure_kernel` (``soft`` False) or
-    :func:`soft_segment_exposure_kernel` (``soft`` True, per-segment transmissions
-    ``trans``) with the map's scratch given (a :func:`shadow_scratch` of ``res``, left as
-    it was given): a caller that lights many plants at one resolution
-    (:func:`growsim.env.light.segment_light`) keeps one, whose pages stay mapped.
+def segment_exposure_into(segments, frames, plane, samples, shadow, scratch, out):
+    """Each segment's exposure: the mean over its ``samples`` points (at ``t = (q + 0.5) /
+    samples`` of its axis) of their exposure in their plant's shadow map (hard: 1 when lit,
+    else 0; soft: the product of the transmissions of the other segments in front), into
+    ``out`` ``(n,)`` (overwritten and returned). The production entry of
+    :func:`growsim.env.light.segment_light`.
+
+    ``segments`` ``(start, end, radius, offsets)``: ``start, end`` ``(n, 3)``, ``radius``
+    ``(n,)`` float64, ``offsets`` ``(k + 1,)`` int64 (plant ``p`` the segments
+    ``offsets[p]:offsets[p + 1]``); ``frames`` ``(k, 3)`` from :func:`plant_frames`;
+    ``plane`` ``(u, v, d)`` ``(3,)`` each: the image plane and the unit direction the light
+    travels; ``shadow`` ``(res, bias_pixels, soft, trans)``: pixels across, the depth bias
+    in pixels, soft shadows (else hard) and, when soft, the per-segment transmissions
+    ``(n,)`` (else an empty array); ``scratch`` a :func:`shadow_scratch` of ``res``, left
+    as it was given: a caller that lights many plants at one resolution keeps one, whose
+    pages stay mapped.
 
     Examples
     --------
@@ -259,15 +276,20 @@ def segment_exposure_into(start, end, radius, offsets, frames, u, v, d, res, bia
     >>> u, v, d = np.array([1.0, 0, 0]), np.array([0.0, 0, -1]), np.array([0.0, -1, 0])
     >>> r, off = np.full(2, 0.2), np.array([0, 2])
     >>> f = plant_frames(s, e, r, off, u, v, 64)
-    >>> segment_exposure_into(s, e, r, off, f, u, v, d, 64, 1.5, 1, False, np.empty(0),
-    ...                       shadow_scratch(64), np.empty(2)).tolist()
+    >>> hard = (64, 1.5, False, np.empty(0))
+    >>> segment_exposure_into((s, e, r, off), f, (u, v, d), 1, hard, shadow_scratch(64),
+    ...                       np.empty(2)).tolist()
     [1.0, 0.0]
+    >>> soft = (64, 1.5, True, np.full(2, 0.5))
+    >>> segment_exposure_into((s, e, r, off), f, (u, v, d), 1, soft, shadow_scratch(64),
+    ...                       np.empty(2)).tolist()
+    [1.0, 0.5]
     """
     none = np.empty(0, np.int64)
-    expo = _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, samples,
-                  np.empty((0, 3)), none, none, trans, soft, np.empty(start.shape[0] * samples),
-                  np.empty(0), none, scratch)  # fmt: skip
-    for s in range(start.shape[0]):
+    expo = _judge(segments, frames, plane, shadow, (samples, np.empty((0, 3)), none, none),
+                  np.empty(segments[0].shape[0] * samples), (np.empty(0), none),
+                  scratch)  # fmt: skip
+    for s in range(segments[0].shape[0]):
         acc = 0.0
         for i in range(samples):
             acc += expo[s * samples + i]
@@ -276,113 +298,21 @@ def segment_exposure_into(start, end, radius, offsets, frames, u, v, d, res, bia
 
 
 @njit
-def segment_exposure_kernel(start, end, radius, offsets, frames, u, v, d, res, bias_pixels,
-                            samples, out):  # fmt: skip
-    """Hard shadows: each segment's share of its ``samples`` points (at ``t = (q + 0.5) /
-    samples`` of its axis) that are lit, one z-buffer per plant.
-
-    ``start, end`` ``(n, 3)``, ``radius`` ``(n,)`` float64; ``offsets`` ``(k + 1,)`` int64;
-    ``frames`` ``(k, 3)`` from :func:`plant_frames`; ``u, v, d`` ``(3,)`` the image plane
-    and the unit direction the light travels; ``res`` pixels across; ``bias_pixels`` the
-    depth bias in pixels; ``out`` ``(n,)`` float64, overwritten and returned.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> s = np.array([[0.0, 1, 0], [0, 0, 0]]); e = np.array([[1.0, 1, 0], [1, 0, 0]])
-    >>> u, v, d = np.array([1.0, 0, 0]), np.array([0.0, 0, -1]), np.array([0.0, -1, 0])
-    >>> r, off = np.full(2, 0.2), np.array([0, 2])
-    >>> f = plant_frames(s, e, r, off, u, v, 64)
-    >>> segment_exposure_kernel(s, e, r, off, f, u, v, d, 64, 1.5, 1, np.empty(2)).tolist()
-    [1.0, 0.0]
-    """
-    return segment_exposure_into(start, end, radius, offsets, frames, u, v, d, res,
-                                 bias_pixels, samples, False, np.empty(0), shadow_scratch(res),
-                                 out)  # fmt: skip
-
-
-@njit
-def soft_segment_exposure_kernel(start, end, radius, offsets, frames, u, v, d, res,
-                                 bias_pixels, samples, trans, out):  # fmt: skip
-    """Soft shadows: each segment's mean, over its samples, of the product of the
-    transmissions ``trans`` ``(n,)`` of the other segments in front of the sample (a deep
-    shadow map per plant). Other arguments as :func:`segment_exposure_kernel`.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> s = np.array([[0.0, 2, 0], [0, 1, 0], [0, 0, 0]])
-    >>> e = s + np.array([1.0, 0, 0])
-    >>> u, v, d = np.array([1.0, 0, 0]), np.array([0.0, 0, -1]), np.array([0.0, -1, 0])
-    >>> r, off = np.full(3, 0.2), np.array([0, 3])
-    >>> f = plant_frames(s, e, r, off, u, v, 64)
-    >>> soft_segment_exposure_kernel(s, e, r, off, f, u, v, d, 64, 1.5, 1, np.full(3, 0.5),
-    ...                              np.empty(3)).tolist()
-    [1.0, 0.5, 0.25]
-    """
-    return segment_exposure_into(start, end, radius, offsets, frames, u, v, d, res,
-                                 bias_pixels, samples, True, trans, shadow_scratch(res),
-                                 out)  # fmt: skip
-
-
-@njit
-def point_exposure_kernel(start, end, radius, offsets, frames, points, point_offsets, u, v, d,
-                          res, bias_pixels, out):  # fmt: skip
-    """Hard shadows at points: ``out[m]`` is 1 when point ``m`` (of plant ``p``:
-    ``point_offsets[p] <= m < point_offsets[p + 1]``) is lit in plant ``p``'s map, else 0
-    (outside the frame or on an empty pixel: lit).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> s = np.array([[0.0, 1, 0]]); e = np.array([[1.0, 1, 0]]); r = np.array([0.2])
-    >>> u, v, d = np.array([1.0, 0, 0]), np.array([0.0, 0, -1]), np.array([0.0, -1, 0])
-    >>> off = np.array([0, 1]); f = plant_frames(s, e, r, off, u, v, 64)
-    >>> pts = np.array([[0.5, 0, 0], [0.5, 2, 0], [3, 0, 0]])
-    >>> point_exposure_kernel(s, e, r, off, f, pts, np.array([0, 3]), u, v, d, 64, 1.5,
-    ...                       np.empty(3)).tolist()
-    [0.0, 1.0, 1.0]
-    """
-    own = np.full(points.shape[0], -1, np.int64)
-    scratch = shadow_scratch(res)
-    return _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, 0, points,
-                  point_offsets, own, np.empty(0), False, out, np.empty(0), own[:0],
-                  scratch)  # fmt: skip
-
-
-@njit
-def soft_point_exposure_kernel(start, end, radius, offsets, frames, points, point_offsets, u,
-                               v, d, res, bias_pixels, trans, out):  # fmt: skip
-    """Soft shadows at points: the product of the transmissions of the segments in front
-    of each point (see :func:`soft_segment_exposure_kernel`).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> s = np.array([[0.0, 2, 0], [0, 1, 0]]); e = s + np.array([1.0, 0, 0])
-    >>> u, v, d = np.array([1.0, 0, 0]), np.array([0.0, 0, -1]), np.array([0.0, -1, 0])
-    >>> r, off = np.full(2, 0.2), np.array([0, 2]); f = plant_frames(s, e, r, off, u, v, 64)
-    >>> soft_point_exposure_kernel(s, e, r, off, f, np.array([[0.5, 0, 0]]), np.array([0, 1]),
-    ...     u, v, d, 64, 1.5, np.full(2, 0.1), np.empty(1)).round(6).tolist()
-    [0.01]
-    """
-    own = np.full(points.shape[0], -1, np.int64)
-    scratch = shadow_scratch(res)
-    return _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, 0, points,
-                  point_offsets, own, trans, True, out, np.empty(0), own[:0],
-                  scratch)  # fmt: skip
-
-
-@njit
-def point_light_kernel(start, end, radius, offsets, points, point_offsets, normals, dirs, us,
-                       vs, weights, res, bias_pixels, soft, trans, out):  # fmt: skip
+def point_light_into(segments, targets, lights, shadow, scratch, out):
     """Light at points from several parallel lights: ``out[m] = sum_k weights[k] x
-    exposure_k[m] x max(0, -normals[m] . dirs[k])``, each direction ``k`` (unit ``dirs[k]``,
-    image plane ``us[k], vs[k]``) with its own shadow maps (hard, or soft with the
-    per-segment ``trans`` when ``soft``); a direction of weight 0 is skipped. ``normals``
-    unit ``(m, 3)``; other arguments as :func:`point_exposure_kernel`. ``out`` ``(m,)`` is
-    overwritten and returned. One call for a sun and its sky
-    (:meth:`growsim.env.Light.point_light`).
+    exposure_k[m] x max(0, -normals[m] . dirs[k])``, each direction ``k`` (unit
+    ``dirs[k]``, image plane ``us[k], vs[k]``) with its own shadow maps; a direction of
+    weight 0 is skipped, and so is a point facing away from a light (its shadow is not
+    judged). The production entry of :meth:`growsim.env.Light.point_light` and of the
+    hormone model's step (:func:`growsim.kernels.hormone.grow_step`).
+
+    ``segments`` and ``shadow`` ``(res, bias_pixels, soft, trans)`` as
+    :func:`segment_exposure_into`; ``targets`` ``(points, point_offsets, normals)``: the
+    points ``(m, 3)``, plant ``p`` owning ``point_offsets[p]:point_offsets[p + 1]``, their
+    unit normals ``(m, 3)``; ``lights`` ``(dirs, us, vs, weights)``: ``(j, 3)`` each and
+    ``(j,)``. ``scratch`` a :func:`shadow_scratch` of ``res``, left as it was given.
+    ``out`` ``(m,)`` is overwritten and returned. A point outside its plant's map, or on
+    an empty pixel, is in the open.
 
     Examples
     --------
@@ -390,36 +320,18 @@ def point_light_kernel(start, end, radius, offsets, points, point_offsets, norma
     >>> s = np.array([[0.0, 1, 0]]); e = np.array([[1.0, 1, 0]]); r = np.array([0.2])
     >>> d = np.array([[0.0, -1, 0], [-1.0, 0, 0]])  # from above, from the right
     >>> u = np.array([[1.0, 0, 0], [0.0, 0, -1]]); v = np.array([[0.0, 0, -1], [0.0, 1, 0]])
-    >>> pts, nrm = np.array([[0.5, 0, 0]]), np.array([[0.6, 0.8, 0]])
-    >>> point_light_kernel(s, e, r, np.array([0, 1]), pts, np.array([0, 1]), nrm, d, u, v,
-    ...     np.array([1.0, 0.5]), 64, 0.1, False, np.empty(0), np.empty(1)).round(3).tolist()
-    [0.3]
-    """
-    scratch = shadow_scratch(res)
-    return point_light_into(start, end, radius, offsets, points, point_offsets, normals, dirs,
-                            us, vs, weights, res, bias_pixels, soft, trans, scratch,
-                            out)  # fmt: skip
-
-
-@njit
-def point_light_into(start, end, radius, offsets, points, point_offsets, normals, dirs, us,
-                     vs, weights, res, bias_pixels, soft, trans, scratch, out):  # fmt: skip
-    """:func:`point_light_kernel` with the map's scratch given (a
-    :func:`shadow_scratch` of ``res``, left as it was given): a caller that lights a plant
-    at every step (:func:`growsim.kernels.hormone.grow_step`) makes it once, not at every
-    call.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> s = np.array([[0.0, 1, 0]]); e = np.array([[1.0, 1, 0]]); r = np.array([0.2])
-    >>> d = np.array([[0.0, -1, 0]]); u = np.array([[1.0, 0, 0]]); v = np.array([[0.0, 0, -1]])
+    >>> pts = (np.array([[0.5, 0, 0]]), np.array([0, 1]), np.array([[0.6, 0.8, 0]]))
     >>> scratch = shadow_scratch(64)
-    >>> point_light_into(s, e, r, np.array([0, 1]), np.array([[0.5, 0, 0]]), np.array([0, 1]),
-    ...     np.array([[0.0, 1, 0]]), d, u, v, np.ones(1), 64, 0.1, False, np.empty(0), scratch,
-    ...     np.empty(1)).tolist(), bool((scratch[1] == 0).all())
-    ([0.0], True)
+    >>> point_light_into((s, e, r, np.array([0, 1])), pts, (d, u, v, np.array([1.0, 0.5])),
+    ...     (64, 0.1, False, np.empty(0)), scratch, np.empty(1)).round(3).tolist()
+    [0.3]
+    >>> bool((scratch[1] == 0).all())  # left as given
+    True
     """
+    start, end, radius, offsets = segments
+    points, point_offsets, normals = targets
+    dirs, us, vs, weights = lights
+    res = shadow[0]
     m = points.shape[0]
     P = point_offsets.shape[0] - 1
     out[:] = 0.0
@@ -451,9 +363,8 @@ def point_light_into(start, end, radius, offsets, points, point_offsets, normals
                     c += 1
         facing_offsets[P] = c
         frames = plant_frames(start, end, radius, offsets, u, v, res)
-        _judge(start, end, radius, offsets, frames, u, v, d, res, bias_pixels, 0, facing[:c],
-               facing_offsets, own[:c], trans, soft, expo[:c], np.empty(0), own[:0],
-               scratch)  # fmt: skip
+        _judge(segments, frames, (u, v, d), shadow, (0, facing[:c], facing_offsets, own[:c]),
+               expo[:c], (np.empty(0), own[:0]), scratch)  # fmt: skip
         for i in range(c):
             out[which[i]] += expo[i] * cosine[i] * w
     return out
@@ -488,10 +399,12 @@ def shadow_scratch(res):
 
 
 @njit
-def map_depth_kernel(start, end, radius, offsets, frames, points, point_offsets, u, v, d, res):
-    """The hard shadow map read at points: ``(depth, segment)`` ``(m,)`` of the nearest
-    capsule at each point's pixel of its plant's map (``inf`` and -1 where the pixel is
-    empty or the point lies outside the frame).
+def map_depth_kernel(segments, frames, points, point_offsets, plane, res):
+    """The hard shadow map the production entries build, read at points: ``(depth,
+    segment)`` ``(m,)`` of the nearest capsule at each point's pixel of its plant's map
+    (``inf`` and -1 where the pixel is empty or the point lies outside the frame). A probe
+    of the rasteriser (the same :func:`_judge` as :func:`segment_exposure_into` and
+    :func:`point_light_into`), tested against a pixel-by-pixel z-buffer.
 
     Examples
     --------
@@ -499,36 +412,17 @@ def map_depth_kernel(start, end, radius, offsets, frames, points, point_offsets,
     >>> s = np.array([[0.0, 2, 0], [0, 1, 0]]); e = s + np.array([1.0, 0, 0])
     >>> u, v, d = np.array([1.0, 0, 0]), np.array([0.0, 0, -1]), np.array([0.0, -1, 0])
     >>> r, off = np.full(2, 0.2), np.array([0, 2]); f = plant_frames(s, e, r, off, u, v, 64)
-    >>> z, k = map_depth_kernel(s, e, r, off, f, np.array([[0.5, 0, 0], [3, 0, 0]]),
-    ...                         np.array([0, 2]), u, v, d, 64)
+    >>> z, k = map_depth_kernel((s, e, r, off), f, np.array([[0.5, 0, 0], [3, 0, 0]]),
+    ...                         np.array([0, 2]), (u, v, d), 64)
     >>> z.tolist(), k.tolist()
     ([-2.0, inf], [0, -1])
     """
     m = points.shape[0]
     scratch = shadow_scratch(res)
     depth, seg = np.empty(m), np.empty(m, np.int64)
-    _judge(
-        start,
-        end,
-        radius,
-        offsets,
-        frames,
-        u,
-        v,
-        d,
-        res,
-        0.0,
-        0,
-        points,
-        point_offsets,
-        np.full(m, -1, np.int64),
-        np.empty(0),
-        False,
-        np.empty(m),
-        depth,
-        seg,
-        scratch,
-    )
+    _judge(segments, frames, plane, (res, 0.0, False, np.empty(0)),
+           (0, points, point_offsets, np.full(m, -1, np.int64)), np.empty(m), (depth, seg),
+           scratch)  # fmt: skip
     return depth, seg
 
 

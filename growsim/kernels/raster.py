@@ -26,7 +26,7 @@ import numpy as np
 from growsim.errors import UserInputError
 from growsim.kernels.config import njit
 
-__all__ = ["draw_segments", "draw_segments_depth"]
+__all__ = ["draw_segments", "draw_segments_depth", "iceil", "ifloor"]
 
 
 # --------------------------------------------------------------------------- kernels
@@ -46,14 +46,26 @@ def _iclamp(v, hi, up):
 
 
 @njit
-def _ifloor(v, hi):
-    """``floor(v)`` clamped to ``[-1, hi + 1]`` (see :func:`_iclamp`)."""
+def ifloor(v, hi):
+    """``floor(v)`` clamped to ``[-1, hi + 1]`` (see :func:`_iclamp`).
+
+    Examples
+    --------
+    >>> ifloor(2.5, 8), ifloor(-1e300, 8), ifloor(1e300, 8)
+    (2, -1, 9)
+    """
     return _iclamp(v, hi, False)
 
 
 @njit
-def _iceil(v, hi):
-    """``ceil(v)`` clamped to ``[-1, hi + 1]`` (see :func:`_iclamp`)."""
+def iceil(v, hi):
+    """``ceil(v)`` clamped to ``[-1, hi + 1]`` (see :func:`_iclamp`).
+
+    Examples
+    --------
+    >>> iceil(2.5, 8), iceil(-1e300, 8), iceil(1e300, 8)
+    (3, -1, 9)
+    """
     return _iclamp(v, hi, True)
 
 
@@ -119,14 +131,14 @@ def _thin_line(out, ax, ay, bx, by):
         return
     dx = bx - ax
     dy = by - ay
-    j0 = _ifloor(ax, W)
-    j1 = _ifloor(bx, W)
+    j0 = ifloor(ax, W)
+    j1 = ifloor(bx, W)
     if j0 == j1:
         # one column (incl. vertical segments and points): every point is closed
         if j0 >= 0 and j0 < W:
             lo = min(ay, by)
             hi = max(ay, by)
-            _fill_column(out, j0, _ifloor(lo, H), _ifloor(hi, H))
+            _fill_column(out, j0, ifloor(lo, H), ifloor(hi, H))
         return
     if j0 < 0:
         j0 = 0
@@ -145,20 +157,20 @@ def _thin_line(out, ax, ay, bx, by):
         yl = ay + (xl - ax) * slope
         yh = by if (not open_hi and xh == bx) else ay + (xh - ax) * slope
         if dy == 0.0:
-            r = _ifloor(ay, H)
+            r = ifloor(ay, H)
             _fill_column(out, j, r, r)
         elif not open_hi:
             lo = min(yl, yh)
             hi = max(yl, yh)
-            _fill_column(out, j, _ifloor(lo, H), _ifloor(hi, H))
+            _fill_column(out, j, ifloor(lo, H), ifloor(hi, H))
         elif yh > yl:
             # y in [yl, yh): the open end is the larger one
-            r1 = _iceil(yh, H) - 1
-            r0 = _ifloor(yl, H)
+            r1 = iceil(yh, H) - 1
+            r0 = ifloor(yl, H)
             _fill_column(out, j, r0, max(r0, r1))
         else:
             # y in (yh, yl]: just above yh the row is floor(yh)
-            _fill_column(out, j, _ifloor(yh, H), _ifloor(yl, H))
+            _fill_column(out, j, ifloor(yh, H), ifloor(yl, H))
 
 
 @njit
@@ -183,10 +195,10 @@ def _seg_dist2_t(px, py, ax, ay, bx, by):
 def _capsule(out, ax, ay, bx, by, r):
     """Pixels whose centre lies within ``r`` of the segment."""
     H, W = out.shape
-    i0 = max(0, _ifloor(min(ay, by) - r - 0.5, H))
-    i1 = min(H - 1, _iceil(max(ay, by) + r, H))
-    j0 = max(0, _ifloor(min(ax, bx) - r - 0.5, W))
-    j1 = min(W - 1, _iceil(max(ax, bx) + r, W))
+    i0 = max(0, ifloor(min(ay, by) - r - 0.5, H))
+    i1 = min(H - 1, iceil(max(ay, by) + r, H))
+    j0 = max(0, ifloor(min(ax, bx) - r - 0.5, W))
+    j1 = min(W - 1, iceil(max(ax, bx) + r, W))
     r2 = r * r
     for i in range(i0, i1 + 1):
         for j in range(j0, j1 + 1):
@@ -226,10 +238,10 @@ def _draw_segments_depth(a, b, za, zb, width, depth, ids):
         by = b[k, 1]
         # rasterise this one segment into a scratch mask, then merge the covered pixels
         r = 0.5 * width[k] if width[k] > 1.0 else 0.0
-        i0 = max(0, _ifloor(min(ay, by) - r - 0.5, H))
-        i1 = min(H - 1, _iceil(max(ay, by) + r, H))
-        j0 = max(0, _ifloor(min(ax, bx) - r - 0.5, W))
-        j1 = min(W - 1, _iceil(max(ax, bx) + r, W))
+        i0 = max(0, ifloor(min(ay, by) - r - 0.5, H))
+        i1 = min(H - 1, iceil(max(ay, by) + r, H))
+        j0 = max(0, ifloor(min(ax, bx) - r - 0.5, W))
+        j1 = min(W - 1, iceil(max(ax, bx) + r, W))
         if i0 > i1 or j0 > j1:
             continue
         _thin_line(mask, ax, ay, bx, by)

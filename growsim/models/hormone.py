@@ -159,11 +159,12 @@ def genes(params: Mapping[str, float]) -> np.ndarray:
     return out
 
 
-def environment_args(env) -> tuple:
-    """The environment's settings as :func:`growsim.kernels.hormone.grow_step` takes them:
-    the light's passes (:meth:`growsim.env.Light.passes`), resolution, bias, soft shadows
-    and transmission; the water's supply, resistance and lift (scaled by ``g / 9.81``); the
-    gravity's ``g``, wood density, leaf mass per area and wood strength.
+def environment_args(env) -> K.Surroundings:
+    """The environment's settings as :func:`growsim.kernels.hormone.grow_step` takes them
+    (:class:`growsim.kernels.hormone.Surroundings`): the light's passes
+    (:meth:`growsim.env.Light.passes`), resolution, bias, soft shadows and transmission; the
+    water's supply, resistance and lift (scaled by ``g / 9.81``); the gravity's ``g``, wood
+    density, leaf mass per area and wood strength.
 
     Raises :class:`growsim.errors.UserInputError` for the moderngl light backend (the
     model's step is one numba kernel, light included).
@@ -171,8 +172,9 @@ def environment_args(env) -> tuple:
     Examples
     --------
     >>> from growsim.env import Environment
-    >>> len(environment_args(Environment()))
-    15
+    >>> env = environment_args(Environment())
+    >>> len(env), env.resolution == Environment().light.resolution
+    (15, True)
     """
     from growsim.errors import UserInputError
 
@@ -183,7 +185,7 @@ def environment_args(env) -> tuple:
             "model's step runs in one numba kernel, light included; use 'numba'"
         )
     d, u, v, w = light.passes()
-    return (
+    return K.Surroundings(
         d, u, v, w, int(light.resolution), float(light.bias), light.shadows == "soft",
         float(light.transmission), float(water.supply), float(water.resistance),
         float(water.lift) * float(gravity.g) / 9.81, float(gravity.g), float(gravity.density),
@@ -211,9 +213,7 @@ def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Pla
         n, code = K.grow_step(n, *s.values())
         if code != K.STOP_NONE:
             stopped = K.STOPS[code]
-        yield _plant(p, n, s["origin"], s["R"], s["length"], s["radius"], s["parent"],
-                     s["nutrient"], s["chlorophyll"], s["lignin"], s["light"], s["met"],
-                     step + 1, stopped)  # fmt: skip
+        yield _plant(p, n, s["modules"], step + 1, stopped)
         if code in (K.STOP_NAN, K.STOP_BROKEN):
             return
 
@@ -221,16 +221,18 @@ def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Pla
 def seedling(p: Mapping[str, float], env) -> tuple[int, dict]:
     """A new plant's state as :func:`growsim.kernels.hormone.grow_step` takes it: ``(n,
     state)``, ``n`` its module count (1) and ``state`` the rest of ``grow_step``'s
-    arguments in their order (module arrays of the cap's length, updated in place by each
-    step; the scratch; genes and constants; the environment's settings), so that ``n, code
-    = grow_step(n, *state.values())`` grows it a step. ``p`` are resolved parameters
+    arguments in their order (``dims``; ``modules``, the
+    :class:`growsim.kernels.hormone.Modules` of the cap's length, updated in place by each
+    step; the shadow maps' ``scratch``; ``genes``, constants ``c`` and ``strength_young``;
+    ``env`` the environment's :func:`environment_args`), so that ``n, code =
+    grow_step(n, *state.values())`` grows it a step. ``p`` are resolved parameters
     (:func:`growsim.models.base.resolve_params`).
 
     Examples
     --------
     >>> from growsim.env import Environment
     >>> n, state = seedling(resolve_params(PARAMS, PRESETS["demo_3d"]), Environment())
-    >>> n, state["hormone"].shape
+    >>> n, state["modules"].hormone.shape
     (1, (300, 6, 10))
     """
     dims = int(p["dims"])
@@ -239,36 +241,22 @@ def seedling(p: Mapping[str, float], env) -> tuple[int, dict]:
     c = np.array([p[name] for name, _, _ in CONSTANTS])
     g = genes(p)
     s = {
-        "cap": cap,
         "dims": dims,
-        "walls": walls,
-        "parent": np.empty(cap, np.int64),
-        "R": np.empty((cap, 3, 3)),
-        "origin": np.empty((cap, 3)),
-        **{k: np.empty(cap) for k in ("length", "radius", "nutrient", "chlorophyll", "lignin")},
-        "apex": np.empty(cap, np.bool_),
-        "laterals": np.empty(cap, np.int64),
-        "hormone": np.empty((cap, walls, g.shape[0])),
-        "wall_light": np.zeros((cap, walls)),
-        "met": np.zeros(cap),
-        "light": np.zeros(cap),
+        "modules": K.new_module_arrays(cap, walls, g.shape[0]),
         "scratch": shadow_scratch(int(env.light.resolution)),
         "genes": g,
         "c": c,
+        "strength_young": float(p["strength_young"]),
+        "env": environment_args(env),
     }
-    names = ("light_dirs", "light_u", "light_v", "light_w", "resolution", "bias", "soft",
-             "transmission", "supply", "resistance", "lift", "g", "density",
-             "leaf_mass_per_area", "strength")  # fmt: skip
-    s.update(zip(names, environment_args(env)))
-    s["strength_young"] = float(p["strength_young"])
-    n = K.new_plant(s["parent"], s["R"], s["origin"], s["length"], s["radius"], s["nutrient"],
-                    s["chlorophyll"], s["lignin"], s["apex"], s["laterals"], s["hormone"],
-                    c)  # fmt: skip
+    n = K.new_plant(s["modules"], c)
     return n, s
 
 
-def _plant(p, n, origin, R, length, radius, parent, nutrient, chlorophyll, lignin, light,
-           water, steps, stopped) -> Plant:  # fmt: skip
+def _plant(p, n, modules, steps, stopped) -> Plant:
+    origin, R, length, radius = modules.origin, modules.R, modules.length, modules.radius
+    parent, nutrient, chlorophyll = modules.parent, modules.nutrient, modules.chlorophyll
+    lignin, light, water = modules.lignin, modules.light, modules.met
     start = origin[:n].copy()
     end = start + length[:n, None] * R[:n, :, 2]
     order = np.zeros(n, np.int32)
@@ -349,7 +337,7 @@ def population(params, names: Sequence[str], env=None) -> pd.DataFrame | None:
     c = np.ascontiguousarray(x[:, [col[name] for name, _, _ in CONSTANTS]])
     young = np.ascontiguousarray(x[:, col["strength_young"]])
     total, modules, stop, module_steps = K.grow_population(
-        g, c, dims, walls, steps, cap, young, *environment_args(env)
+        g, c, young, dims, walls, steps, cap, environment_args(env)
     )
     return pd.DataFrame(
         {

@@ -37,20 +37,20 @@ def _in_subtree(parent, i, s):
     return False
 
 
-def loads_kernel(
-    start, end, radius, radius_end, parent, kind, strength, density, leaf_mass_per_area, g
-):
+def loads_kernel(start, end, radius, radius_end, parent, kind, strength, material):
     """Mirror of :func:`growsim.kernels.gravity.loads_kernel` (without ``out``): a
-    ``(4, n)`` array of rows ``mass``, ``mass_above``, ``moment``, ``ratio``.
+    ``(4, n)`` array of rows ``mass``, ``mass_above``, ``moment``, ``ratio``; ``material``
+    is ``(density, leaf_mass_per_area, g)``.
 
     Examples
     --------
     >>> import numpy as np
     >>> out = loads_kernel(np.zeros((1, 3)), np.array([[2.0, 0, 0]]), [0.1], [0.1], [-1], [0],
-    ...                    [1e6], 1000.0, 0.1, 10.0)
+    ...                    [1e6], (1000.0, 0.1, 10.0))
     >>> round(float(out[2, 0]), 2)  # weight x 1
     628.32
     """
+    density, leaf_mass_per_area, g = material
     n = start.shape[0]
     strength = np.broadcast_to(np.asarray(strength, float), (n,))
     mc = [

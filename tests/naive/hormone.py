@@ -34,10 +34,14 @@ def rotation(axis, angle):
     return np.eye(3) + math.sin(angle) * x + (1 - math.cos(angle)) * x @ x
 
 
-def step_kernel(n, cap, dims, walls, parent, R, length, radius, nutrient, chlorophyll, lignin,
-                apex, laterals, hormone, wall_light, met, genes, c):  # fmt: skip
-    """Mirror of :func:`growsim.kernels.hormone.step_kernel` (updates the arrays in place,
-    returns ``(n_new, gained)``)."""
+def step_kernel(n, dims, modules, genes, c):
+    """Mirror of :func:`growsim.kernels.hormone.step_kernel` (updates the arrays of
+    ``modules`` in place, returns ``(n_new, gained)``)."""
+    parent, R, length, radius = modules.parent, modules.R, modules.length, modules.radius
+    nutrient, chlorophyll, lignin = modules.nutrient, modules.chlorophyll, modules.lignin
+    apex, laterals, hormone = modules.apex, modules.laterals, modules.hormone
+    wall_light, met = modules.wall_light, modules.met
+    cap, walls = hormone.shape[:2]
     sig = lambda a: 1 / (1 + math.exp(-a)) if a > -50 else 0.0  # noqa: E731
     H = genes.shape[0]
     mean_h = np.zeros((n, H))

@@ -1,5 +1,8 @@
 """Oracles of the shadow-map light (:mod:`growsim.kernels.light`): exact geometry, no
-raster (and, for the rasteriser itself, a pixel-by-pixel NumPy z-buffer: :func:`render_depth`).
+raster (and, for the rasteriser itself, a pixel-by-pixel NumPy z-buffer: :func:`render_depth`,
+the map :func:`growsim.kernels.light.map_depth_kernel` reads). The production entries'
+mirrors, :func:`segment_exposure_into` and :func:`point_light_into`, take the kernels'
+tuples (without the scratch and ``out``).
 
 Each sample point is judged exactly against the model the z-buffer discretises: a segment
 ``j`` of the same plant shades the point ``p`` when ``p``'s projection on the image plane
@@ -68,9 +71,10 @@ def transmitted(p, own, start, end, radius, u, v, d, bias, trans, grow=0.0, slac
     return e
 
 
-def segment_cosines(start, end, normal, use_normal, d):
-    """Lambert's cosine per segment: :func:`growsim.kernels.light.apply_cosines` on
-    ``out`` = ones and ``intensity`` 1."""
+def apply_cosines(start, end, normal, use_normal, d):
+    """Mirror of :func:`growsim.kernels.light.apply_cosines` on ``out`` = ones and
+    ``intensity`` 1: Lambert's cosine per segment, ``|n . d|`` for a blade, else the sine
+    of the angle between the axis and the light."""
     out = np.empty(len(start))
     for s in range(len(start)):
         if use_normal[s]:
@@ -113,13 +117,11 @@ def render_depth(a, b, za, zb, radius, res):
     return depth, ids
 
 
-def segment_exposure_kernel(
-    start, end, radius, offsets, frames, u, v, d, res, bias_pixels, samples, trans=None,
-    tol_pixels=0.0,
-):  # fmt: skip
-    """Mirror of :func:`growsim.kernels.light.segment_exposure_kernel` (without ``out``;
-    ``frames`` is ignored: the pixel size, for the bias, is computed here), or with
-    ``trans`` of :func:`growsim.kernels.light.soft_segment_exposure_kernel`.
+def segment_exposure_into(segments, frames, plane, samples, shadow, tol_pixels=0.0):
+    """Mirror of :func:`growsim.kernels.light.segment_exposure_into` (without ``scratch``
+    and ``out``; ``frames`` is ignored: the pixel size, for the bias, is computed here):
+    hard shadows, or soft ones with the transmissions of ``shadow = (res, bias_pixels,
+    soft, trans)``.
 
     With ``tol_pixels > 0`` it returns instead a boolean ``(n,)``: whether some sample has
     an occluder whose answer changes when every capsule's shadow grows or shrinks by
@@ -132,9 +134,14 @@ def segment_exposure_kernel(
     >>> import numpy as np
     >>> s = np.array([[0.0, 1, 0], [0, 0, 0]]); e = np.array([[1.0, 1, 0], [1, 0, 0]])
     >>> u, v, d = np.array([1.0, 0, 0]), np.array([0.0, 0, -1]), np.array([0.0, -1, 0])
-    >>> segment_exposure_kernel(s, e, np.full(2, 0.2), [0, 2], None, u, v, d, 64, 1.5, 1)
+    >>> segments = (s, e, np.full(2, 0.2), [0, 2])
+    >>> segment_exposure_into(segments, None, (u, v, d), 1, (64, 1.5, False, None))
     array([1., 0.])
     """
+    start, end, radius, offsets = segments
+    u, v, d = plane
+    res, bias_pixels, soft, trans = shadow
+    trans = trans if soft else None
     n = len(start)
     out = np.zeros(n)
     edge = np.zeros(n, bool)
@@ -168,13 +175,14 @@ def segment_exposure_kernel(
     return edge if tol_pixels > 0 else out
 
 
-def point_exposure_kernel(
-    start, end, radius, offsets, frames, points, point_offsets, u, v, d, res, bias_pixels,
-    trans=None, tol_pixels=0.0,
-):  # fmt: skip
-    """Mirror of :func:`growsim.kernels.light.point_exposure_kernel` (without ``out``), or
-    with ``trans`` of the soft kernel; with ``tol_pixels > 0``, the boolean ``(m,)`` of
-    points near an edge (as :func:`segment_exposure_kernel`)."""
+def point_exposure(segments, points, point_offsets, plane, res, bias_pixels, trans=None,
+                   tol_pixels=0.0):  # fmt: skip
+    """The exposure of each point in its plant's shadow map along one light (the part of
+    :func:`point_light_into` before the cosine): 1 or 0 (hard), or the product of the
+    transmissions ``trans`` of the segments in front of it (soft); with ``tol_pixels > 0``,
+    the boolean ``(m,)`` of points near an edge (as :func:`segment_exposure_into`)."""
+    start, end, radius, offsets = segments
+    u, v, d = plane
     out = np.ones(len(points))
     edge = np.zeros(len(points), bool)
     for k in range(len(offsets) - 1):
@@ -202,21 +210,34 @@ def point_exposure_kernel(
     return edge if tol_pixels > 0 else out
 
 
-def point_light_kernel(start, end, radius, offsets, points, point_offsets, normals, dirs, us,
-                       vs, weights, res, bias_pixels, soft, trans, tol_pixels=0.0):  # fmt: skip
-    """Mirror of :func:`growsim.kernels.light.point_light_kernel` (without ``out``): the
-    sum over directions of :func:`point_exposure_kernel` times the clipped cosine times
-    the weight; with ``tol_pixels > 0``, the boolean ``(m,)`` of points near an edge in
-    some direction of non-zero weight."""
+def point_light_into(segments, targets, lights, shadow, tol_pixels=0.0):
+    """Mirror of :func:`growsim.kernels.light.point_light_into` (without ``scratch`` and
+    ``out``): the sum over the lights ``(dirs, us, vs, weights)`` of
+    :func:`point_exposure` times the clipped cosine ``max(0, -n . d)`` times the weight;
+    with ``tol_pixels > 0``, the boolean ``(m,)`` of points near an edge along some light
+    of non-zero weight that they face.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> segments = (np.array([[0.0, 1, 0]]), np.array([[1.0, 1, 0]]), np.array([0.2]), [0, 1])
+    >>> targets = (np.array([[0.5, 0, 0], [3, 0, 0]]), [0, 2], np.array([[0.0, 1, 0]] * 2))
+    >>> lights = (np.array([[0.0, -1, 0]]), np.array([[1.0, 0, 0]]), np.array([[0.0, 0, -1]]),
+    ...           np.array([2.0]))
+    >>> point_light_into(segments, targets, lights, (64, 0.1, False, None))
+    array([0., 2.])
+    """
+    points, point_offsets, normals = targets
+    res, bias_pixels, soft, trans = shadow
     out = np.zeros(len(points))
     edge = np.zeros(len(points), bool)
-    for d, u, v, w in zip(dirs, us, vs, weights):
+    for d, u, v, w in zip(*lights):
         if w == 0.0:
             continue
-        frames = plant_frames(start, end, radius, offsets, u, v, res)
-        args = (start, end, radius, offsets, frames, points, point_offsets, u, v, d, res,
-                bias_pixels, trans if soft else None)  # fmt: skip
-        out += point_exposure_kernel(*args) * np.maximum(0.0, -(normals @ d)) * w
+        cos = np.maximum(0.0, -(normals @ d))
+        args = (segments, points, point_offsets, (u, v, d), res, bias_pixels,
+                trans if soft else None)  # fmt: skip
+        out += point_exposure(*args) * cos * w
         if tol_pixels > 0:
-            edge |= point_exposure_kernel(*args, tol_pixels=tol_pixels)
+            edge |= point_exposure(*args, tol_pixels=tol_pixels) & (cos > 0)
     return edge if tol_pixels > 0 else out
