@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import ROOT
 from naive import hormone as naive
 
 from growsim.env import Environment
@@ -191,11 +192,12 @@ def test_configs_evolve_every_gene_by_a_pattern():
     from growsim.experiment.plan import plan_model
 
     for dims in (2, 3):
-        plan = plan_model(load_config(f"experiments/hormone_{dims}d.toml"))
+        plan = plan_model(load_config(ROOT / f"experiments/hormone_{dims}d.toml"))
         assert len(plan.evolved) == 90 and plan.fixed["dims"] == dims
         assert all(p.name.startswith("h") for p in plan.evolved)
     with pytest.raises(ConfigError, match=r"model.evolve.zz\*: the pattern matches no parameter"):
-        plan_model(load_config("experiments/hormone_2d.toml", overrides=["model.evolve.zz*=true"]))
+        config = ROOT / "experiments/hormone_2d.toml"
+        plan_model(load_config(config, overrides=["model.evolve.zz*=true"]))
 
 
 def test_sweep_variants_and_the_common_garden(tmp_path):
@@ -206,8 +208,8 @@ def test_sweep_variants_and_the_common_garden(tmp_path):
 
     tiny = ["ga.population=6", "ga.generations=2", "model.params.steps=6",
             "model.params.max_modules=20"]  # fmt: skip
-    df = sweep("experiments/hormone_2d.toml", repeats=2, out=tmp_path / "sw", overrides=tiny,
-               progress=False)  # fmt: skip
+    df = sweep(ROOT / "experiments/hormone_2d.toml", repeats=2, out=tmp_path / "sw",
+               overrides=tiny, progress=False)  # fmt: skip
     assert sorted(df["sweep_variant"].unique()) == ["ample", "half_light", "half_water"]
     assert {Path(p).parent.name for p in df["out"]} == {"ample", "half_light", "half_water"}
     # the summary counts why the final population stopped growing (cap, broken, nan)
@@ -264,7 +266,7 @@ def test_an_impossible_environment_is_refused_before_evolution(tmp_path, overrid
 
     out = tmp_path / "run"
     with pytest.raises(GrowsimError, match=key):
-        run("experiments/hormone_2d.toml", out, overrides=[override, "ga.generations=1"],
+        run(ROOT / "experiments/hormone_2d.toml", out, overrides=[override, "ga.generations=1"],
             progress=False)  # fmt: skip
     assert not (out / "history.parquet").exists()
 
@@ -273,7 +275,7 @@ def test_same_plants_serially_in_a_pool_and_on_dask(process_pool, dask_client):
     # the population path in worker processes: same fitness, bit for bit
     from growsim.experiment import load_plan
 
-    plan = load_plan("experiments/hormone_3d.toml", ["model.params.steps=8"])
+    plan = load_plan(ROOT / "experiments/hormone_3d.toml", ["model.params.steps=8"])
     f = plan.fitness()
     rng = np.random.default_rng(3)
     x = np.array([[rng.uniform(p.low, p.high) for p in plan.evolved] for _ in range(12)])
@@ -295,7 +297,7 @@ def test_census_counts_the_same_on_a_pool():
 
     sets = ["model.params.max_modules=20", "model.params.upkeep=100",
             'model.evolve={"strength_young"=true}']  # fmt: skip
-    plan = load_plan("experiments/hormone_3d.toml", sets)
+    plan = load_plan(ROOT / "experiments/hormone_3d.toml", sets)
     f = plan.fitness()
     result = SimpleNamespace(population=np.geomspace(1e3, 1e6, 10)[:, None])
     serial = _census(f, result, [])

@@ -154,6 +154,15 @@ def _spread_words(row, nw, nq, mask64):
                 mask64[q] = _SPREAD[(word >> np.uint64(8 * k)) & np.uint64(0xFF)]
 
 
+@njit(inline="always")
+def _mask_bytes(L):
+    """Room for one pair's mask of ``L`` bytes: ``nq`` 8-byte words (``mask64``) and the
+    same memory as ``mask`` bytes."""
+    nq = (L + 7) // 8
+    mask64 = np.empty(nq, np.uint64)
+    return nq, mask64, mask64.view(np.uint8)
+
+
 @njit
 def byte_word_crossover(a, b, c1, c2, words):
     """:func:`word_crossover` for ``(m, L)`` uint8 genomes (the bit genomes), without a
@@ -162,9 +171,7 @@ def byte_word_crossover(a, b, c1, c2, words):
     the compiler vectorises (measured 8x faster than :func:`word_crossover` on 500 pairs
     x 1000 bits)."""
     m, L = a.shape
-    nq = (L + 7) // 8
-    mask64 = np.empty(nq, np.uint64)
-    mask = mask64.view(np.uint8)
+    nq, mask64, mask = _mask_bytes(L)
     nw = words.shape[1]
     for i in range(m):
         _spread_words(words[i], nw, nq, mask64)
@@ -186,9 +193,7 @@ def byte_word_crossover_pairs(pop, ia, ib, words, kids):
     arrays of their own and the children never concatenated."""
     m = ia.shape[0]
     n, L = kids.shape
-    nq = (L + 7) // 8
-    mask64 = np.empty(nq, np.uint64)
-    mask = mask64.view(np.uint8)
+    nq, mask64, mask = _mask_bytes(L)
     nw = words.shape[1]
     for i in range(m):
         _spread_words(words[i], nw, nq, mask64)

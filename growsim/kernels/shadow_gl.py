@@ -137,6 +137,13 @@ def texel(pu, pv, frame, res, tx, ty, width):
     return (ty + int(y)) * width + tx + int(x)
 
 
+@njit(inline="always")
+def _tile_origin(tile, cols, res):
+    """The texel origin ``(tx, ty)`` of a batch's ``tile``-th map in an atlas of ``cols``
+    columns of ``res x res`` maps."""
+    return (tile % cols) * res, (tile // cols) * res
+
+
 @njit
 def segment_queries(segments, frames, plane, batch, atlas, samples, q, z):
     """The samples of segments ``c0 <= s < c1`` (of plants ``p0:p1``), ``samples`` per
@@ -159,14 +166,11 @@ def segment_queries(segments, frames, plane, batch, atlas, samples, q, z):
     p0, p1, c0, c1 = batch
     cols, res, width = atlas
     for p in range(p0, p1):
-        s0 = max(offsets[p], c0)
-        s1 = min(offsets[p + 1], c1)
+        s0, s1 = max(offsets[p], c0), min(offsets[p + 1], c1)
         if s1 <= s0:
             continue
         frame = frames[p]
-        tile = p - p0
-        tx = (tile % cols) * res
-        ty = (tile // cols) * res
+        tx, ty = _tile_origin(p - p0, cols, res)
         for s in range(s0, s1):
             for k in range(samples):
                 t = (k + 0.5) / samples
@@ -201,14 +205,11 @@ def point_queries(points, point_offsets, frames, plane, batch, atlas, q, z):
     p0, p1, c0, c1 = batch
     cols, res, width = atlas
     for p in range(p0, p1):
-        m0 = max(point_offsets[p], c0)
-        m1 = min(point_offsets[p + 1], c1)
+        m0, m1 = max(point_offsets[p], c0), min(point_offsets[p + 1], c1)
         if m1 <= m0:
             continue
         frame = frames[p]
-        tile = p - p0
-        tx = (tile % cols) * res
-        ty = (tile // cols) * res
+        tx, ty = _tile_origin(p - p0, cols, res)
         for m in range(m0, m1):
             pu = points[m, 0] * u[0] + points[m, 1] * u[1] + points[m, 2] * u[2]
             pv = points[m, 0] * v[0] + points[m, 1] * v[1] + points[m, 2] * v[2]
