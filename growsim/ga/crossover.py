@@ -58,9 +58,18 @@ class Crossover(Operator):
     """
 
     role = name = "crossover"
+    #: True when :meth:`cross_pairs` takes the mutation's per-child ``choice`` (and
+    #: ``parameters``): :meth:`growsim.ga.operator.Operators.mate` hands them over
+    takes_choice = False
 
     def __init__(self, rate: float = 0.9):
         self.rate = _check_prob(self.name, "rate", rate)
+
+    def cross_pairs(self, pop, ia, ib, n_off, rng, genome, **choice):
+        """The fast path: the ``n_off`` children ``(n_off, L)`` of the pairs
+        ``(pop[ia], pop[ib])`` written at once, or None (the default: no fast path; the
+        pairs are gathered and crossed by ``__call__``)."""
+        return None
 
     def __call__(self, a, b, rng, genome):
         a = np.ascontiguousarray(a)

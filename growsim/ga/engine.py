@@ -272,7 +272,7 @@ class GA:
         schedule and flag extinct islands; returns the islands' diversities."""
         st, n, genome = self.state, self.options.population, self.genome
         mutation = self.operators.mutation
-        adaptive = getattr(mutation, "self_adaptive", False)
+        adaptive = mutation.self_adaptive
         a = 0
         for i, (kind, strat, m) in enumerate(pending.islands):
             x, s = pending.raw[a : a + m], score[a : a + m]

@@ -55,10 +55,26 @@ class Mutation(Operator):
     """
 
     role = name = "mutation"
+    #: True when the operator evolves per-individual strategies: ``__call__(x, rng, genome,
+    #: strategy) -> (x, strategy)``
     self_adaptive = False
 
     def __call__(self, x, rng, genome):
         raise NotImplementedError
+
+    def inherit(self, strategy, rng):
+        """The children's strategies before their crossover (default: as they are, no
+        random draw)."""
+        return strategy
+
+    def crossover_choice(self, strategy) -> np.ndarray | None:
+        """``(m,)`` bool: which children a choosing crossover treats its own way (default:
+        None, no choice)."""
+        return None
+
+    def crossover_parameters(self, strategy) -> np.ndarray | None:
+        """``(m, k)`` per-child parameters for a choosing crossover (default: None)."""
+        return None
 
 
 def _rate(op: str, rate, default: float) -> float:

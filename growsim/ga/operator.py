@@ -103,30 +103,24 @@ class Operators:
         strat = None
         if strategy is not None:
             strat = np.concatenate([strategy[parents_a], strategy[parents_b]])[:n_off]
-        fast = getattr(self.crossover, "cross_pairs", None)
-        if fast is None:
-            kids = None
-        elif getattr(self.crossover, "takes_choice", False):
+        if self.crossover.takes_choice:
             # the mutation's per-child choice of crossover and its parameters (an adaptive
             # Portfolio's), if it makes them; the children's inherited values may be
             # redrawn first (jDE), so each child carries the parameters that made it
-            inherit = getattr(self.mutation, "inherit", None)
-            if inherit is not None and strat is not None:
-                strat = inherit(strat, rng)
-            choose = getattr(self.mutation, "crossover_choice", None)
-            choice = None if choose is None else choose(strat)
-            params = getattr(self.mutation, "crossover_parameters", None)
-            par = None if params is None else params(strat)
+            if strat is not None:
+                strat = self.mutation.inherit(strat, rng)
+            choice = self.mutation.crossover_choice(strat)
+            par = self.mutation.crossover_parameters(strat)
             kw = {"choice": choice} if par is None else {"choice": choice, "parameters": par}
-            kids = fast(pop, parents_a, parents_b, n_off, rng, genome, **kw)
+            kids = self.crossover.cross_pairs(pop, parents_a, parents_b, n_off, rng, genome, **kw)
         else:
-            kids = fast(pop, parents_a, parents_b, n_off, rng, genome)
+            kids = self.crossover.cross_pairs(pop, parents_a, parents_b, n_off, rng, genome)
         if kids is None:
             c1, c2 = self.crossover(pop[parents_a], pop[parents_b], rng, genome)
             # first children, then second children (one contiguous copy; interleaving them
             # with np.stack cost 0.2 ms more per generation at 1000 x 1000 bits)
             kids = np.concatenate([c1, c2])[:n_off]
-        if getattr(self.mutation, "self_adaptive", False):
+        if self.mutation.self_adaptive:
             kids, strat = self.mutation(kids, rng, genome, strat)
         else:
             kids = self.mutation(kids, rng, genome)
