@@ -299,6 +299,17 @@ def test_dask_local_cluster_gives_the_same_results(tiny_run, tmp_path, dask_clus
     assert other.summary["scheduler"] == address
 
 
+# the session's cluster holds Dask's port 8787: this one moves (and Dask's retry drops a socket)
+@pytest.mark.filterwarnings("ignore:Port 8787 is already in use", "ignore:unclosed <socket")
+def test_scheduler_local_starts_its_own_cluster(tiny_run, tmp_path):
+    # scheduler="local": growsim starts (and stops) a LocalCluster of `workers` processes
+    other = run(QUICK, tmp_path / "local", overrides=TINY, scheduler="local", workers=1,
+                progress=False)  # fmt: skip
+    history_eq(tiny_run.history, other.history)
+    assert other.best_params == tiny_run.best_params
+    assert other.summary["scheduler"] == "local"
+
+
 def test_light_objective_formula_and_environment():
     from growsim.env import Environment
     from growsim.errors import ConfigError
