@@ -29,7 +29,7 @@ from pydantic import AfterValidator, Field
 
 from growsim.errors import UserInputError
 from growsim.options import Options
-from growsim.skeleton import checked_array, skeleton_arrays
+from growsim.skeleton import LEAF, checked_array, skeleton_arrays
 
 __all__ = [
     "DEFAULT_RESOLUTION",
@@ -517,7 +517,6 @@ def segment_light(
     [1.0, 0.5, 0.0]
     """
     from growsim.kernels import light as kernels
-    from growsim.skeleton import LEAF
 
     where = "segment_light"
     d, u, v, intensity, res, bias = _shadow_settings(

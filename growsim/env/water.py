@@ -48,7 +48,7 @@ from pydantic import Field
 
 from growsim.errors import UserInputError
 from growsim.options import Options
-from growsim.skeleton import checked_array, skeleton_arrays
+from growsim.skeleton import LEAF, checked_array, skeleton_arrays
 
 __all__ = ["LIFT", "RESISTANCE", "Water", "WaterFlow", "segment_demand", "transport"]
 
@@ -103,7 +103,6 @@ def segment_demand(kind, light, length, stem_demand: float = 0.0) -> np.ndarray:
     length = np.asarray(length, dtype=np.float64)
     if kind is None:
         return light.copy()
-    from growsim.skeleton import LEAF
 
     return np.where(np.asarray(kind) == LEAF, light, float(stem_demand) * length)
 

@@ -52,7 +52,8 @@ from pathlib import Path
 import numpy as np
 
 from growsim.errors import UserInputError
-from growsim.kernels.views import frame_scale, frame_view
+from growsim.files import atomic_write
+from growsim.kernels.views import MARGIN, frame_scale, frame_view
 from growsim.pictures.photo import segment_photo
 from growsim.pictures.reading import check_silhouette, load_gray
 
@@ -282,7 +283,6 @@ def frame_thin_lines(front: np.ndarray, side: np.ndarray | None, size: int = 64)
     >>> bool((frame_thin_lines(*big, 64) == v).all())
     True
     """
-    from growsim.kernels.views import MARGIN
 
     masks = (front,) if side is None else (front, side)
     geo = []
@@ -420,7 +420,6 @@ def silhouette_image(views, path: str | os.PathLike, *, titles=None, scale: int 
     """
     from PIL import Image, ImageDraw
 
-    from growsim.files import atomic_write
 
     views = [np.asarray(v) for v in views]
     if not views:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.phenotypes.plant.plant import LEAF, Plant
 
 __all__ = [
     "ARROW_RGB",
@@ -142,7 +143,6 @@ def segment_colors(plant, color: str, env=None) -> np.ndarray:
     >>> bool(np.isnan(stress[tree.kind == 1]).all()), bool(np.nanmax(stress) < 1)
     (True, True)
     """
-    from growsim.phenotypes.plant.plant import LEAF, Plant
 
     scale = color_scale(color, env)
     if not isinstance(plant, Plant):

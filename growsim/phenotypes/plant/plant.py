@@ -33,7 +33,7 @@ import numpy as np
 from growsim.errors import UserInputError
 from growsim.files import atomic_write, json_default
 from growsim.phenotypes.base import Phenotype
-from growsim.skeleton import LEAF, STEM, checked_array
+from growsim.skeleton import LEAF, STEM, checked_array, radius_end
 
 __all__ = ["LEAF", "STEM", "LeafLight", "Plant", "leaf_light"]
 
@@ -383,8 +383,6 @@ class Plant(Phenotype):
         """
         if "radius_end" in self.data:
             return np.asarray(self.data["radius_end"], dtype=np.float64)
-        from growsim.skeleton import radius_end
-
         return radius_end(self.parent, self.kind, self.radius)
 
     def wood_volume(self) -> float:

@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.phenotypes.base import Phenotype
 from growsim.phenotypes.plant.colors import (
     ARROW_RGB,
     NAN_RGB,
@@ -35,6 +36,7 @@ from growsim.phenotypes.plant.colors import (
     light_arrow_mesh,
     segment_colors,
 )
+from growsim.phenotypes.plant.mesh import plant_mesh
 from growsim.phenotypes.plant.plant import Plant
 from growsim.render import (
     check_size,
@@ -62,8 +64,6 @@ _LEGEND_MARGIN = 0.16  # share of the image height kept free for the scalar bar
 
 def _mesh_of(plant_or_mesh, sides=6, segments=1):
     import pyvista as pv
-
-    from growsim.phenotypes.plant.mesh import plant_mesh
 
     if isinstance(plant_or_mesh, Plant):
         return plant_mesh(plant_or_mesh, sides=sides, segments=segments)
@@ -93,8 +93,6 @@ def _scene(pl, plant_or_mesh, color=None, env=None, light_arrow=None, legend=Tru
     else:
         values = segment_colors(plant_or_mesh, color, env)
         scale = color_scale(color, env)
-        from growsim.phenotypes.plant.mesh import plant_mesh
-
         mesh = plant_mesh(plant_or_mesh, fields={color: values})
         if mesh.n_cells and color in mesh.cell_data:
             bar = {
@@ -386,8 +384,6 @@ def render_grid(
     text_h = 18 if titles else 0
     grid = Image.new("RGB", (cols * cw, rows * (ch + text_h)), "white")
     draw = ImageDraw.Draw(grid)
-    from growsim.phenotypes.base import Phenotype
-
     for i, p in enumerate(plants):
         if isinstance(p, Phenotype):
             img = p.render_image(view=view, size=(cw, ch))
