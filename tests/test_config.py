@@ -371,3 +371,18 @@ def test_relative_image_paths_resolve_next_to_the_config(tmp_path, monkeypatch):
     # a path that exists nowhere is left to the objective, which names it
     with pytest.raises(GrowsimError, match=r"nope\.png"):
         load_config("fit.toml", ["objective[0].front=nope.png"])
+
+
+def test_commands_in_the_shipped_configs_name_directories_they_make():
+    """A config's comments say how to run and compare it: every directory a commented
+    ``growsim compare DIR`` reads is the ``--out DIR`` of a commented run or sweep."""
+    import re
+
+    for path in sorted((ROOT / "experiments").glob("*.toml")):
+        lines = [ln.lstrip("# ").strip() for ln in path.read_text().splitlines()]
+        made = {m for ln in lines if ln.startswith("growsim ")
+                for m in re.findall(r"--out (\S+)", ln)}  # fmt: skip
+        for ln in lines:
+            if ln.startswith("growsim compare "):
+                dirs = [a for a in ln.split("#")[0].split()[2:] if not a.startswith("-")]
+                assert dirs and set(dirs) <= made, (path.name, ln, made)
