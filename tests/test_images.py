@@ -8,11 +8,13 @@ from PIL import Image
 
 from growsim.errors import UserInputError
 from growsim.pictures.images import (
+    classify_picture,
     frame_silhouettes,
     otsu_threshold,
     read_silhouettes,
     silhouette,
     silhouette_image,
+    unframe,
 )
 from growsim.pictures.reading import load_gray
 
@@ -250,3 +252,70 @@ def test_radius_framing_draws_branches_as_the_renderer_does():
     k = 63.0 / 400
     draw_segments(np.array([[32.0, 63.5]]), np.array([[32.0, 0.5]]), np.array([8 * k]), tube)
     assert abs(int(tube[40:60].sum()) - int(widths[40:60].sum())) <= 20
+
+
+def _photo(h=96, w=80, seed=0):
+    """A small synthetic colour photo: a sky gradient, a green ground strip, a brown
+    stick tree, camera noise."""
+    _, fg = _tree_picture(h, w)
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0.0, 1.0, h)[:, None, None]
+    rgb = (1 - t) * np.array([0.45, 0.65, 0.95]) + t * np.array([0.75, 0.85, 1.0])
+    rgb = np.broadcast_to(rgb, (h, w, 3)).copy()
+    rgb[int(0.85 * h) :] = (0.25, 0.5, 0.15)
+    rgb[fg] = (0.35, 0.25, 0.18)
+    return np.clip(rgb + rng.normal(0, 0.02, rgb.shape), 0, 1)
+
+
+@pytest.mark.parametrize("dark", [True, False])
+@pytest.mark.parametrize("paper", [0.85, 1.0])
+def test_drawings_are_classified_drawings(dark, paper, tmp_path):
+    g, fg = _tree_picture(dark=dark)
+    if paper == 1.0:  # clean black on white, anti-aliased edges, saved as JPEG
+        g = np.where(fg, 0.0, 1.0)
+        g[1:] = 0.5 * (g[1:] + g[:-1])
+    path = tmp_path / "d.jpg"
+    Image.fromarray(np.round(255 * g).astype(np.uint8)).convert("RGB").save(path, quality=85)
+    assert classify_picture(g)[0] == "drawing"
+    kind, why = classify_picture(path)
+    assert kind == "drawing" and "grey levels" in why
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_photos_are_classified_photos(seed, tmp_path):
+    rgb = _photo(seed=seed)
+    assert classify_picture(rgb)[0] == "photo"
+    path = tmp_path / "p.jpg"
+    Image.fromarray(np.round(255 * rgb).astype(np.uint8)).save(path, quality=80)
+    kind, why = classify_picture(path)
+    assert kind == "photo" and "colour" in why
+
+
+@pytest.mark.parametrize("line_width", ["thin", "radius"])
+def test_unframe_puts_the_framed_silhouette_back_in_place(line_width):
+    _, fg = _tree_picture()
+    side = np.fliplr(fg)
+    framed = frame_silhouettes(fg, side, 64, line_width)
+    for v, mask in enumerate((fg, side)):
+        back = unframe(framed[v], fg, side, view=v, line_width=line_width)
+        assert back.shape == mask.shape
+        # the silhouette comes back where it was, a raster pixel (< 2 picture px) wider
+        assert (back & mask).sum() >= 0.97 * mask.sum()
+        assert back.sum() <= 2.5 * mask.sum()
+
+
+@pytest.mark.parametrize("inner", [224, 300])
+def test_thin_framing_of_a_drawing_enlarged_by_a_fraction(inner):
+    """Strokes enlarged by 3.5 or 4.7 picture pixels a raster pixel (nearest) spill a
+    sliver into the next raster pixel; the framing drops it, back near the render."""
+    from growsim.models import ifs3d
+    from growsim.objectives.silhouette import plant_views
+
+    views = plant_views(ifs3d.develop(ifs3d.PRESETS["table1"]), 64)
+    big = []
+    for v in views:
+        im = Image.fromarray(np.where(v > 0, 255, 0).astype(np.uint8))
+        big.append(np.pad(np.asarray(im.resize((inner, inner), Image.NEAREST)) > 127, 20))
+    framed = frame_silhouettes(big[0], big[1], 64, "thin")
+    for v in range(2):
+        assert np.corrcoef(framed[v].ravel(), views[v].ravel())[0, 1] >= 0.99

@@ -37,8 +37,6 @@ def test_fit_config_is_valid(pictures):
         assert cfg.objective[0].line_width == "radius"  # photos: branches at their width
 
 
-
-
 def test_fit_image_runs_the_best_setup(pictures):
     """``fit-image --model ifs3d`` and ``experiments/ifs_tree_best.toml`` resolve to the same
     GA (budget, islands, polish) and model: one setup, not two copies that drift apart."""
@@ -202,3 +200,32 @@ def _own_render_scores(tree, tmp_path) -> dict[str, float]:
         lw: SilhouetteObjective(front=str(front), side=str(side), line_width=lw)(tree)
         for lw in ("thin", "radius")
     }
+
+
+def test_a_drawing_with_no_flags_takes_the_fast_exact_path(pictures, tmp_path, capsys):
+    """A drawing (dark lines on light grey) fitted with no flags: classified a drawing,
+    read by the threshold, fitted in thin lines at 64 px, the choices printed and kept in
+    fit.json, the fit written framed as the target (``fit_front.png``)."""
+    import json
+
+    out = tmp_path / "fit"
+    assert main(["fit-image", pictures[0], "--out", str(out), "-q"]) == 0
+    printed = capsys.readouterr().out
+    summary = json.loads((out / "fit.json").read_text())
+    choices = {k: v["value"] for k, v in summary["choices"].items()}
+    assert choices == {"segmentation": "threshold", "line_width": "thin", "sizes": [64],
+                       "leaves": "keep"}  # fmt: skip
+    assert "a drawing" in summary["choices"]["segmentation"]["why"]
+    assert "segmentation: threshold (" in printed
+    assert [s["size"] for s in summary["stages"]] == [64]
+    assert summary["ncc"] >= 0.95
+    assert "fit_front.png" in summary["files"]
+    target = np.asarray(Image.open(out / "silhouette_front.png")) < 128
+    fit = np.asarray(Image.open(out / "fit_front.png")) < 128
+    assert fit.shape == target.shape
+    assert np.corrcoef(fit.ravel(), target.ravel())[0, 1] >= 0.9
+
+
+def test_quiet_is_accepted_short_and_long():
+    for flag in ("-q", "--quiet"):
+        assert build_parser().parse_args(["fit-image", "f.png", "--out", "o", flag]).quiet

@@ -15,7 +15,7 @@ import math
 
 from growsim.errors import UserInputError
 from growsim.fitting.fit import fit_image, raster_sizes
-from growsim.fitting.setups import FIT_SETUPS, LEAF_MODES, SIZES
+from growsim.fitting.setups import FIT_SETUPS, LEAF_MODES
 
 __all__ = ["register"]
 
@@ -57,151 +57,64 @@ def register(subparsers) -> None:
     p = subparsers.add_parser(
         "fit-image",
         help="fit a tree to one picture, or to a front and a side picture (PNG/JPEG)",
-        description="Fit a tree model to a picture of a tree (the front view; its side is "
-        "left free), or to a front and a side picture. Each picture becomes a silhouette: "
-        "by default the photo segmentation separates the tree from the sky and the ground "
-        "(colour and connectivity), refusing pictures it cannot read (no plain sky, the tree "
-        "cut off, no contrast, other objects); --segmentation threshold reads clean "
-        "drawings by a grey threshold. The model is fitted coarse to fine (--sizes, default "
-        "64,128,256: the GA at the first, a refinement at each next), with its leaves (a "
-        "bare tree is fitted by a bare tree) and, for Honda, the arrangement of its branches "
-        "(where the limbs go). Writes the run's results, fit.json (NCC and "
-        "seconds per stage), tree.glb, the silhouettes used (silhouette_<view>.png, "
-        "segmentation_<view>.png) and silhouettes.png (target against fit) into --out.",
+        usage="growsim fit-image PICTURE [SIDE] --out DIR [options]",
+        description="Fit a tree model to a picture of a tree, or to a front and a side "
+        "picture. Drawings (grey, two levels) take the fast exact path (threshold, thin "
+        "lines, 64 px), photos the photo one (sky and ground apart, 64,128,256 px, bare and "
+        "leafy); the choices are printed and kept in DIR/fit.json with the fit "
+        "(fit_<view>.png, framed as silhouette_<view>.png).",
     )
-    p.add_argument("front", help="the picture (PNG, JPEG, ...; any size): the tree's front")
-    p.add_argument("side", nargs="?", default=None, help="optional side picture (from the right)")
+    p.add_argument("front", metavar="PICTURE", help="the tree's front (PNG, JPEG, ...)")
+    p.add_argument("side", nargs="?", default=None, metavar="SIDE", help="its side (optional)")
+    p.add_argument("--out", required=True, metavar="DIR", help="results directory (new)")
     p.add_argument(
         "--model",
         default="ifs3d",
-        help="model to fit: " + ", ".join(FIT_SETUPS) + " (default ifs3d)",
+        metavar="NAME",
+        help=", ".join(FIT_SETUPS) + " (default ifs3d)",
     )
-    p.add_argument("--out", required=True, help="results directory (must not hold a run)")
-    p.add_argument(
-        "--sizes",
-        type=_sizes,
-        default=SIZES,
-        metavar="PX,PX,..",
-        help="raster sizes, coarse to fine (default 64,128,256): the GA at the first, a "
-        "local refinement at each next",
-    )
-    p.add_argument(
-        "--size",
-        type=int,
-        default=None,
-        metavar="PX",
-        help="one raster size only, 8..1024 (no refinement; same as --sizes PX)",
-    )
-    p.add_argument(
-        "--segmentation",
-        choices=("photo", "threshold"),
-        default="photo",
-        help="photo (default): the tree apart from sky and ground, in colour; threshold: "
-        "grey levels (--threshold, --polarity), for clean drawings and silhouettes",
-    )
-    p.add_argument(
-        "--threshold",
-        type=_threshold,
-        default="otsu",
-        metavar="otsu|LEVEL",
-        help="with --segmentation threshold: 'otsu' (default) or a grey level strictly "
-        "between 0 (black) and 1 (white), e.g. 0.4",
-    )
-    p.add_argument(
-        "--polarity",
-        choices=("auto", "dark", "light"),
-        default="auto",
-        help="with --segmentation threshold: dark tree on light, light on dark, or auto "
-        "(the class covering less of the picture's border is the tree)",
-    )
-    p.add_argument(
-        "--line-width",
-        choices=("thin", "radius"),
-        default=None,
-        help="how the fitted tree is drawn: radius (default: branches as wide as their "
-        "tubes, as photos show them) or thin (1-pixel lines: line drawings such as the "
-        "paper's 64x64 silhouettes; ifs3d's fast path)",
-    )
-    p.add_argument(
-        "--leaves",
-        choices=LEAF_MODES,
-        default="auto",
-        help="auto (default): fit a bare and a leafy tree, keep the better (the leafy one "
-        "only if clearly better); fit: fit the leaves; bare: no leaves; keep: the setup's "
-        "leaves, fixed",
-    )
-    p.add_argument(
-        "--no-leaves",
-        dest="leaves",
-        action="store_const",
-        const="keep",
-        help="same as --leaves keep",
-    )
-    for view in ("front", "side"):
-        p.add_argument(
-            f"--mask-{view}",
-            default=None,
-            metavar="PICTURE",
-            help=f"mask picture for the {view} view (the picture's size; only its white part "
-            "may be tree): for hard pictures",
-        )
     p.add_argument(
         "--evaluations",
         type=int,
         default=None,
         metavar="N",
-        help="fitness evaluations of the first stage, >= 100 (default: ifs3d 50,000, honda "
-        "7,500); the setup's share for its polish is kept (ifs3d 70 %%, honda 20 %%)",
+        help="budget of the first stage (default: ifs3d 50,000, honda 7,500)",
     )
-    p.add_argument(
-        "--refine",
-        type=int,
-        default=None,
-        metavar="N",
-        help="evaluations of the refinement at each finer size (default: the model's, "
-        "honda 1,000, ifs3d 600)",
-    )
-    p.add_argument(
-        "--arrange",
-        type=int,
-        default=None,
-        metavar="N",
-        help="evaluations of the search for the arrangement of the branches at each size "
-        "(where the limbs go: the model's random draws fitted to the picture; default: the "
-        "model's, honda 2,000; 0: the model's own random arrangement)",
-    )
-    p.add_argument(
-        "--blur",
-        type=float,
-        default=None,
-        metavar="SIGMA",
-        help="search on views blurred by SIGMA pixels at the first size (scaled with the "
-        "size; partial credit for a branch near its place: helps sparse trees of thin "
-        "twigs), the binary NCC at the last size (default 0: the binary NCC throughout)",
-    )
-    p.add_argument(
-        "--seed", type=int, default=0, metavar="N", help="random seed of the run (default 0)"
-    )
-    p.add_argument(
-        "--restarts",
-        type=int,
-        default=None,
-        metavar="N",
-        help="independent fits (seeds SEED, SEED+1, ...) of each kind of tree, the best at "
-        "the final size kept (default: the model's, honda 8, ifs3d 1)",
-    )
-    p.add_argument(
-        "--carry",
-        type=int,
-        default=None,
-        metavar="N",
-        help="restarts of each kind of tree carried past the first size: the N that scored "
-        "best at its end (default: the model's, honda 2; 0: all)",
-    )
+    p.add_argument("--seed", type=int, default=0, metavar="N", help="random seed (default 0)")
     p.add_argument(
         "--workers", type=int, default=None, metavar="N", help="evaluate in N local processes"
     )
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    x = p.add_argument_group("expert options (default: chosen from the picture)")
+    x.add_argument("--segmentation", choices=("auto", "photo", "threshold"), default="auto",
+                   metavar="KIND", help="auto, photo or threshold")  # fmt: skip
+    x.add_argument("--threshold", type=_threshold, default="otsu", metavar="otsu|LEVEL",
+                   help="otsu or a grey level between 0 (black) and 1 (white)")  # fmt: skip
+    x.add_argument("--polarity", choices=("auto", "dark", "light"), default="auto",
+                   metavar="P", help="the tree auto, dark or light")  # fmt: skip
+    x.add_argument("--line-width", choices=("thin", "radius"), default=None, metavar="W",
+                   help="thin (1-pixel lines) or radius (tubes)")  # fmt: skip
+    x.add_argument("--sizes", type=_sizes, default=None, metavar="PX,PX,..",
+                   help="raster sizes, coarse to fine")  # fmt: skip
+    x.add_argument("--size", type=int, default=None, metavar="PX",
+                   help="one raster size (same as --sizes PX)")  # fmt: skip
+    x.add_argument("--leaves", choices=LEAF_MODES, default=None, metavar="MODE",
+                   help=", ".join(LEAF_MODES) + " (keep: the setup's)")  # fmt: skip
+    x.add_argument("--no-leaves", dest="leaves", action="store_const", const="keep",
+                   help="same as --leaves keep")  # fmt: skip
+    for view in ("front", "side"):
+        x.add_argument(f"--mask-{view}", default=None, metavar="PIC",
+                       help="only its white part may be tree")  # fmt: skip
+    x.add_argument("--refine", type=int, default=None, metavar="N",
+                   help="evaluations of each finer size's refinement")  # fmt: skip
+    x.add_argument("--arrange", type=int, default=None, metavar="N",
+                   help="evaluations of the arrangement search")  # fmt: skip
+    x.add_argument("--blur", type=float, default=None, metavar="SIGMA",
+                   help="blur of the first size's search (pixels)")  # fmt: skip
+    x.add_argument("--restarts", type=int, default=None, metavar="N",
+                   help="fits of each kind of tree, the best kept")  # fmt: skip
+    x.add_argument("--carry", type=int, default=None, metavar="N",
+                   help="restarts carried past the first size (0: all)")  # fmt: skip
     p.set_defaults(func=_main)
 
 
@@ -226,8 +139,13 @@ def _main(args) -> int:
     for st in result.stages:
         print(f"  {st['size']:4d} px {st['stage']:6s} {st['evaluations']:6d} evaluations "
               f"{st['seconds']:7.1f} s  NCC {st['ncc']:.4f}")  # fmt: skip
+    for name, choice in summary["choices"].items():
+        value = choice["value"]
+        value = ",".join(map(str, value)) if isinstance(value, list) else value
+        print(f"  {name}: {value} ({choice['why']})")
     kind = "picture" if result.shape.suffix == ".png" else "mesh"
     print(f"  {kind}: {result.shape}")
     used = result.out / "silhouette_front.png"
-    print(f"  silhouettes: {result.out / 'silhouettes.png'} (used: {used})")
+    fits = ", ".join(p.name for p in result.files if p.name.startswith("fit_"))
+    print(f"  silhouettes: {result.out / 'silhouettes.png'} (used: {used}; fit: {fits})")
     return 0

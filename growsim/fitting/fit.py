@@ -1,9 +1,14 @@
 """Fitting a model to one picture of a tree, or to a front and a side picture:
 :func:`fit_image`, the library call ``growsim fit-image`` parses its arguments for.
 
-The pictures become silhouettes (:mod:`growsim.pictures`: by default the photo
-segmentation, the tree apart from sky and ground; ``segmentation="threshold"`` for clean
-drawings); a bad segmentation is refused with a message naming the picture, before any
+The pictures become silhouettes (:mod:`growsim.pictures`). By default
+(``segmentation="auto"``) each picture is classified
+(:func:`~growsim.pictures.images.classify_picture`): a drawing or silhouette (near grey,
+two grey levels) is read by a grey threshold and fitted as the seed fitted them (thin
+lines, one size, :data:`DRAWING_SIZES`, the setup's leaves); a photo by the photo
+segmentation (the tree apart from sky and ground), coarse to fine, bare and leafy. What
+was chosen and why is ``fit.json``'s ``choices`` (:func:`_choices`); an option given
+overrides its choice. A bad segmentation is refused with a message naming the picture, before any
 evolution. The model is fitted coarse to fine: the setup's GA (and polish) at the first
 of ``sizes`` (64 px), then a local refinement of the best at each finer size (128, 256
 px, :func:`~growsim.fitting.setups.refine`), so branch structure counts. With ``leaves
@@ -33,8 +38,10 @@ evaluations, seconds, NCC; the final parameters and the fitted arrangement, ``dr
 ``leaves``: which fit was kept and every fit's final NCC), the fitted tree
 (:attr:`~growsim.fitting.setups.FitSetup.shape`: ``tree.glb``; a 2D model's
 ``attractor.png``), ``silhouette_<view>.png`` (the silhouette used, at the picture's
-size), ``segmentation_<view>.png`` (it over the picture) and ``silhouettes.png`` (target
-and fit, framed, at the final size).
+size), ``fit_<view>.png`` (the fitted tree framed as it: same size and placement,
+:func:`~growsim.pictures.images.unframe`, to score it any way),
+``segmentation_<view>.png`` (the silhouette over the picture) and ``silhouettes.png``
+(target and fit, framed, at the final size).
 """
 
 from __future__ import annotations
@@ -256,6 +263,80 @@ def _write_masks(objective, out: Path, pictures: dict) -> list[Path]:
     return written
 
 
+def _write_fits(objective, fitted, out: Path) -> list[Path]:
+    """The fitted tree's views framed as the target: ``fit_<view>.png`` (black on white),
+    the size and placement of ``silhouette_<view>.png``
+    (:func:`~growsim.pictures.images.unframe`), so it can be scored any way."""
+    from PIL import Image
+
+    from growsim.pictures.images import unframe
+
+    masks = list(objective.pictures.values())[: objective.n_views]
+    written = []
+    for i, view in enumerate(list(objective.pictures)[: objective.n_views]):
+        back = unframe(fitted[i], *masks, view=i, line_width=objective.line_width)
+        im = Image.fromarray(np.where(back, 0, 255).astype(np.uint8))
+        path = out / f"fit_{view}.png"
+        atomic_write(path, lambda fh, im=im: im.save(fh, format="PNG"))
+        written.append(path)
+    return written
+
+
+#: the raster sizes of a drawing's fit: the seed's, one size (thin lines frame exactly)
+DRAWING_SIZES = (64,)
+
+#: ``segmentation`` of :func:`fit_image`: ``"auto"`` (a drawing by the threshold, a photo by
+#: the photo segmentation: :func:`~growsim.pictures.images.classify_picture`)
+SEGMENTATIONS = ("auto", "photo", "threshold")
+
+
+def _choices(front, side, setup, segmentation, line_width, sizes, size, leaves) -> dict:
+    """What :func:`fit_image` chose for the user, each ``{"value": ..., "why": ...}``:
+    ``segmentation`` (``"auto"``: the threshold for drawings, all pictures
+    :func:`~growsim.pictures.images.classify_picture` ``"drawing"``, else the photo
+    segmentation), and, unless given, what follows from it: ``line_width`` (a drawing:
+    ``"thin"``, the renderer's 1-pixel lines; a photo: the model's), ``sizes`` (a drawing:
+    :data:`DRAWING_SIZES`; a photo: :data:`~growsim.fitting.setups.SIZES`) and ``leaves``
+    (a drawing: ``"keep"``, the setup's tree as the seed fitted it; a photo: ``"auto"``)."""
+    from growsim.pictures.images import classify_picture
+
+    choices: dict[str, dict] = {}
+    if segmentation == "auto":
+        kinds = [(p, *classify_picture(p)) for p in (front, side) if p is not None]
+        drawing = all(k == "drawing" for _, k, _ in kinds)
+        why = "; ".join(f"{Path(p).name}: {w}" for p, _, w in kinds)
+        value = "threshold" if drawing else "photo"
+    else:
+        drawing, why, value = segmentation == "threshold", "given", segmentation
+    choices["segmentation"] = {"value": value, "why": why}
+    kind = "a drawing" if drawing else "a photo"
+    if line_width is not None:
+        choices["line_width"] = {"value": line_width, "why": "given"}
+    elif drawing:
+        choices["line_width"] = {"value": "thin", "why": f"{kind}: 1-pixel lines, as drawn"}
+    else:
+        drawn = "branches at their width" if setup.line_width == "radius" else "thin lines"
+        why = f"{kind}: the model's ({drawn})"
+        choices["line_width"] = {"value": setup.line_width, "why": why}
+    if size is not None:
+        choices["sizes"] = {"value": [int(size)], "why": "given (--size)"}
+    elif sizes is not None:
+        choices["sizes"] = {"value": list(raster_sizes(sizes)), "why": "given"}
+    elif drawing:
+        why = f"{kind}: one size, the lines frame exactly (no refinement)"
+        choices["sizes"] = {"value": list(DRAWING_SIZES), "why": why}
+    else:
+        choices["sizes"] = {"value": list(SIZES), "why": f"{kind}: coarse to fine"}
+    if leaves is not None:
+        choices["leaves"] = {"value": leaves, "why": "given"}
+    elif drawing:
+        choices["leaves"] = {"value": "keep", "why": f"{kind}: the model's setup, as drawn"}
+    else:
+        why = f"{kind}: a bare and a leafy tree, the better kept"
+        choices["leaves"] = {"value": "auto", "why": why}
+    return choices
+
+
 def _write_shape(phenotype, path: Path) -> None:
     """The fitted tree written to ``path``: a ``.png`` file its front view's picture,
     any other a mesh (:func:`growsim.phenotypes.plant.mesh.export`: ``.glb``, ...)."""
@@ -273,13 +354,13 @@ def fit_image(
     *,
     out: str | os.PathLike,
     model: str = "ifs3d",
-    sizes=SIZES,
+    sizes=None,
     size: int | None = None,
-    segmentation: str = "photo",
+    segmentation: str = "auto",
     threshold: str | float = "otsu",
     polarity: str = "auto",
     line_width: str | None = None,
-    leaves: str = "auto",
+    leaves: str | None = None,
     mask_front: str | os.PathLike | None = None,
     mask_side: str | os.PathLike | None = None,
     evaluations: int | None = None,
@@ -296,12 +377,13 @@ def fit_image(
     (from the right), into the results directory ``out`` (see the module docstring for the
     stages and the files written); returns the kept fit (:class:`FitResult`).
 
-    The keywords are ``growsim fit-image``'s options, with its defaults: ``sizes``, the
-    raster sizes coarse to fine (``size``: one size only, no refinement);
-    ``segmentation`` (``"photo"`` or ``"threshold"``, with ``threshold``, ``"otsu"`` or a
-    grey level, and ``polarity``, ``"auto"``, ``"dark"`` or ``"light"``); ``line_width``
-    (``"radius"`` or ``"thin"``; ``None``: the model's); ``leaves``
-    (:data:`~growsim.fitting.setups.LEAF_MODES`); ``mask_front``, ``mask_side``: mask
+    The keywords are ``growsim fit-image``'s options, with its defaults: ``segmentation``
+    (``"auto"``: by the picture, see the module docstring; ``"photo"`` or
+    ``"threshold"``, with ``threshold``, ``"otsu"`` or a grey level, and ``polarity``,
+    ``"auto"``, ``"dark"`` or ``"light"``); ``sizes``, the raster sizes coarse to fine
+    (``size``: one size only, no refinement); ``line_width`` (``"radius"`` or
+    ``"thin"``); ``leaves`` (:data:`~growsim.fitting.setups.LEAF_MODES`); ``None`` for
+    these three: chosen by the segmentation (:func:`_choices`); ``mask_front``, ``mask_side``: mask
     pictures (only their white part may be tree); ``evaluations``: of the first stage
     (>= 100; the setup's polish share kept); ``refine``, ``arrange``: evaluations of the
     refinement at each finer size and of each arrangement search (0: none); ``blur``:
@@ -327,16 +409,30 @@ def fit_image(
     from growsim.objectives.silhouette import phenotype_views
     from growsim.pictures.images import silhouette_image
 
+    if segmentation not in SEGMENTATIONS:
+        raise UserInputError(
+            f"--segmentation: expected one of {', '.join(SEGMENTATIONS)}, got {segmentation!r}"
+        )
     if evaluations is not None and evaluations < 100:
         raise UserInputError(f"--evaluations: at least 100, got {evaluations}")
     if refine is not None and refine < 0:
         raise UserInputError(f"--refine: at least 0, got {refine}")
     if size is not None and not 8 <= size <= 1024:
         raise UserInputError(f"--size: expected 8..1024, got {size}")
+    setup = FIT_SETUPS.get(model)
+    restarts = setup.restarts if restarts is None else restarts
+    if restarts < 1:
+        raise UserInputError(f"--restarts: at least 1, got {restarts}")
+    carry = setup.carry if carry is None else carry
+    if carry < 0:
+        raise UserInputError(f"--carry: at least 0, got {carry}")
+    choices = _choices(front, side, setup, segmentation, line_width, sizes, size, leaves)
+    segmentation, line_width, leaves, sizes = (
+        choices[k]["value"] for k in ("segmentation", "line_width", "leaves", "sizes")
+    )
     if leaves not in LEAF_MODES:
         raise UserInputError(f"--leaves: expected one of {', '.join(LEAF_MODES)}, got {leaves!r}")
-    setup = FIT_SETUPS.get(model)
-    sizes = (size,) if size is not None else raster_sizes(sizes)
+    sizes = raster_sizes(sizes)
     refine_evaluations = setup.refine if refine is None else refine
     arrange_evaluations = setup.arrange if arrange is None else arrange
     if arrange_evaluations < 0:
@@ -351,12 +447,6 @@ def fit_image(
     kw = dict(model=model, threshold=threshold, polarity=polarity, mask_front=mask_front,
               mask_side=mask_side, line_width=line_width, evaluations=evaluations,
               segmentation=segmentation)  # fmt: skip
-    restarts = setup.restarts if restarts is None else restarts
-    if restarts < 1:
-        raise UserInputError(f"--restarts: at least 1, got {restarts}")
-    carry = setup.carry if carry is None else carry
-    if carry < 0:
-        raise UserInputError(f"--carry: at least 0, got {carry}")
     if leaves == "auto":
         # a bare and a leafy tree, when the model has leaves to choose
         modes = ("bare", "fit") if setup.leaves and setup.bare else ("keep",)
@@ -434,6 +524,7 @@ def fit_image(
     silhouette_image(panels, out / "silhouettes.png", titles=titles[: len(panels)], scale=2)
     pictures = {"front": front, "side": side}
     written = _write_masks(objective, out, pictures)
+    written += _write_fits(objective, fitted, out)
     summary = {
         "model": model,
         "pictures": {k: str(v) for k, v in pictures.items() if v is not None},
@@ -444,6 +535,8 @@ def fit_image(
         "seconds": round(time.perf_counter() - t0, 3),
         "stages": kept.stages,
         "leaves": leaves_summary,
+        # what was chosen for the user (segmentation, line width, sizes, leaves) and why
+        "choices": choices,
         "params": params,
         # the arrangement of the branches fitted to the picture (None: the model's own):
         # model.develop(params, draws=np.array(draws)) grows the fitted tree

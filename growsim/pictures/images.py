@@ -58,6 +58,7 @@ from growsim.pictures.photo import segment_photo
 from growsim.pictures.reading import check_silhouette, load_gray
 
 __all__ = [
+    "classify_picture",
     "frame_silhouettes",
     "frame_thin_lines",
     "otsu_threshold",
@@ -65,6 +66,7 @@ __all__ = [
     "read_silhouettes",
     "silhouette",
     "silhouette_image",
+    "unframe",
 ]
 
 #: Share of the silhouette's height, at its bottom, whose pixels locate the trunk base.
@@ -259,6 +261,36 @@ def frame_silhouettes(
     return out
 
 
+#: ``"thin"`` framing of a drawing enlarged by a fractional factor: a raster pixel whose
+#: share covered by the strokes is below this, beside one covered at least
+#: :data:`THIN_FULL`, is a stroke's sliver spilled over and is dropped
+THIN_SLIVER = 0.5
+THIN_FULL = 0.75
+
+
+def _thin_geometry(masks, size: int):
+    """Each view's geometry and raster pixels per picture pixel ``f`` of the thin-line
+    framing (:func:`frame_thin_lines`)."""
+    geo = []
+    for m in masks:
+        rows, cols = np.nonzero(np.asarray(m, dtype=bool))
+        rmax = float(rows.max())
+        height = rmax + 1.0 - float(rows.min())
+        band = rows >= rmax - BASE_BAND * max(height - 1.0, 1.0)
+        base = float(cols[band].mean()) + 0.5
+        geo.append((rows, cols, rmax, height, base, float(cols.min()), float(cols.max() + 1)))
+    f = [1.0] * len(masks)
+    for _ in range(50):  # converges in a few steps: f changes h by 1/f only
+        hs = [max(g[3] - 1.0 / fv, 1e-9) for g, fv in zip(geo, f)]
+        hw = max(max(g[4] - g[5] - 1.0 / fv, g[6] - g[4]) / h for g, fv, h in zip(geo, f, hs))
+        k = frame_scale(1.0, max(hw, 0.0), size)
+        new = [k / h for h in hs]
+        if np.allclose(new, f, rtol=0.0, atol=1e-12):
+            break
+        f = new
+    return geo, f
+
+
 def frame_thin_lines(front: np.ndarray, side: np.ndarray | None, size: int = 64) -> np.ndarray:
     """Frame two silhouettes read as thin-line renderings into ``(2, size, size)`` uint8:
     the inverse of :func:`growsim.kernels.views.render_thin` (see the module docstring);
@@ -285,35 +317,136 @@ def frame_thin_lines(front: np.ndarray, side: np.ndarray | None, size: int = 64)
     """
 
     masks = (front,) if side is None else (front, side)
-    geo = []
-    for m in masks:
-        rows, cols = np.nonzero(np.asarray(m, dtype=bool))
-        rmax = float(rows.max())
-        height = rmax + 1.0 - float(rows.min())
-        band = rows >= rmax - BASE_BAND * max(height - 1.0, 1.0)
-        base = float(cols[band].mean()) + 0.5
-        geo.append((rows, cols, rmax, height, base, float(cols.min()), float(cols.max() + 1)))
-    f = [1.0] * len(masks)
-    for _ in range(50):  # converges in a few steps: f changes h by 1/f only
-        hs = [max(g[3] - 1.0 / fv, 1e-9) for g, fv in zip(geo, f)]
-        hw = max(max(g[4] - g[5] - 1.0 / fv, g[6] - g[4]) / h for g, fv, h in zip(geo, f, hs))
-        k = frame_scale(1.0, max(hw, 0.0), size)
-        new = [k / h for h in hs]
-        if np.allclose(new, f, rtol=0.0, atol=1e-12):
-            break
-        f = new
+    geo, f = _thin_geometry(masks, size)
     out = np.zeros((len(masks), size, size), dtype=np.uint8)
     for v, ((rows, cols, rmax, _, base, _, _), fv) in enumerate(zip(geo, f)):
         bottom = rmax + 1.0 - 0.5 / fv
         n = max(1, int(np.ceil(fv)))  # points per picture pixel side: no raster pixel skipped
         sub = (np.arange(n) + 0.5) / n
+        hits = np.zeros((size, size))
         for a in sub:
             for b in sub:
                 col = np.floor(0.5 * size + 0.5 + fv * (cols + a - base)).astype(np.int64)
                 row = np.floor((size - MARGIN) - fv * (bottom - (rows + b))).astype(np.int64)
                 ok = (row >= 0) & (row < size) & (col >= 0) & (col < size)
-                out[v, row[ok], col[ok]] = 1
+                np.add.at(hits, (row[ok], col[ok]), 1.0)
+        out[v] = hits > 0
+        if n == 1:
+            # strokes drawn at a scale that is not a whole number of picture pixels per
+            # raster pixel spill a sliver into the next raster pixel: a pixel covered
+            # less than THIN_SLIVER beside one covered at least THIN_FULL is dropped
+            from scipy.ndimage import maximum_filter
+
+            cover = hits * fv * fv
+            sliver = (cover < THIN_SLIVER) & (maximum_filter(cover, size=3) >= THIN_FULL)
+            out[v][sliver] = 0
     return out
+
+
+#: :func:`classify_picture`: a pixel is coloured when its chroma (max - min of R, G, B in
+#: ``[0, 1]``) exceeds this
+CHROMA = 0.08
+
+#: :func:`classify_picture`: a drawing has at most this share of coloured pixels
+MAX_COLOURED = 0.01
+
+#: :func:`classify_picture`: a drawing has at least this share of its pixels within
+#: :data:`MODE_REACH` of its two main grey levels (paper and ink: a bimodal histogram)
+MIN_TWO_LEVELS = 0.9
+MODE_REACH = 0.12
+
+
+def classify_picture(image) -> tuple[str, str]:
+    """``("drawing", why)`` for a drawing or silhouette, ``("photo", why)`` otherwise:
+    what ``fit-image --segmentation auto`` reads a picture (path or array, grey ``(H, W)``
+    or RGB ``(H, W, 3)`` in ``[0, 1]``) as. A drawing is near grey (at most
+    :data:`MAX_COLOURED` of its pixels have a chroma above :data:`CHROMA`: no sky or
+    ground colours) and bimodal (at least :data:`MIN_TWO_LEVELS` of its pixels within
+    :data:`MODE_REACH` of its two main grey levels: paper and ink). ``why``: the figures
+    it looked at, for the messages and ``fit.json``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> g = np.full((40, 40), 0.85); g[5:, 20] = 0.1  # a trunk in ink on grey paper
+    >>> classify_picture(g)[0]
+    'drawing'
+    >>> rgb = np.zeros((40, 40, 3)); rgb[:] = (0.5, 0.7, 1.0); rgb[30:] = (0.2, 0.6, 0.1)
+    >>> classify_picture(rgb)
+    ('photo', 'a photo: 100.0 % of pixels in colour')
+    """
+    from growsim.pictures.photo import load_rgb
+
+    if isinstance(image, (str, os.PathLike)):
+        rgb = load_rgb(image)
+    else:
+        rgb = np.asarray(image, dtype=np.float64)
+        if rgb.ndim == 2:
+            rgb = np.repeat(rgb[..., None], 3, axis=2)
+        rgb = rgb[..., :3]
+    coloured = float(np.mean(rgb.max(axis=2) - rgb.min(axis=2) > CHROMA))
+    if coloured > MAX_COLOURED:
+        return "photo", f"a photo: {100 * coloured:.1f} % of pixels in colour"
+    grey = rgb.mean(axis=2).ravel()
+    hist = np.bincount(np.clip((grey * 32).astype(np.int64), 0, 31), minlength=32)
+    first = int(np.argmax(hist))
+    # the second level: the fullest bin away from the first
+    away = hist.copy()
+    lo, hi = max(0, first - 4), min(32, first + 5)
+    away[lo:hi] = 0
+    second = int(np.argmax(away))
+    levels = np.array([first, second]) + 0.5
+    near = np.abs(grey[:, None] * 32 - levels[None, :]).min(axis=1) <= MODE_REACH * 32
+    share = float(np.mean(near))
+    if share < MIN_TWO_LEVELS:
+        return "photo", (
+            f"a grey photo: {100 * share:.0f} % of pixels near its two main grey levels"
+        )
+    return "drawing", (
+        f"a drawing: grey levels {levels[0] / 32:.2f} and {levels[1] / 32:.2f} hold "
+        f"{100 * share:.0f} % of pixels, {100 * coloured:.1f} % in colour"
+    )
+
+
+def unframe(raster, front, side=None, *, view: int = 0, line_width: str = "radius"):
+    """A framed ``(S, S)`` raster of view ``view`` (0 front, 1 side) back at the picture's
+    size and placement: ``(H, W)`` bool, the inverse of :func:`frame_silhouettes` for the
+    silhouettes ``front`` and ``side`` it framed (each picture pixel takes the raster pixel
+    its centre falls in). ``fit-image`` writes the fitted tree so (``fit_<view>.png``),
+    framed as the target's ``silhouette_<view>.png``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> f = np.zeros((100, 60), bool); f[10:100, 30] = True
+    >>> back = unframe(frame_silhouettes(f, None, 16)[0], f)
+    >>> back.shape, bool(back[10:, 30].all())
+    ((100, 60), True)
+    """
+    raster = np.asarray(raster) > 0
+    size = raster.shape[0]
+    masks = [np.asarray(m, dtype=bool) for m in ((front,) if side is None else (front, side))]
+    h, w = masks[view].shape
+    r, c = np.mgrid[0:h, 0:w]
+    r, c = r.ravel().astype(np.float64), c.ravel().astype(np.float64)
+    if line_width == "thin":
+        geo, f = _thin_geometry(masks, size)
+        _, _, rmax, _, base, _, _ = geo[view]
+        fv = f[view]
+        col = np.floor(0.5 * size + 0.5 + fv * (c + 0.5 - base))
+        row = np.floor((size - MARGIN) - fv * (rmax + 1.0 - 0.5 / fv - (r + 0.5)))
+    else:
+        geo = [_view_geometry(m) for m in masks]
+        k = frame_scale(1.0, max(g[5] for g in geo), size)
+        _, _, rmax, hv, base, _ = geo[view]
+        fv = k / hv
+        x, y = frame_view(c + 0.5, rmax + 0.5 - r, base, 0.0, fv, size)
+        row, col = np.floor(y + 0.5 * fv), np.floor(x)
+    row, col = row.astype(np.int64), col.astype(np.int64)
+    ok = (row >= 0) & (row < size) & (col >= 0) & (col < size)
+    out = np.zeros(h * w, dtype=bool)
+    out[ok] = raster[row[ok], col[ok]]
+    return out.reshape(h, w)
 
 
 #: how pictures become silhouettes: ``"threshold"`` (:func:`silhouette`: grey levels) or
