@@ -61,10 +61,12 @@ def test_render_views_trunk_only():
     assert img[:, :, 8].all() and img.sum() == 32
 
 
+@pytest.mark.parametrize("views", [2, 1])
 @pytest.mark.parametrize("area", [False, True])
-def test_score_population_matches_oracle(area):
+def test_score_population_matches_oracle(area, views):
     rng = np.random.default_rng(5)
     target = K.render_views(*K.compose_tree(random_maps(rng, 1, 3)[0], 3), np.zeros(3), 32)
+    target = np.ascontiguousarray(target[:views])
     pop = random_maps(rng, 12, 3)
     got = K.score_population(pop, 3, target, area)
     np.testing.assert_allclose(got, oracle.score_population(pop, 3, target, area), atol=1e-12)

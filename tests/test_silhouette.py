@@ -56,6 +56,23 @@ def test_batch_equals_call_for_ifs3d(table1_obj):
     assert b3[0] == pytest.approx(table1_obj(ifs3d.develop(p3)))
 
 
+@pytest.mark.parametrize("blur", [0.0, 1.5])
+def test_one_view_batch_equals_call(blur):
+    """``views = "front"`` (one picture) takes the population kernel too, framing each
+    tree by its front's own extent as the one-by-one path does."""
+    obj = SilhouetteObjective(target_model="ifs3d", target_preset="table1", views="front",
+                              blur=blur)  # fmt: skip
+    rng = np.random.default_rng(4)
+    rows = np.array([[rng.uniform(p.low, p.high) for p in ifs3d.PARAMS] for _ in range(6)])
+    rows[:, NAMES.index("leaves")] = 0  # bare: every row through the kernel
+    rows = np.vstack([rows, _row(ifs3d.PRESETS["table1"]), _row(ifs3d.PRESETS["seed_ga"])])
+    rows[:, 0], rows[:, 1] = 5, 5
+    got = obj.batch(ifs3d.MODEL, rows, NAMES)
+    want = [obj(ifs3d.develop(dict(zip(NAMES, r)))) for r in rows]
+    np.testing.assert_allclose(got, want, atol=1e-12)
+    assert got[6] > 0.99
+
+
 def test_blur_option_batch_equals_call_and_exact_is_binary(table1_obj):
     obj = SilhouetteObjective(target_model="ifs3d", target_preset="table1", blur=1.5)
     rng = np.random.default_rng(3)

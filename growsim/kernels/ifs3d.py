@@ -170,15 +170,16 @@ def _score_population(params, depth, target, area_reject, n_chunks, taps):
         lvl *= N
         M += lvl
     m_int = max(1, M - lvl)
-    g_area = np.zeros(2)
-    for v in range(2):
+    V = target.shape[0]
+    g_area = np.zeros(V)
+    for v in range(V):
         g_area[v] = float(np.sum(target[v]))
     blurred = taps.size > 0
-    target_b = np.zeros((2, S, S))
-    tb_norm = np.zeros(2)
+    target_b = np.zeros((V, S, S))
+    tb_norm = np.zeros(V)
     if blurred:
         blur_kernel(target, taps, np.empty((S, S)), target_b)
-        for v in range(2):
+        for v in range(V):
             tb_norm[v] = math.sqrt(np.sum(target_b[v] * target_b[v]))
     out = np.zeros(n)
     base = np.zeros(3)
@@ -189,21 +190,24 @@ def _score_population(params, depth, target, area_reject, n_chunks, taps):
         start = np.empty((M, 3))
         end = np.empty((M, 3))
         coords = np.empty((2, 2, M, 2))
-        img = np.empty((2, S, S), dtype=np.uint8)
+        img = np.empty((V, S, S), dtype=np.uint8)
         tmp = np.empty((S, S))
-        fb = np.empty((2, S, S))
-        aimg = np.empty((2, S, S))
+        fb = np.empty((V, S, S))
+        aimg = np.empty((V, S, S))
         for i in range(c, n, n_chunks):
             _maps_of(params[i], W)
             _compose(W, depth, mats, start, end)
+            if V == 1:  # the front alone, framed by its own extent (the depth flattened)
+                start[:, 2] = 0.0
+                end[:, 2] = 0.0
             frame_points_kernel(start, end, base, S, coords)
             if blurred:
-                render_antialiased_kernel(coords, aimg)
+                render_antialiased_kernel(coords[:V], aimg)
                 out[i] = blurred_ncc_kernel(
                     aimg, taps, target_b, tb_norm, tmp, fb, g_area, area_reject
                 )
             else:
-                render_thin_kernel(coords, img)
+                render_thin_kernel(coords[:V], img)
                 out[i] = ncc_kernel(img, target, g_area, area_reject)
     return out
 
@@ -288,7 +292,9 @@ def score_population(
     """Mean front/side binary NCC of a whole population of IFS trees (parallel kernel).
 
     ``params`` ``(n, N, 4)`` rows ``(s, y, theta_z, theta_y)`` per map (degrees); ``target``
-    ``(2, S, S)`` uint8 front and side silhouettes (framed like :func:`render_views`).
+    ``(2, S, S)`` uint8 front and side silhouettes (framed like :func:`render_views`), or
+    ``(1, S, S)``: the front alone, each tree framed by its front's own extent (as
+    :func:`growsim.objectives.silhouette.plant_views` with ``views=1``).
     Returns ``(n,)`` float64 in ``[0, 1]``; ``area_reject`` scores 0 a tree whose total
     silhouette area is not within 0.5x-2x of the target's (the seed's rejection).
     ``blur > 0``: the NCC ``<Fb, Gb> / (|Fb| |Gb|)`` of both silhouettes blurred by a
@@ -310,8 +316,8 @@ def score_population(
     if params.ndim != 3 or params.shape[2] != 4:
         raise ValueError(f"params must have shape (n, N, 4), got {params.shape}")
     target = np.ascontiguousarray(target, dtype=np.uint8)
-    if target.ndim != 3 or target.shape[0] != 2 or target.shape[1] != target.shape[2]:
-        raise ValueError(f"target must have shape (2, S, S), got {target.shape}")
+    if target.ndim != 3 or target.shape[0] not in (1, 2) or target.shape[1] != target.shape[2]:
+        raise ValueError(f"target must have shape (2, S, S) or (1, S, S), got {target.shape}")
     if params.shape[0] == 0:
         return np.zeros(0)
     if not blur >= 0.0:

@@ -380,12 +380,12 @@ class SilhouetteObjective(Objective):
         ``names`` label the columns of ``params`` (every model parameter). Applies to a
         model with the capability ``map_groups(params, names)`` (yielding ``(rows, maps
         (k, N, 4), depth)`` groups, see :func:`growsim.models.ifs3d.map_groups`), drawn
-        thin. Returns ``(n,)`` float64, or ``None`` otherwise (other models,
-        ``line_width = "radius"``, or one view): those are then developed and scored one by
-        one. Rows ``map_groups`` does not yield (leafy trees) are developed and scored here.
+        thin, with one view or two. Returns ``(n,)`` float64, or ``None`` otherwise (other
+        models, ``line_width = "radius"``): those are then developed and scored one by one.
+        Rows ``map_groups`` does not yield (leafy trees) are developed and scored here.
         """
         fast = "map_groups" in model.capabilities
-        if not fast or self.line_width != "thin" or self.n_views != 2:
+        if not fast or self.line_width != "thin":
             return None
         from growsim.kernels.ifs3d import score_population
 

@@ -70,14 +70,18 @@ def render_views(start, end, base, size):
 def score_population(params, depth, target, area_reject=False, blur=0.0):
     """``(n,)`` mean NCC of each tree ``(N, 4)`` of ``params`` against ``target``.
 
-    ``blur > 0``: the blurred NCC of the anti-aliased views.
+    ``blur > 0``: the blurred NCC of the anti-aliased views. A ``(1, S, S)`` target: the
+    front alone, framed by its own extent (the depth set to the base's).
     """
     target = np.asarray(target)
     size = target.shape[1]
     out = []
     for maps in params:
         s, e = compose_tree(maps, depth)
+        if target.shape[0] == 1:
+            s[:, 2] = e[:, 2] = 0.0
         coords, _ = frame_points(s, e, np.zeros(3), size)
+        coords = coords[: target.shape[0]]
         if blur > 0:
             out.append(blurred_ncc(render_antialiased(coords, size), target, blur, area_reject))
         else:
