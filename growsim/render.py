@@ -166,7 +166,8 @@ def aim_camera(pl, centre, radius: float, view) -> None:
 
 
 def save_png(img: np.ndarray, path: Path) -> Path:
-    """Write an ``(H, W, 3)`` uint8 image to ``path`` (``.png`` only), atomically.
+    """Write an ``(H, W, 3)`` (or grey ``(H, W)``) uint8 image to ``path`` (``.png``
+    only), atomically.
 
     Examples
     --------

@@ -68,6 +68,7 @@ from growsim.fitting.setups import (
 )
 from growsim.fitting.setups import arrange as search_arrangement
 from growsim.fitting.setups import refine as refine_fit
+from growsim.render import save_png
 
 __all__ = ["FitResult", "fit_image", "raster_sizes"]
 
@@ -244,22 +245,16 @@ def _size_stages(fit: _Fit, k: int, config, sizes, setup, budgets, seed: int) ->
 def _write_masks(objective, out: Path, pictures: dict) -> list[Path]:
     """The silhouettes used, at the pictures' size: ``silhouette_<view>.png`` (black tree
     on white) and ``segmentation_<view>.png`` (the picture, the tree tinted red)."""
-    from PIL import Image
-
     from growsim.pictures.photo import load_rgb
 
     written = []
     for view, mask in objective.pictures.items():
-        sil = Image.fromarray(np.where(mask, 0, 255).astype(np.uint8))
-        path = out / f"silhouette_{view}.png"
-        atomic_write(path, lambda fh, im=sil: im.save(fh, format="PNG"))
+        path = save_png(np.where(mask, 0, 255).astype(np.uint8), out / f"silhouette_{view}.png")
         rgb = load_rgb(pictures[view])
         over = 0.35 * rgb + 0.65  # washed out, the tree in red over it
         over[mask] = 0.4 * rgb[mask] + 0.6 * np.array([1.0, 0.0, 0.0])
-        im = Image.fromarray(np.round(255 * over).astype(np.uint8))
-        path2 = out / f"segmentation_{view}.png"
-        atomic_write(path2, lambda fh, im=im: im.save(fh, format="PNG"))
-        written += [path, path2]
+        over = np.round(255 * over).astype(np.uint8)
+        written += [path, save_png(over, out / f"segmentation_{view}.png")]
     return written
 
 
@@ -267,18 +262,13 @@ def _write_fits(objective, fitted, out: Path) -> list[Path]:
     """The fitted tree's views framed as the target: ``fit_<view>.png`` (black on white),
     the size and placement of ``silhouette_<view>.png``
     (:func:`~growsim.pictures.images.unframe`), so it can be scored any way."""
-    from PIL import Image
-
     from growsim.pictures.images import unframe
 
     masks = list(objective.pictures.values())[: objective.n_views]
     written = []
     for i, view in enumerate(list(objective.pictures)[: objective.n_views]):
         back = unframe(fitted[i], *masks, view=i, line_width=objective.line_width)
-        im = Image.fromarray(np.where(back, 0, 255).astype(np.uint8))
-        path = out / f"fit_{view}.png"
-        atomic_write(path, lambda fh, im=im: im.save(fh, format="PNG"))
-        written.append(path)
+        written.append(save_png(np.where(back, 0, 255).astype(np.uint8), out / f"fit_{view}.png"))
     return written
 
 

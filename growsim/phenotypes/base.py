@@ -104,16 +104,14 @@ class Phenotype(abc.ABC):
         }
 
     def screenshot(self, path: str | os.PathLike, *, view: str = "iso", size=(800, 800)) -> Path:
-        """Render to a PNG file (atomically)."""
-        from PIL import Image
-
-        from growsim.files import atomic_write
+        """Render to a PNG file (atomically; a name not ending ``.png`` is refused before
+        rendering)."""
+        from growsim.render import save_png
 
         path = Path(path)
         if path.suffix.lower() != ".png":
             raise UserInputError(f"{path}: images are written as .png")
-        img = self.render_image(view=view, size=size)
-        return atomic_write(path, lambda fh: Image.fromarray(img).save(fh, format="PNG"))
+        return save_png(self.render_image(view=view, size=size), path)
 
     def front_view(self, size: int = 64) -> np.ndarray:
         """Capability ``"front_view"``: the phenotype's own 2D view, ``(size, size)``
