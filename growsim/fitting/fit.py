@@ -5,7 +5,7 @@ The pictures become silhouettes (:mod:`growsim.pictures`). By default
 (``segmentation="auto"``) each picture is classified
 (:func:`~growsim.pictures.images.classify_picture`): a drawing or silhouette (near grey,
 two grey levels) is read by a grey threshold and fitted as the seed fitted them (thin
-lines, one size, :data:`DRAWING_SIZES`, the setup's leaves); a photo by the photo
+lines, the setup's ``drawing`` keywords: one size, the setup's leaves); a photo by the photo
 segmentation (the tree apart from sky and ground), coarse to fine, bare and leafy. What
 was chosen and why is ``fit.json``'s ``choices`` (:func:`_choices`); an option given
 overrides its choice. A bad segmentation is refused with a message naming the picture, before any
@@ -272,9 +272,6 @@ def _write_fits(objective, fitted, out: Path) -> list[Path]:
     return written
 
 
-#: the raster sizes of a drawing's fit: the seed's, one size (thin lines frame exactly)
-DRAWING_SIZES = (64,)
-
 #: ``segmentation`` of :func:`fit_image`: ``"auto"`` (a drawing by the threshold, a photo by
 #: the photo segmentation: :func:`~growsim.pictures.images.classify_picture`)
 SEGMENTATIONS = ("auto", "photo", "threshold")
@@ -286,7 +283,7 @@ def _choices(front, side, setup, segmentation, line_width, sizes, size, leaves) 
     :func:`~growsim.pictures.images.classify_picture` ``"drawing"``, else the photo
     segmentation), and, unless given, what follows from it: ``line_width`` (a drawing:
     ``"thin"``, the renderer's 1-pixel lines; a photo: the model's), ``sizes`` (a drawing:
-    :data:`DRAWING_SIZES`; a photo: :data:`~growsim.fitting.setups.SIZES`) and ``leaves``
+    :attr:`~growsim.fitting.setups.FitSetup.drawing`; a photo: :data:`~growsim.fitting.setups.SIZES`) and ``leaves``
     (a drawing: ``"keep"``, the setup's tree as the seed fitted it; a photo: ``"auto"``)."""
     from growsim.pictures.images import classify_picture
 
@@ -313,8 +310,8 @@ def _choices(front, side, setup, segmentation, line_width, sizes, size, leaves) 
     elif sizes is not None:
         choices["sizes"] = {"value": list(raster_sizes(sizes)), "why": "given"}
     elif drawing:
-        why = f"{kind}: one size, the lines frame exactly (no refinement)"
-        choices["sizes"] = {"value": list(DRAWING_SIZES), "why": why}
+        why = f"{kind}: the lines frame exactly, no photo's refinement"
+        choices["sizes"] = {"value": list(setup.drawing["sizes"]), "why": why}
     else:
         choices["sizes"] = {"value": list(SIZES), "why": f"{kind}: coarse to fine"}
     if leaves is not None:
@@ -409,17 +406,24 @@ def fit_image(
         raise UserInputError(f"--refine: at least 0, got {refine}")
     if size is not None and not 8 <= size <= 1024:
         raise UserInputError(f"--size: expected 8..1024, got {size}")
+    if restarts is not None and restarts < 1:
+        raise UserInputError(f"--restarts: at least 1, got {restarts}")
     setup = FIT_SETUPS.get(model)
+    choices = _choices(front, side, setup, segmentation, line_width, sizes, size, leaves)
+    segmentation, line_width, leaves, sizes = (
+        choices[k]["value"] for k in ("segmentation", "line_width", "leaves", "sizes")
+    )
+    if segmentation == "threshold":  # a drawing: the setup's keywords for drawings
+        given = dict(restarts=restarts, carry=carry, evaluations=evaluations, refine=refine,
+                     blur=blur)  # fmt: skip
+        given = {k: setup.drawing.get(k) if v is None else v for k, v in given.items()}
+        restarts, carry, evaluations, refine, blur = given.values()
     restarts = setup.restarts if restarts is None else restarts
     if restarts < 1:
         raise UserInputError(f"--restarts: at least 1, got {restarts}")
     carry = setup.carry if carry is None else carry
     if carry < 0:
         raise UserInputError(f"--carry: at least 0, got {carry}")
-    choices = _choices(front, side, setup, segmentation, line_width, sizes, size, leaves)
-    segmentation, line_width, leaves, sizes = (
-        choices[k]["value"] for k in ("segmentation", "line_width", "leaves", "sizes")
-    )
     if leaves not in LEAF_MODES:
         raise UserInputError(f"--leaves: expected one of {', '.join(LEAF_MODES)}, got {leaves!r}")
     sizes = raster_sizes(sizes)

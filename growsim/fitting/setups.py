@@ -137,7 +137,10 @@ class FitSetup:
     searches at the final size on the binary NCC (0: binary throughout); ``shape``: the
     file the fitted tree is written to in the results (a mesh, ``.glb``, ``.vtp``, ``.ply``
     or ``.obj``: :func:`growsim.phenotypes.plant.mesh.export`; or ``.png``: its front
-    view's picture, for a model without a mesh).
+    view's picture, for a model without a mesh); ``drawing``: the
+    :func:`~growsim.fitting.fit.fit_image` keywords a drawing is fitted with, where the
+    user gives none (``sizes``, ``restarts``, ``carry``, ``evaluations``, ``refine``,
+    ``blur``; default: one size, 64 px, the seed's).
 
     Examples
     --------
@@ -160,6 +163,7 @@ class FitSetup:
     arrange: int = 0
     blur: float = 0.0
     shape: str = "tree.glb"
+    drawing: dict = field(default_factory=lambda: {"sizes": (64,)})
 
 
 def _ifs3d_tables() -> dict:
