@@ -14,7 +14,7 @@ from PIL import Image
 from growsim.cli import main
 from growsim.errors import UserInputError
 from growsim.experiment import load_config
-from growsim.fitting.setups import FIT_SETUPS, LEAF_MARGIN, fit_config
+from growsim.fitting.setups import FIT_SETUPS, LEAF_MARGIN, PHOTO_SCORE, fit_config
 from growsim.models import honda, ifs3d
 from growsim.objectives.silhouette import SilhouetteObjective, plant_views
 from growsim.phenotypes.plant import LEAF
@@ -263,37 +263,39 @@ def test_fit_image_one_photo_coarse_to_fine(photo, tmp_path, capsys):
     # a leafy tree's count of leaves is swept at every size, before the arrangement
     swept = [(s["size"], s["evaluations"]) for s in fit["stages"] if s["stage"] == "discrete"]
     assert swept == ([(32, 9), (64, 9)] if fit["params"]["leaves"] else [])
-    main_stages = [s for s in fit["stages"] if s["stage"] != "discrete"]
-    # blurred searches report their score and the binary NCC; the last size is binary
-    st = main_stages[1]
-    assert st["score"] >= st["score_start"] and 0.0 < st["ncc"] <= 1.0
-    assert main_stages[2]["ncc"] >= main_stages[2]["ncc_start"]
-    assert main_stages[3]["ncc"] >= main_stages[3]["ncc_start"] >= main_stages[2]["ncc"]
+    # a photo's searches score the shape score (blurred at the first size) and report the
+    # binary NCC beside it; no search ends worse than it starts
+    for st in fit["stages"][1:]:
+        assert st["score"] >= st["score_start"] and 0.0 < st["ncc"] <= 1.0
     # every search starts where the one before it at that size ended
     last = fit["stages"][-1]
-    assert last["stage"] == "arrange" and last["ncc_start"] == fit["stages"][-2]["ncc"]
+    assert last["stage"] == "arrange" and last["score_start"] == fit["stages"][-2]["score"]
     # the fitted arrangement regrows the fitted tree
     draws = np.array(fit["draws"])
     assert draws.shape[1] == 9
     tree = honda.develop(fit["params"], draws=draws)
     obj = SilhouetteObjective(front=str(path), views="front", segmentation="photo", size=64,
-                              line_width="radius")  # fmt: skip
-    assert obj(tree) == pytest.approx(fit["ncc"], abs=1e-12)
+                              line_width="radius", **PHOTO_SCORE)  # fmt: skip
+    assert obj.exact(tree) == pytest.approx(fit["ncc"], abs=1e-12)
+    assert obj(tree) == pytest.approx(fit["score"], abs=1e-12)
     assert 0.3 < fit["ncc"] <= 1.0 and fit["views"] == ["front"]
+    assert fit["area_ratio"]["front"] > 0
     for name in ("tree.glb", "silhouettes.png", "silhouette_front.png", "segmentation_front.png",
                  "bare-0/best.json", "bare-0/history.parquet", "leafy-1/best.json"):  # fmt: skip
         assert (out / name).is_file(), name
-    # --leaves auto: a bare and a leafy tree fitted, the leafy one kept only if clearly better
+    # --leaves auto: a bare and a leafy tree fitted at the first size (two restarts each),
+    # judged at the final size, the leafy one kept only if clearly better
     leaves = fit["leaves"]
-    assert leaves["mode"] == "auto" and set(leaves["ncc"]) == {"bare", "leafy"}
-    # two restarts of each kind (honda's default is eight, two carried), the best of each kept
+    assert leaves["mode"] == "auto" and set(leaves["score"]) == {"bare", "leafy"}
+    assert sorted(leaves["first_size"]) == [f"honda {k} seed {s}" for k in ("bare", "leafy")
+                                            for s in (0, 1)]  # fmt: skip
+    score = leaves["score"]
+    kept = "leafy" if score["leafy"] > score["bare"] + LEAF_MARGIN else "bare"
+    assert leaves["chosen"] == kept and (fit["params"]["leaves"] == 0) == (kept == "bare")
+    # both restarts of the kept kind went on to the final size, the better one kept
     runs = leaves["runs"]
-    assert sorted(runs) == ["bare seed 0", "bare seed 1", "leafy seed 0", "leafy seed 1"]
-    for kind in ("bare", "leafy"):
-        assert leaves["ncc"][kind] == max(runs[f"{kind} seed {s}"]["ncc"] for s in (0, 1))
-    kept = "leafy" if leaves["ncc"]["leafy"] > leaves["ncc"]["bare"] + LEAF_MARGIN else "bare"
-    assert leaves["chosen"] == kept and fit["ncc"] == pytest.approx(leaves["ncc"][kept])
-    assert (fit["params"]["leaves"] == 0) == (kept == "bare")
+    assert sorted(runs) == [f"honda {kept} seed {s}" for s in (0, 1)]
+    assert fit["score"] == max(r["score"] for r in runs.values())
     used = np.asarray(Image.open(out / "silhouette_front.png")) < 128
     assert np.array_equal(used, segment_photo(path).tree)  # the silhouette used, as is
     text = capsys.readouterr().out
@@ -339,10 +341,10 @@ def test_fit_image_carries_the_best_restarts_past_the_first_size(photo, tmp_path
     assert main(args) == 0
     leaves = json.loads((out / "fit.json").read_text())["leaves"]
     first = leaves["first_size"]
-    assert len(first) == 6 and len(leaves["runs"]) == 2
-    for kind in ("bare", "leafy"):
-        best = max((k for k in first if k.startswith(kind)), key=first.get)
-        assert [k for k in leaves["runs"] if k.startswith(kind)] == [best]
+    assert len(first) == 6 and len(leaves["runs"]) == 1
+    kind = leaves["chosen"]
+    best = max((k for k in first if k.startswith(f"honda {kind}")), key=lambda k: first[k]["score"])
+    assert list(leaves["runs"]) == [best]
     assert main([*args[:-2], "--carry", "-1"]) == 2
     assert "--carry: at least 0" in capsys.readouterr().err
 

@@ -44,7 +44,8 @@ def test_fit_image_runs_the_best_setup(pictures):
     best = load_config(ROOT / "experiments" / "ifs_tree_best.toml").to_dict()
     assert fit["ga"] == best["ga"]
     assert fit["model"] == best["model"]
-    assert fit["output"] == best["output"]
+    # the fit's runs write no meshes or screenshots: fit-image writes the kept fit's
+    assert fit["output"]["mesh"] == [] and fit["output"]["screenshots"] == []
     assert best["ga"]["evaluations"] == 50_000
     assert best["ga"]["polish"]["evaluations"] == 35_000
     # the GA runs until the evaluation budget, not the schema's default 20 generations
@@ -213,8 +214,10 @@ def test_a_drawing_with_no_flags_takes_the_fast_exact_path(pictures, tmp_path, c
     printed = capsys.readouterr().out
     summary = json.loads((out / "fit.json").read_text())
     choices = {k: v["value"] for k, v in summary["choices"].items()}
-    assert choices == {"segmentation": "threshold", "line_width": "thin", "sizes": [64],
-                       "leaves": "keep"}  # fmt: skip
+    assert choices == {"segmentation": "threshold", "model": "auto", "line_width": "thin",
+                       "sizes": [64], "leaves": "keep"}  # fmt: skip
+    # a drawing of one view: the 3D and the 2D IFS fitted, the tree's model kept
+    assert set(summary["models"]) == {"ifs3d", "ifs2d"} and summary["model"] == "ifs3d"
     assert "a drawing" in summary["choices"]["segmentation"]["why"]
     assert "segmentation: threshold (" in printed
     assert [s["size"] for s in summary["stages"]] == [64]

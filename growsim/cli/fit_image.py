@@ -60,8 +60,9 @@ def register(subparsers) -> None:
         usage="growsim fit-image PICTURE [SIDE] --out DIR [options]",
         description="Fit a tree model to a picture of a tree, or to a front and a side "
         "picture. Drawings (grey, two levels) take the fast exact path (threshold, thin "
-        "lines, 64 px), photos the photo one (sky and ground apart, 64,128,256 px, bare and "
-        "leafy); the choices are printed and kept in DIR/fit.json with the fit "
+        "lines, 64 px), photos the photo one (sky and ground apart, 64,128,256 px); each "
+        "model and a bare and a leafy tree are fitted at the first size and the best kept; "
+        "the choices are printed and kept in DIR/fit.json with the fit "
         "(fit_<view>.png, framed as silhouette_<view>.png).",
     )
     p.add_argument("front", metavar="PICTURE", help="the tree's front (PNG, JPEG, ...)")
@@ -69,16 +70,17 @@ def register(subparsers) -> None:
     p.add_argument("--out", required=True, metavar="DIR", help="results directory (new)")
     p.add_argument(
         "--model",
-        default="ifs3d",
+        default="auto",
         metavar="NAME",
-        help=", ".join(FIT_SETUPS) + " (default ifs3d)",
+        help="auto (each model that fits the picture's kind, the best kept), "
+        + ", ".join(FIT_SETUPS),
     )
     p.add_argument(
-        "--evaluations",
-        type=int,
-        default=None,
-        metavar="N",
-        help="budget of the first stage (default: ifs3d 50,000, honda 7,500)",
+        "--budget",
+        type=float,
+        default=1.0,
+        metavar="X",
+        help="every search's evaluations times X (default 1: a photo in about 90 s)",
     )
     p.add_argument("--seed", type=int, default=0, metavar="N", help="random seed (default 0)")
     p.add_argument(
@@ -105,6 +107,8 @@ def register(subparsers) -> None:
     for view in ("front", "side"):
         x.add_argument(f"--mask-{view}", default=None, metavar="PIC",
                        help="only its white part may be tree")  # fmt: skip
+    x.add_argument("--evaluations", type=int, default=None, metavar="N",
+                   help="evaluations of the first stage")  # fmt: skip
     x.add_argument("--refine", type=int, default=None, metavar="N",
                    help="evaluations of each finer size's refinement")  # fmt: skip
     x.add_argument("--arrange", type=int, default=None, metavar="N",
@@ -119,9 +123,9 @@ def register(subparsers) -> None:
 
 
 #: the options passed on to :func:`growsim.fitting.fit.fit_image` as they are
-_OPTIONS = ("model", "sizes", "size", "segmentation", "threshold", "polarity", "line_width",
-            "leaves", "mask_front", "mask_side", "evaluations", "refine", "arrange", "blur",
-            "seed", "restarts", "carry", "workers")  # fmt: skip
+_OPTIONS = ("model", "budget", "sizes", "size", "segmentation", "threshold", "polarity",
+            "line_width", "leaves", "mask_front", "mask_side", "evaluations", "refine",
+            "arrange", "blur", "seed", "restarts", "carry", "workers")  # fmt: skip
 
 
 def _main(args) -> int:
@@ -133,9 +137,12 @@ def _main(args) -> int:
         f"fitted {result.model}: mean NCC {result.ncc:.4f} ({shown}) at {result.size} px "
         f"in {summary['seconds']:.1f} s"
     )
-    if len(leaves["runs"]) > 1:
-        shown = ", ".join(f"{k} {v['ncc']:.4f}" for k, v in leaves["runs"].items())
-        print(f"  kept: the {leaves['chosen']} tree, {result.run} ({shown})")
+    areas = ", ".join(f"{k} {v:.2f}" for k, v in summary["area_ratio"].items())
+    print(f"  area of the fit over the picture's tree: {areas}")
+    if len(leaves["first_size"]) > 1:
+        shown = ", ".join(f"{k} {v['score']:.4f}" for k, v in leaves["first_size"].items())
+        print(f"  first size: {shown}")
+        print(f"  kept: {result.model}, the {leaves['chosen']} tree, {result.run}")
     for st in result.stages:
         print(f"  {st['size']:4d} px {st['stage']:6s} {st['evaluations']:6d} evaluations "
               f"{st['seconds']:7.1f} s  NCC {st['ncc']:.4f}")  # fmt: skip

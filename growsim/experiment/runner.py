@@ -120,7 +120,13 @@ class Progress:
     the user's callback."""
 
     def __init__(
-        self, total: int | None, enabled: bool, user_callback=None, rd=None, every: float = 5.0
+        self,
+        total: int | None,
+        enabled: bool,
+        user_callback=None,
+        rd=None,
+        every: float = 5.0,
+        label: str | None = None,
     ):
         self.user_callback = user_callback
         self.rd = rd
@@ -132,7 +138,9 @@ class Progress:
         if enabled:
             from tqdm.auto import tqdm
 
-            self.bar = tqdm(total=total, unit="gen", file=sys.stderr, dynamic_ncols=True)
+            self.bar = tqdm(
+                total=total, unit="gen", file=sys.stderr, dynamic_ncols=True, desc=label
+            )
 
     def __call__(self, ga, row: Mapping[str, Any]):
         if self.bar is not None:
@@ -175,7 +183,7 @@ def run(
     workers: int | None = None,
     scheduler: str | None = None,
     resume: bool = False,
-    progress: bool = True,
+    progress: bool | str = True,
     callback=None,
     executor=None,
 ) -> RunRecord:
@@ -192,10 +200,11 @@ def run(
     ``experiment.seed``. ``workers``: local process pool size;
     ``scheduler``: ``"local"`` (a Dask LocalCluster of ``workers`` processes) or a Dask
     scheduler address. ``resume=True`` continues from ``out/checkpoint.npz`` to the same
-    history and best as an uninterrupted run. ``progress``: a tqdm bar on stderr (only
-    when stderr is a TTY). ``callback(ga, row)`` is called after every generation (return
-    True to stop). ``executor``: any ``concurrent.futures.Executor`` to evaluate on
-    (instead of ``workers``/``scheduler``; not shut down here), e.g.
+    history and best as an uninterrupted run. ``progress``: a tqdm bar on stderr (only when
+    stderr is a TTY; a text: the bar, labelled with it). ``callback(ga, row)`` is called
+    after every generation (return True to stop). ``executor``: any
+    ``concurrent.futures.Executor`` to evaluate on (instead of ``workers``/``scheduler``;
+    not shut down here), e.g.
     ``Client.get_executor(pure=False)``.
 
     Ctrl-C stops the run at once, except while a file is being written (the end-of-run
@@ -337,7 +346,8 @@ def _run_locked(
     cfg = plan.config
     g = cfg.ga
     show_bar = bool(progress) and sys.stderr.isatty()
-    bar = Progress(g.generations, show_bar, callback, rd=rd)
+    label = progress if isinstance(progress, str) else None
+    bar = Progress(g.generations, show_bar, callback, rd=rd, label=label)
     started = time.strftime("%Y-%m-%dT%H:%M:%S%z")
     try:
         result = ga.run(

@@ -64,6 +64,7 @@ from growsim.fitting.setups import (
     SIZES,
     exact_score,
     fit_config,
+    search_score,
     sweep_discrete,
 )
 from growsim.fitting.setups import arrange as search_arrangement
@@ -168,30 +169,68 @@ class _Fit:
         """The binary NCC at its last stage."""
         return self.stages[-1]["ncc"]
 
+    @property
+    def score(self) -> float:
+        """The score searched at its last stage (the shape score, blurred or not; the
+        binary NCC when the search scored that)."""
+        return self.stages[-1].get("score", self.stages[-1]["ncc"])
 
-def _evolve(plan, size: int, blur: float, out: Path, workers, progress: bool) -> _Fit:
+
+def _searched_apart(plan) -> bool:
+    """Whether ``plan``'s searches score something else than the binary NCC (a blur, the
+    shape terms)."""
+    o = plan.objectives[0]
+    return o.blur > 0 or o.scales > 1 or o.area_band is not None
+
+
+class _Bar:
+    """A progress bar of one stage (tqdm on stderr, labelled; nothing when disabled)."""
+
+    def __init__(self, label: str, total: int, enabled: bool):
+        self.bar = None
+        if enabled and total > 0:
+            import sys
+
+            from tqdm.auto import tqdm
+
+            if sys.stderr.isatty():
+                self.bar = tqdm(total=total, desc=label, unit="eval", file=sys.stderr,
+                                dynamic_ncols=True, leave=False)  # fmt: skip
+
+    def __call__(self, n: int) -> None:
+        if self.bar is not None:
+            self.bar.update(n)
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
+def _evolve(plan, size: int, out: Path, workers, progress) -> _Fit:
     """The first stage of one fit: the setup's GA on ``plan`` (compiled at the first size,
-    ``size``), run into ``out``; its row: size, evaluations, seconds, binary NCC (with
-    ``blur``, the blurred ``score`` searched too)."""
+    ``size``), run into ``out`` (``progress``: ``False`` or the bar's label); its row: size,
+    evaluations, seconds, binary NCC (and the ``score`` searched, when it differs)."""
     from growsim.experiment import run
 
     t0 = time.perf_counter()
     result = run(plan, out=out, workers=workers, progress=progress)
     fitness = plan.fitness()
     x = np.array([result.best_params[n] for n in fitness.evolved], dtype=np.float64)
+    apart = _searched_apart(plan)
     row = {
         "size": size,
         "stage": "ga",
         "evaluations": int(result.summary["evaluations"]),
         "seconds": round(time.perf_counter() - t0, 3),
-        "ncc": exact_score(plan, x) if blur > 0 else float(result.best_fitness),
+        "ncc": exact_score(plan, x) if apart else float(result.best_fitness),
     }
-    if blur > 0:
+    if apart:
         row["score"] = float(result.best_fitness)
     return _Fit(plan, x, Path(result.out), stages=[row])
 
 
-def _size_stages(fit: _Fit, k: int, config, sizes, setup, budgets, seed: int) -> None:
+def _size_stages(fit: _Fit, k: int, config, sizes, setup, budgets, seed: int,
+                 label: str | None = None) -> None:  # fmt: skip
     """The searches of ``fit`` at ``sizes[k]``, in place: a refinement (at every size but
     the first, on the fit's config at that size, ``config(size, blur)``), the sweep of the
     discrete parameters (:func:`~growsim.fitting.setups.sweep_discrete`) and the search for
@@ -199,7 +238,8 @@ def _size_stages(fit: _Fit, k: int, config, sizes, setup, budgets, seed: int) ->
     the ``draws`` capability). ``budgets`` ``(refine, arrange, blur)``: the evaluations of
     each refinement and of each arrangement search (0: none), and the blur at the first
     size (scaled with the size; the searches at the last size are on the binary NCC). Each
-    search appends its row to ``fit.stages`` (size, evaluations, seconds, binary NCC)."""
+    search appends its row to ``fit.stages`` (size, evaluations, seconds, binary NCC);
+    ``label``: a progress bar per search, labelled with it and the stage."""
     from growsim.experiment import load_plan
 
     refine_evaluations, arrange_evaluations, blur = budgets
@@ -208,19 +248,23 @@ def _size_stages(fit: _Fit, k: int, config, sizes, setup, budgets, seed: int) ->
     def stage(name, evaluations, search):
         plan, x, draws = fit.plan, fit.x, fit.draws
         t = time.perf_counter()
-        if name == "refine":
-            x, score, start = search(plan, x, evaluations=evaluations, sigma=setup.refine_sigma,
-                                     seed=seed * 1000 + k, draws=draws)  # fmt: skip
-        elif name == "discrete":
-            x, score, start, evaluations = search(plan, x, draws)
-        else:
-            draws, score, start = search(
-                plan, x, draws, evaluations=evaluations, seed=seed * 1000 + 500 + k
-            )
+        bar = _Bar(f"{label}: {size} px {name}", evaluations, label is not None)
+        try:
+            if name == "refine":
+                x, score, start = search(plan, x, evaluations=evaluations,
+                                         sigma=setup.refine_sigma, seed=seed * 1000 + k,
+                                         draws=draws, tick=bar)  # fmt: skip
+            elif name == "discrete":
+                x, score, start, evaluations = search(plan, x, draws)
+            else:
+                draws, score, start = search(plan, x, draws, evaluations=evaluations,
+                                             seed=seed * 1000 + 500 + k, tick=bar)  # fmt: skip
+        finally:
+            bar.close()
         fit.x, fit.draws = x, draws
         row = {"size": size, "stage": name, "evaluations": evaluations}
         row["seconds"] = round(time.perf_counter() - t, 3)
-        if plan.objectives[0].blur > 0:
+        if _searched_apart(plan):
             row["score_start"], row["score"] = start, score
             row["ncc"] = exact_score(plan, x, draws)
         else:
@@ -258,18 +302,20 @@ def _write_masks(objective, out: Path, pictures: dict) -> list[Path]:
     return written
 
 
-def _write_fits(objective, fitted, out: Path) -> list[Path]:
+def _write_fits(objective, fitted, out: Path) -> tuple[list[Path], dict[str, float]]:
     """The fitted tree's views framed as the target: ``fit_<view>.png`` (black on white),
     the size and placement of ``silhouette_<view>.png``
-    (:func:`~growsim.pictures.images.unframe`), so it can be scored any way."""
+    (:func:`~growsim.pictures.images.unframe`), so it can be scored any way; and each
+    view's area over the target's there."""
     from growsim.pictures.images import unframe
 
     masks = list(objective.pictures.values())[: objective.n_views]
-    written = []
+    written, areas = [], {}
     for i, view in enumerate(list(objective.pictures)[: objective.n_views]):
         back = unframe(fitted[i], *masks, view=i, line_width=objective.line_width)
         written.append(save_png(np.where(back, 0, 255).astype(np.uint8), out / f"fit_{view}.png"))
-    return written
+        areas[view] = float(np.count_nonzero(back)) / max(float(np.count_nonzero(masks[i])), 1.0)
+    return written, areas
 
 
 #: ``segmentation`` of :func:`fit_image`: ``"auto"`` (a drawing by the threshold, a photo by
@@ -277,25 +323,41 @@ def _write_fits(objective, fitted, out: Path) -> list[Path]:
 SEGMENTATIONS = ("auto", "photo", "threshold")
 
 
-def _choices(front, side, setup, segmentation, line_width, sizes, size, leaves) -> dict:
-    """What :func:`fit_image` chose for the user, each ``{"value": ..., "why": ...}``:
-    ``segmentation`` (``"auto"``: the threshold for drawings, all pictures
-    :func:`~growsim.pictures.images.classify_picture` ``"drawing"``, else the photo
-    segmentation), and, unless given, what follows from it: ``line_width`` (a drawing:
-    ``"thin"``, the renderer's 1-pixel lines; a photo: the model's), ``sizes`` (a drawing:
-    :attr:`~growsim.fitting.setups.FitSetup.drawing`; a photo: :data:`~growsim.fitting.setups.SIZES`) and ``leaves``
-    (a drawing: ``"keep"``, the setup's tree as the seed fitted it; a photo: ``"auto"``)."""
+def _picture_kind(front, side, segmentation) -> tuple[bool, dict]:
+    """Whether the pictures are drawings, and the ``segmentation`` choice (``"auto"``: the
+    threshold when every picture is a drawing,
+    :func:`~growsim.pictures.images.classify_picture`, else the photo segmentation)."""
     from growsim.pictures.images import classify_picture
 
-    choices: dict[str, dict] = {}
     if segmentation == "auto":
         kinds = [(p, *classify_picture(p)) for p in (front, side) if p is not None]
         drawing = all(k == "drawing" for _, k, _ in kinds)
         why = "; ".join(f"{Path(p).name}: {w}" for p, _, w in kinds)
-        value = "threshold" if drawing else "photo"
-    else:
-        drawing, why, value = segmentation == "threshold", "given", segmentation
-    choices["segmentation"] = {"value": value, "why": why}
+        return drawing, {"value": "threshold" if drawing else "photo", "why": why}
+    return segmentation == "threshold", {"value": segmentation, "why": "given"}
+
+
+def _candidates(model: str, drawing: bool, side) -> tuple[list[str], dict]:
+    """The models fitted (``"auto"``: every setup whose ``kinds`` has the picture's kind and
+    whose views take the pictures given) and the ``model`` choice."""
+    if model != "auto":
+        FIT_SETUPS.get(model)  # an unknown name is refused here
+        return [model], {"value": model, "why": "given"}
+    kind = "drawing" if drawing else "photo"
+    names = [n for n, st in FIT_SETUPS.items()
+             if kind in st.kinds and (side is None or "side" in st.views)]  # fmt: skip
+    why = f"a {kind}: {', '.join(names)} fitted at the first size, the best kept"
+    return names, {"value": "auto", "why": why}
+
+
+def _choices(setup, drawing: bool, line_width, sizes, size, leaves) -> dict:
+    """What :func:`fit_image` chose for the user for one model's ``setup``, each ``{"value":
+    ..., "why": ...}``, unless given: ``line_width`` (a drawing: ``"thin"``, the renderer's
+    1-pixel lines; a photo: the model's), ``sizes`` (a drawing: the setup's
+    :attr:`~growsim.fitting.setups.FitSetup.drawing` sizes; a photo:
+    :data:`~growsim.fitting.setups.SIZES`) and ``leaves`` (a drawing: ``"keep"``, the
+    setup's tree as the seed fitted it; a photo: ``"auto"``)."""
+    choices: dict[str, dict] = {}
     kind = "a drawing" if drawing else "a photo"
     if line_width is not None:
         choices["line_width"] = {"value": line_width, "why": "given"}
@@ -319,7 +381,8 @@ def _choices(front, side, setup, segmentation, line_width, sizes, size, leaves) 
     elif drawing:
         choices["leaves"] = {"value": "keep", "why": f"{kind}: the model's setup, as drawn"}
     else:
-        why = f"{kind}: a bare and a leafy tree, the better kept"
+        why = f"{kind}: a bare and a leafy tree fitted at the first size, the leafy kept if "
+        why += f"it scores {LEAF_MARGIN} more"
         choices["leaves"] = {"value": "auto", "why": why}
     return choices
 
@@ -335,12 +398,93 @@ def _write_shape(phenotype, path: Path) -> None:
         export(phenotype, path)
 
 
+def _table_evaluations(setup) -> int:
+    """The evaluations of a setup's first stage as its tables give them (the GA's budget,
+    or its generations x population, plus the polish's)."""
+    ga = setup.tables()["ga"]
+    if ga.get("evaluations"):
+        return int(ga["evaluations"])
+    polish = ga.get("polish") or {}
+    return int(ga["generations"] * ga["population"] * ga.get("islands", 1)) + int(
+        polish.get("evaluations", 0)
+    )
+
+
+def _settings(name: str, drawing: bool, given: dict, budget: float) -> dict:
+    """One model's settings of a fit: its setup, its choices (:func:`_choices`) and its
+    keywords, each the one given, else the setup's for the picture's kind (a drawing:
+    :attr:`~growsim.fitting.setups.FitSetup.drawing`), the evaluations times ``budget``;
+    checked."""
+    setup = FIT_SETUPS.get(name)
+    choices = _choices(setup, drawing, given["line_width"], given["sizes"], given["size"],
+                       given["leaves"])  # fmt: skip
+    st = {"setup": setup, "choices": choices, "score": {} if drawing else dict(setup.score)}
+    st.update((k, c["value"]) for k, c in choices.items())
+    defaults = dict(restarts=setup.restarts, carry=setup.carry, evaluations=setup.evaluations,
+                    refine=setup.refine, arrange=setup.arrange, blur=setup.blur)  # fmt: skip
+    if drawing:  # the photos' budget is not a drawing's
+        defaults["evaluations"] = None
+        defaults.update((k, v) for k, v in setup.drawing.items() if k in defaults)
+    for key, value in defaults.items():
+        st[key] = value if given[key] is None else given[key]
+    if budget != 1.0:
+        if given["evaluations"] is None:
+            base = st["evaluations"] or _table_evaluations(setup)
+            st["evaluations"] = max(100, round(budget * base))
+        for key in ("refine", "arrange"):
+            if given[key] is None:
+                st[key] = round(budget * st[key])
+    if st["leaves"] not in LEAF_MODES:
+        raise UserInputError(
+            f"--leaves: expected one of {', '.join(LEAF_MODES)}, got {st['leaves']!r}"
+        )
+    if st["restarts"] < 1:
+        raise UserInputError(f"--restarts: at least 1, got {st['restarts']}")
+    if st["carry"] < 0:
+        raise UserInputError(f"--carry: at least 0, got {st['carry']}")
+    if st["arrange"] < 0:
+        raise UserInputError(f"--arrange: at least 0, got {st['arrange']}")
+    st["sizes"] = sizes = raster_sizes(st["sizes"])
+    widest = st["blur"] * (sizes[-2] if len(sizes) > 1 else sizes[0]) / sizes[0]
+    if not (0.0 <= st["blur"] and widest <= 16.0):
+        raise UserInputError(
+            f"--blur: expected 0 or more pixels, at most 16 at the next-to-last size "
+            f"(the blur grows with the size), got {st['blur']:g} ({widest:g} at that size)"
+        )
+    if st["leaves"] == "auto":
+        # a bare and a leafy tree, when the model has leaves to choose
+        if setup.leaves and setup.bare:
+            st["modes"] = ("bare", "fit") if setup.auto_leafy else ("bare",)
+        else:
+            st["modes"] = ("keep",)
+    else:
+        st["modes"] = (st["leaves"],)
+    return st
+
+
+def _kept(judged: dict, names) -> tuple[str, str]:
+    """The ``(model, leaves mode)`` kept from ``judged`` ``{(model, mode): score}``: per
+    model the leafy tree only if it beats the bare one by
+    :data:`~growsim.fitting.setups.LEAF_MARGIN`, then the best model."""
+    per_model = {}
+    for m in names:
+        modes = {mode: v for (mm, mode), v in judged.items() if mm == m}
+        if "fit" in modes and "bare" in modes:
+            mode = "fit" if modes["fit"] > modes["bare"] + LEAF_MARGIN else "bare"
+        else:
+            mode = max(modes, key=modes.get)
+        per_model[m] = mode
+    m = max(names, key=lambda m: judged[m, per_model[m]])
+    return m, per_model[m]
+
+
 def fit_image(
     front: str | os.PathLike,
     side: str | os.PathLike | None = None,
     *,
     out: str | os.PathLike,
-    model: str = "ifs3d",
+    model: str = "auto",
+    budget: float = 1.0,
     sizes=None,
     size: int | None = None,
     segmentation: str = "auto",
@@ -360,25 +504,29 @@ def fit_image(
     workers: int | None = None,
     progress: bool = True,
 ) -> FitResult:
-    """Fit ``model`` to the picture ``front`` of a tree, or to it and a ``side`` picture
+    """Fit a model to the picture ``front`` of a tree, or to it and a ``side`` picture
     (from the right), into the results directory ``out`` (see the module docstring for the
     stages and the files written); returns the kept fit (:class:`FitResult`).
 
-    The keywords are ``growsim fit-image``'s options, with its defaults: ``segmentation``
+    The keywords are ``growsim fit-image``'s options, with its defaults: ``model``
+    (``"auto"``: every model of :data:`~growsim.fitting.setups.FIT_SETUPS` for the
+    picture's kind fitted at the first size, the best kept); ``budget``: every search's
+    evaluations times this (a photo: about 90 s at 1 on 2 cores); ``segmentation``
     (``"auto"``: by the picture, see the module docstring; ``"photo"`` or
     ``"threshold"``, with ``threshold``, ``"otsu"`` or a grey level, and ``polarity``,
     ``"auto"``, ``"dark"`` or ``"light"``); ``sizes``, the raster sizes coarse to fine
     (``size``: one size only, no refinement); ``line_width`` (``"radius"`` or
     ``"thin"``); ``leaves`` (:data:`~growsim.fitting.setups.LEAF_MODES`); ``None`` for
-    these three: chosen by the segmentation (:func:`_choices`); ``mask_front``, ``mask_side``: mask
-    pictures (only their white part may be tree); ``evaluations``: of the first stage
+    these three: chosen by the picture (:func:`_choices`); ``mask_front``, ``mask_side``:
+    mask pictures (only their white part may be tree); ``evaluations``: of the first stage
     (>= 100; the setup's polish share kept); ``refine``, ``arrange``: evaluations of the
     refinement at each finer size and of each arrangement search (0: none); ``blur``:
     sigma of the searches at the first size (pixels, scaled with the size; 0 at the last
     size); ``seed``: of the first restart; ``restarts``, ``carry``: fits of each kind of
-    tree, and how many of them go on past the first size (0: all); ``workers``: local
-    processes evaluating; ``progress``: a progress bar. ``None``: the model's own
-    (:data:`~growsim.fitting.setups.FIT_SETUPS`). Bad options and pictures raise
+    tree, and how many of the kept kind go on past the first size (0: all); ``workers``:
+    local processes evaluating; ``progress``: a progress bar naming the stage. ``None``:
+    the model's own (:data:`~growsim.fitting.setups.FIT_SETUPS`, a drawing's
+    :attr:`~growsim.fitting.setups.FitSetup.drawing`). Bad options and pictures raise
     :class:`UserInputError` before any evolution.
 
     Examples
@@ -408,100 +556,103 @@ def fit_image(
         raise UserInputError(f"--size: expected 8..1024, got {size}")
     if restarts is not None and restarts < 1:
         raise UserInputError(f"--restarts: at least 1, got {restarts}")
-    setup = FIT_SETUPS.get(model)
-    choices = _choices(front, side, setup, segmentation, line_width, sizes, size, leaves)
-    segmentation, line_width, leaves, sizes = (
-        choices[k]["value"] for k in ("segmentation", "line_width", "leaves", "sizes")
-    )
-    if segmentation == "threshold":  # a drawing: the setup's keywords for drawings
-        given = dict(restarts=restarts, carry=carry, evaluations=evaluations, refine=refine,
-                     blur=blur)  # fmt: skip
-        given = {k: setup.drawing.get(k) if v is None else v for k, v in given.items()}
-        restarts, carry, evaluations, refine, blur = given.values()
-    restarts = setup.restarts if restarts is None else restarts
-    if restarts < 1:
-        raise UserInputError(f"--restarts: at least 1, got {restarts}")
-    carry = setup.carry if carry is None else carry
-    if carry < 0:
-        raise UserInputError(f"--carry: at least 0, got {carry}")
-    if leaves not in LEAF_MODES:
-        raise UserInputError(f"--leaves: expected one of {', '.join(LEAF_MODES)}, got {leaves!r}")
-    sizes = raster_sizes(sizes)
-    refine_evaluations = setup.refine if refine is None else refine
-    arrange_evaluations = setup.arrange if arrange is None else arrange
-    if arrange_evaluations < 0:
-        raise UserInputError(f"--arrange: at least 0, got {arrange_evaluations}")
-    blur = setup.blur if blur is None else blur
-    widest = blur * (sizes[-2] if len(sizes) > 1 else sizes[0]) / sizes[0]
-    if not (0.0 <= blur and widest <= 16.0):
-        raise UserInputError(
-            f"--blur: expected 0 or more pixels, at most 16 at the next-to-last size "
-            f"(the blur grows with the size), got {blur:g} ({widest:g} at that size)"
-        )
-    kw = dict(model=model, threshold=threshold, polarity=polarity, mask_front=mask_front,
-              mask_side=mask_side, line_width=line_width, evaluations=evaluations,
-              segmentation=segmentation)  # fmt: skip
-    if leaves == "auto":
-        # a bare and a leafy tree, when the model has leaves to choose
-        modes = ("bare", "fit") if setup.leaves and setup.bare else ("keep",)
-    else:
-        modes = (leaves,)
-    runs = [(m, seed + r) for m in modes for r in range(restarts)]
+    if not 0.01 <= budget <= 100:
+        raise UserInputError(f"--budget: expected 0.01..100, got {budget:g}")
+    if model != "auto":
+        FIT_SETUPS.get(model)
+    drawing, seg_choice = _picture_kind(front, side, segmentation)
+    segmentation = seg_choice["value"]
+    names, model_choice = _candidates(model, drawing, side)
+    given = dict(line_width=line_width, sizes=sizes, size=size, leaves=leaves,
+                 evaluations=evaluations, refine=refine, arrange=arrange, blur=blur,
+                 restarts=restarts, carry=carry)  # fmt: skip
+    settings = {m: _settings(m, drawing, given, budget) for m in names}
+    pictures = dict(threshold=threshold, polarity=polarity, mask_front=mask_front,
+                    mask_side=mask_side, segmentation=segmentation)  # fmt: skip
+    runs = [(m, mode, seed + r) for m in names for mode in settings[m]["modes"]
+            for r in range(settings[m]["restarts"])]  # fmt: skip
     out_dir = Path(out)
     t0 = time.perf_counter()
 
-    def config(size, m, seed, sigma=0.0):
-        return fit_config(front, side, size=size, leaves=m, seed=seed, blur=sigma, **kw)
+    def config(m, mode, s, size, sigma=0.0):
+        st = settings[m]
+        return fit_config(front, side, model=m, size=size, leaves=mode, seed=s, blur=sigma,
+                          line_width=st["line_width"], evaluations=st["evaluations"],
+                          score=st["score"], **pictures)  # fmt: skip
+
+    def name_of(m, mode, s):
+        name = KINDS[mode] if mode != "keep" else "run"
+        if len(names) > 1:
+            name = f"{m}-{name}"
+        return name + (f"-{s}" if settings[m]["restarts"] > 1 else "")
+
+    def label_of(m, mode, s):
+        kind = "" if mode == "keep" else f" {KINDS[mode]}"
+        return f"{m}{kind}" + (f" seed {s}" if settings[m]["restarts"] > 1 else "")
 
     # compiling builds the objective once: bad pictures fail here, before any evolution
-    first = {run_: load_plan(config(sizes[0], *run_, blur)) for run_ in runs}
-    budgets = (refine_evaluations, arrange_evaluations, blur)
+    first = {r: load_plan(config(*r, settings[r[0]]["sizes"][0], settings[r[0]]["blur"]))
+             for r in runs}  # fmt: skip
 
-    fits: dict[tuple[str, int], _Fit] = {}
-    for m, s in runs:
-        name = KINDS[m] if m != "keep" else "run"
-        if restarts > 1:
-            name += f"-{s}"
-        run_out = out_dir / name if len(runs) > 1 else out_dir
-        fits[m, s] = _evolve(first[m, s], sizes[0], blur, run_out, workers, progress)
-        _size_stages(fits[m, s], 0, lambda size, sigma, m=m, s=s: config(size, m, s, sigma),
-                     sizes, setup, budgets, s)  # fmt: skip
-    # every restart's binary NCC at the end of the first size
-    first_size = {f"{KINDS[m]} seed {s}": f.ncc for (m, s), f in fits.items()}
-    # the restarts of each kind that scored best at the first size go on to the finer
+    def stages(r, k):
+        m, mode, s = r
+        st = settings[m]
+        budgets = (st["refine"], st["arrange"], st["blur"])
+        _size_stages(fits[r], k, lambda size, sigma: config(m, mode, s, size, sigma),
+                     st["sizes"], st["setup"], budgets, s,
+                     label_of(*r) if progress else None)  # fmt: skip
+
+    fits: dict[tuple[str, str, int], _Fit] = {}
+    for r in runs:
+        size0 = settings[r[0]]["sizes"][0]
+        run_out = out_dir / name_of(*r) if len(runs) > 1 else out_dir
+        label = f"{label_of(*r)}: {size0} px GA" if progress else False
+        fits[r] = _evolve(first[r], size0, run_out, workers, label)
+        stages(r, 0)
+    # every fit at the end of the first size; the best of each model and kind of tree,
+    # judged at its model's final size (finer: a blob that passes at 64 px shows there)
+    first_size = {label_of(*r): {"ncc": f.ncc, "score": f.score} for r, f in fits.items()}
+    best_of: dict[tuple[str, str], tuple] = {}
+    for r, f in fits.items():
+        if r[:2] not in best_of or f.score > fits[best_of[r[:2]]].score:
+            best_of[r[:2]] = r
+    judged: dict[tuple[str, str], float] = {}
+    for key, r in best_of.items():
+        last = settings[r[0]]["sizes"][-1]
+        if len(best_of) == 1 or last == settings[r[0]]["sizes"][0]:
+            judged[key] = fits[r].score
+        else:
+            judged[key] = search_score(load_plan(config(*r, last)), fits[r].x, fits[r].draws)
+    kept_model, chosen = _kept(judged, names)
+    st = settings[kept_model]
+    # the restarts of the kept kind that scored best at the first size go on to the finer
     # sizes (the score there foretells the final one: benchmarks/log/fitting.md)
-    carried = []
-    for m in modes:
-        ranked = sorted((r for r in runs if r[0] == m), key=lambda r: -fits[r].ncc)
-        carried += ranked[: carry or len(ranked)]
-    fits = {r: fits[r] for r in runs if r in carried}
-    for (m, s), f in fits.items():
-        for k in range(1, len(sizes)):
-            _size_stages(f, k, lambda size, sigma, m=m, s=s: config(size, m, s, sigma),
-                         sizes, setup, budgets, s)  # fmt: skip
-    # per kind of tree its best restart at the final size, then bare or leafy
-    best: dict[str, _Fit] = {}
-    for (m, _), f in fits.items():
-        if m not in best or f.ncc > best[m].ncc:
-            best[m] = f
-    chosen = modes[0]
-    if len(modes) > 1:
-        chosen = "fit" if best["fit"].ncc > best["bare"].ncc + LEAF_MARGIN else "bare"
-    kept = best[chosen]
+    ranked = [r for r in runs if r[:2] == (kept_model, chosen)]
+    ranked.sort(key=lambda r: -fits[r].score)
+    carried = ranked[: st["carry"] or len(ranked)]
+    for r in carried:
+        for k in range(1, len(st["sizes"])):
+            stages(r, k)
+    kept = fits[max(carried, key=lambda r: fits[r].score)]
+    setup = st["setup"]
     plan, x, draws = kept.plan, kept.x, kept.draws
     objective = plan.objectives[0]
     out = kept.out if len(runs) == 1 else out_dir
     out.mkdir(parents=True, exist_ok=True)
     leaves_summary = {
-        "mode": leaves,
+        "mode": st["leaves"],
         "chosen": KINDS[chosen],
-        "ncc": {KINDS[m]: f.ncc for m, f in best.items()},
+        # the score of each kind of the kept model's best fit at the first size, judged at
+        # the final size
+        "score": {KINDS[mode]: v for (m, mode), v in judged.items() if m == kept_model},
         "run": str(kept.out),
         "runs": {
-            f"{KINDS[m]} seed {s}": {"ncc": f.ncc, "out": str(f.out)} for (m, s), f in fits.items()
+            label_of(*r): {"ncc": fits[r].ncc, "score": fits[r].score, "out": str(fits[r].out)}
+            for r in carried
         },
         "first_size": first_size,
     }
+    models_summary = {m: max(v for (mm, _), v in judged.items() if mm == m) for m in names}
     # the fitted tree, grown as the searches grew it (with the fitted arrangement)
     tree = plan.fitness().phenotype_of(x, draws=draws)
     params = {n: round(v) if n in plan.int_names else v for n, v in tree.params.items()}
@@ -516,20 +667,29 @@ def fit_image(
     ]
     panels = [a for i in range(objective.n_views) for a in (objective.target[i], fitted[i])]
     silhouette_image(panels, out / "silhouettes.png", titles=titles[: len(panels)], scale=2)
-    pictures = {"front": front, "side": side}
-    written = _write_masks(objective, out, pictures)
-    written += _write_fits(objective, fitted, out)
+    paths = {"front": front, "side": side}
+    written = _write_masks(objective, out, paths)
+    fit_files, areas = _write_fits(objective, fitted, out)
+    written += fit_files
+    choices = {"segmentation": seg_choice, "model": model_choice, **st["choices"]}
     summary = {
-        "model": model,
-        "pictures": {k: str(v) for k, v in pictures.items() if v is not None},
+        "model": kept_model,
+        "pictures": {k: str(v) for k, v in paths.items() if v is not None},
         "views": ["front", "side"][: objective.n_views],
         "ncc": float(np.mean(views)),
         "ncc_views": dict(zip(("front", "side"), views)),
         "size": objective.size,
+        # the fit's area over the target's in each view, at the picture's size
+        # (fit_<view>.png against silhouette_<view>.png)
+        "area_ratio": areas,
+        "score": kept.score,
         "seconds": round(time.perf_counter() - t0, 3),
+        "budget": budget,
         "stages": kept.stages,
+        "models": models_summary,
         "leaves": leaves_summary,
-        # what was chosen for the user (segmentation, line width, sizes, leaves) and why
+        # what was chosen for the user (segmentation, model, line width, sizes, leaves)
+        # and why
         "choices": choices,
         "params": params,
         # the arrangement of the branches fitted to the picture (None: the model's own):
@@ -540,7 +700,7 @@ def fit_image(
     text = json.dumps(jsonable(summary), indent=1)
     atomic_write(out / "fit.json", lambda fh: fh.write(text.encode()))
     return FitResult(
-        model=model,
+        model=kept_model,
         params=params,
         draws=draws,
         stages=tuple(kept.stages),

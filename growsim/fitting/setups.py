@@ -25,11 +25,14 @@ from growsim.registry import Registry
 __all__ = [
     "ARRANGE_SIGMA",
     "BEST_SETUP",
+    "FIT_OUTPUT",
     "FIT_SETUPS",
     "HONDA_EVOLVE",
+    "HONDA_FIXED",
     "HONDA_GA",
     "LEAF_MARGIN",
     "LEAF_MODES",
+    "PHOTO_SCORE",
     "SIZES",
     "FitSetup",
     "arrange",
@@ -37,6 +40,7 @@ __all__ = [
     "exact_score",
     "fit_config",
     "refine",
+    "search_score",
     "sweep_discrete",
 ]
 
@@ -47,7 +51,8 @@ __all__ = [
 BEST_SETUP = "ifs_tree_best.toml"
 
 #: Honda parameters fitted to pictures (the rest come from the ``cherry`` preset; the
-#: leaves are added by the setup, :data:`FIT_SETUPS`).
+#: leaves are added by the setup, :data:`FIT_SETUPS`). The branches' radii follow the pipe
+#: model (:data:`HONDA_FIXED`): only the trunk's is fitted.
 HONDA_EVOLVE: dict = {
     "f": [0.5, 1.0],
     "theta0": True,
@@ -57,10 +62,22 @@ HONDA_EVOLVE: dict = {
     "bd": [5.0, 40.0],
     "b0": [1.0, 12.0],
     "b_max": [0.0, 6.0],
-    # how thick the branches are drawn (photos show them at their width)
-    "radius": [0.3, 3.0],
-    "taper": [0.6, 0.95],
+    # how thick the trunk is drawn (photos show branches at their width)
+    "radius": [0.05, 3.0],
 }
+
+#: Honda parameters fixed in a fit: pipe-model radii (a branch's cross-section in
+#: proportion to the tips it feeds), so no branch is drawn as thick as the crown
+HONDA_FIXED: dict = {"pipe": 1}
+
+#: The silhouette objective's shape terms a photo's searches score with
+#: (:func:`~growsim.objectives.silhouette.shape_score`): three pyramid levels, the fit's
+#: area and its trunk's width within 0.8x-1.25x of the picture's
+PHOTO_SCORE: dict = {"scales": 3, "area_band": [0.8, 1.25], "trunk_band": [0.8, 1.25]}
+
+#: The ``[output]`` of a fit's runs: no meshes or screenshots (``fit-image`` writes the
+#: kept fit's)
+FIT_OUTPUT: dict = {"mesh": [], "screenshots": []}
 
 #: Honda's GA: 60 generations of 100, then 1,500 evaluations of polish (7,500 in all).
 HONDA_GA: dict = {
@@ -140,7 +157,14 @@ class FitSetup:
     view's picture, for a model without a mesh); ``drawing``: the
     :func:`~growsim.fitting.fit.fit_image` keywords a drawing is fitted with, where the
     user gives none (``sizes``, ``restarts``, ``carry``, ``evaluations``, ``refine``,
-    ``blur``; default: one size, 64 px, the seed's).
+    ``blur``; default: one size, 64 px, the seed's); ``evaluations``: of a photo's
+    first stage (``None``: the tables' own budget); ``auto_leafy``: ``--leaves auto`` fits
+    a leafy tree beside the bare one (``False``: the bare one alone; ``--leaves fit``
+    still fits leaves); ``kinds``: the pictures ``--model
+    auto`` fits this model to (``"photo"``, ``"drawing"``); ``score``: the silhouette
+    objective's shape terms a photo's searches score with
+    (:func:`~growsim.objectives.silhouette.shape_score`: ``scales``, ``area_band``; the
+    stages report the binary NCC).
 
     Examples
     --------
@@ -164,18 +188,27 @@ class FitSetup:
     blur: float = 0.0
     shape: str = "tree.glb"
     drawing: dict = field(default_factory=lambda: {"sizes": (64,)})
+    kinds: tuple[str, ...] = ("photo", "drawing")
+    evaluations: int | None = None
+    auto_leafy: bool = True
+    score: dict = field(default_factory=dict)
 
 
 def _ifs3d_tables() -> dict:
     setup = best_setup()
-    return {"model": setup["model"], "ga": setup["ga"], "output": setup["output"]}
+    return {"model": setup["model"], "ga": setup["ga"], "output": dict(FIT_OUTPUT)}
 
 
 def _honda_tables() -> dict:
     return {
-        "model": {"kind": "honda", "preset": "cherry", "evolve": dict(HONDA_EVOLVE)},
+        "model": {
+            "kind": "honda",
+            "preset": "cherry",
+            "evolve": dict(HONDA_EVOLVE),
+            "params": dict(HONDA_FIXED),
+        },
         "ga": {**HONDA_GA, "polish": dict(HONDA_GA["polish"])},
-        "output": {"mesh": ["vtp"], "screenshots": ["front", "side"]},
+        "output": dict(FIT_OUTPUT),
     }
 
 
@@ -193,11 +226,17 @@ def _ifs2d_tables() -> dict:
 FIT_SETUPS: Registry[FitSetup] = Registry(
     "fit setup",
     {
+        # a photo: 10,000 evaluations (the drawings' 50,000 cost 35 s with tubes drawn); a
+        # bare tree only unless --leaves fit (a leafy IFS tree is 14x slower to draw; Honda
+        # fits the leafy photos)
         "ifs3d": FitSetup(
             _ifs3d_tables,
             leaves={"leaves": True, "leaf_radius": [0.005, 0.1]},
             bare={"leaves": 0},
             refine=600,
+            evaluations=10_000,
+            auto_leafy=False,
+            score=PHOTO_SCORE,
         ),
         # eight restarts, the two best at 64 px carried on: the GA at 64 px ends in crowns
         # of different quality by its seed (the plane's photo: 0.70-0.87 at 256 px over
@@ -213,14 +252,20 @@ FIT_SETUPS: Registry[FitSetup] = Registry(
             _honda_tables,
             leaves={"leaves": True, "leaf_radius": [0.3, 4.0]},
             bare={"leaves": 0},
-            restarts=8,
+            restarts=4,
             carry=2,
-            arrange=2000,
+            arrange=1000,
+            kinds=("photo",),
+            score=PHOTO_SCORE,
         ),
         # a 2D IFS code fitted to one picture of an attractor (docs/models/ifs2d.md); no
         # mesh: its picture
         "ifs2d": FitSetup(
-            _ifs2d_tables, line_width="thin", views=("front",), shape="attractor.png"
+            _ifs2d_tables,
+            line_width="thin",
+            views=("front",),
+            shape="attractor.png",
+            kinds=("drawing",),
         ),
     },
 )
@@ -242,6 +287,7 @@ def fit_config(
     segmentation: str = "photo",
     leaves: str | bool = "fit",
     blur: float = 0.0,
+    score: dict | None = None,
 ) -> dict:
     """The experiment config (a dict for :func:`growsim.experiment.load_config`) of a fit's
     first stage (at ``size`` pixels).
@@ -256,8 +302,9 @@ def fit_config(
     the setup's. ``segmentation``: ``"photo"`` or ``"threshold"`` (with ``threshold`` and
     ``polarity``). ``blur``: the search's score is the NCC of views blurred by this sigma
     (pixels; the silhouette objective's ``blur``: partial credit for a branch near its
-    place), 0 the binary NCC. Picture paths are made absolute, so the config runs from any
-    directory.
+    place), 0 the binary NCC. ``score``: more options of the silhouette objective (its
+    shape terms, ``scales`` and ``area_band``). Picture paths are made absolute, so the
+    config runs from any directory.
 
     Examples
     --------
@@ -270,7 +317,7 @@ def fit_config(
     >>> fit_config("tree.jpg", model="honda")["objective"][0]["views"]
     'front'
     >>> fit_config("tree.jpg", model="honda", leaves="bare")["model"]["params"]
-    {'leaves': 0}
+    {'pipe': 1, 'leaves': 0}
     """
     setup = FIT_SETUPS.get(model)
     if line_width is None:
@@ -289,6 +336,7 @@ def fit_config(
     }
     if blur > 0.0:
         objective["blur"] = float(blur)
+    objective.update(score or {})
     if side is not None:
         objective["side"] = str(Path(side).absolute())
     if segmentation == "threshold":
@@ -342,12 +390,15 @@ def fit_config(
     }
 
 
-def refine(plan, x0, *, evaluations: int, sigma: float = 0.03, seed: int = 0, draws=None):
+def refine(
+    plan, x0, *, evaluations: int, sigma: float = 0.03, seed: int = 0, draws=None, tick=None
+):
     """Refine evolved parameters ``x0`` ``(p,)`` on ``plan`` (a compiled fit at a finer
     size): an elitist (1+lambda)-ES (:func:`growsim.ga.polish.polish_steps`) from ``x0``
     for ``evaluations`` fitness evaluations, step ``sigma`` in the unit box, every tree
-    grown with the random ``draws`` when given (:func:`arrange`). Never ends worse than it
-    starts. Returns ``(x, fitness, start_fitness)``.
+    grown with the random ``draws`` when given (:func:`arrange`); ``tick(n)`` is called
+    after every ``n`` evaluations (a progress bar). Never ends worse than it starts.
+    Returns ``(x, fitness, start_fitness)``.
 
     Examples
     --------
@@ -376,6 +427,8 @@ def refine(plan, x0, *, evaluations: int, sigma: float = 0.03, seed: int = 0, dr
         while True:
             scores = np.asarray(fitness(step.candidates), dtype=np.float64)
             scores = np.where(np.isfinite(scores), scores, -np.inf)
+            if tick is not None:
+                tick(len(scores))
             j = int(np.argmax(scores))
             if scores[j] > best:
                 best_x, best = step.candidates[j].copy(), float(scores[j])
@@ -486,7 +539,9 @@ class _Scorer:
         return np.array([self.score(self.develop(row)) for row in x])
 
 
-def arrange(plan, x, draws=None, *, evaluations: int, sigma: float = ARRANGE_SIGMA, seed=0):
+def arrange(
+    plan, x, draws=None, *, evaluations: int, sigma: float = ARRANGE_SIGMA, seed=0, tick=None
+):
     """Search the arrangement of the branches of the tree of evolved values ``x`` ``(k,)``
     on ``plan`` (a compiled fit): the random draws its model grows it with (a model with
     the capability ``draws(params) -> (m, d)`` uniforms, whose ``develop`` takes
@@ -496,7 +551,8 @@ def arrange(plan, x, draws=None, *, evaluations: int, sigma: float = ARRANGE_SIG
     branching's draws (one row, picked uniformly: half the steps draw the row anew, half
     move it by a normal step ``sigma``, reflected into ``[0, 1]``) and keeps the change
     when the score is not worse, so a picture's limbs are placed where the picture has
-    them, not where the model's seed put them. Never ends worse than it starts.
+    them, not where the model's seed put them. ``tick(n)``: called every 50 evaluations
+    (a progress bar). Never ends worse than it starts.
 
     Returns ``(draws, fitness, start_fitness)``; ``draws`` is ``None`` when the model has no
     ``draws`` capability (nothing searched).
@@ -529,7 +585,9 @@ def arrange(plan, x, draws=None, *, evaluations: int, sigma: float = ARRANGE_SIG
     start = best
     rows = own.shape[0]
     rng = np.random.default_rng(seed)
-    for _ in range(int(evaluations) if rows else 0):
+    for i in range(int(evaluations) if rows else 0):
+        if tick is not None and i % 50 == 49:
+            tick(50)
         trial = current.copy()
         j = int(rng.integers(rows))
         if rng.random() < 0.5:
@@ -541,6 +599,24 @@ def arrange(plan, x, draws=None, *, evaluations: int, sigma: float = ARRANGE_SIG
         if score >= best:
             current, best = trial, score
     return current, best, start
+
+
+def search_score(plan, x, draws=None) -> float:
+    """The score the searches on ``plan`` maximise (the objectives' weighted fitness: the
+    silhouette's shape score, blurred or not) of evolved values ``x`` ``(k,)``, the tree
+    grown with ``draws`` (``None``: the model's own).
+
+    Examples
+    --------
+    >>> from growsim.experiment import load_plan
+    >>> cfg = {"model": {"kind": "honda", "preset": "zelkova", "evolve": {"f": [0.9, 1.0]}},
+    ...        "objective": [{"kind": "silhouette", "target_model": "honda",
+    ...                       "target_preset": "zelkova", "target_seed": 3, "size": 32,
+    ...                       "scales": 3, "area_band": [0.8, 1.25]}]}
+    >>> search_score(load_plan(cfg), np.array([0.95]))
+    1.0
+    """
+    return float(_Scorer(plan, draws)(np.asarray(x, dtype=np.float64)[None, :])[0])
 
 
 def exact_score(plan, x, draws=None) -> float:

@@ -27,6 +27,15 @@ continuously with the parameters), both it and the target are blurred by a Gauss
 ``sigma`` pixels, and the score is the NCC of these grey-level images (the seed's eq. 3 in
 its general form, ``<F, G> / (|F| |G|)``): a branch one pixel off still earns partial
 credit. :meth:`SilhouetteObjective.exact` always gives the binary NCC, the figure to report.
+
+Two terms make a score that a blob or a lone trunk cannot win (the photo fits' search,
+:mod:`growsim.fitting`): ``scales = n`` averages the NCC over ``n`` levels of a Gaussian
+pyramid (each level the previous one smoothed and halved, compared as grey levels, ``<F, G> / (|F|
+|G|)``), so a branch a few pixels off earns credit at the coarser levels while the finest
+level still asks for it in place; ``area_band = [lo, hi]`` multiplies the score by
+``exp(-AREA_SLOPE * e)``, ``e`` the distance of ``log(|F| / |G|)`` (the areas of all the
+views) outside ``[log lo, log hi]``: a crown-covering blob of twice the tree's area keeps
+under a third of its score (:func:`shape_score`).
 """
 
 from __future__ import annotations
@@ -45,7 +54,102 @@ from growsim.phenotypes.plant import LEAF
 # imported where they are used: the config schema imports every objective's options, and a
 # run that does not score silhouettes should not pay for loading them.
 
-__all__ = ["SilhouetteObjective", "SilhouetteOptions", "phenotype_views", "plant_views"]
+__all__ = [
+    "AREA_SLOPE",
+    "SilhouetteObjective",
+    "SilhouetteOptions",
+    "phenotype_views",
+    "plant_views",
+    "shape_score",
+    "trunk_widths",
+]
+
+#: :func:`trunk_widths`: the share of the rows, from the bottom, a view's foot is measured on
+TRUNK_ROWS = 0.08
+
+#: ``area_band``: the score is multiplied by ``exp(-AREA_SLOPE * e)``, ``e`` the distance of
+#: the log area ratio outside the band (twice the band's top: x 0.125)
+AREA_SLOPE = 3.0
+
+
+def _pyramid(img: np.ndarray, levels: int) -> list[np.ndarray]:
+    """``img`` ``(V, S, S)`` as float64, then each coarser level: the previous one smoothed
+    by the binomial filter ``[1, 4, 6, 4, 1] / 16`` along both axes (edges clamped) and
+    every second pixel kept (a Gaussian pyramid, after Burt and Adelson)."""
+    from scipy.ndimage import convolve1d
+
+    taps = np.array([1.0, 4.0, 6.0, 4.0, 1.0]) / 16.0
+    out = [np.asarray(img, dtype=np.float64)]
+    for _ in range(levels - 1):
+        a = convolve1d(out[-1], taps, axis=1, mode="nearest")
+        a = convolve1d(a, taps, axis=2, mode="nearest")
+        out.append(a[:, ::2, ::2])
+    return out
+
+
+def trunk_widths(views, rows: float = TRUNK_ROWS) -> np.ndarray:
+    """The width of each view ``(V, S, S)`` (> 0 the tree) at its foot: the mean count of
+    tree pixels per row over the lowest ``rows`` share of the rows (the views are framed
+    with the tree's lowest point on the bottom row, so this is the trunk's width, or a
+    low crown's).
+
+    Examples
+    --------
+    >>> a = np.zeros((1, 20, 20)); a[0, :, 9:12] = 1; a[0, :5, 2:18] = 1
+    >>> trunk_widths(a).tolist()
+    [3.0]
+    """
+    v = np.asarray(views) > 0
+    n = max(1, round(rows * v.shape[1]))
+    return v[:, -n:, :].sum(axis=2).mean(axis=1)
+
+
+def _band_factor(ratio: float, band) -> float:
+    """``exp(-AREA_SLOPE * e)``, ``e`` how far ``log(ratio)`` lies outside ``log(band)``."""
+    lo, hi = band
+    r = np.log(max(ratio, 1e-300))
+    return float(np.exp(-AREA_SLOPE * max(0.0, np.log(lo) - r, r - np.log(hi))))
+
+
+def shape_score(views, target, scales: int = 1, area_band=None, first: float | None = None,
+                trunk_band=None):  # fmt: skip
+    """The shape score of ``views`` against ``target`` (both ``(V, S, S)``, > 0 the tree):
+    the mean over ``scales`` levels of a Gaussian pyramid (:func:`_pyramid`) of the mean
+    over views of the grey-level NCC ``<F, G> / (|F| |G|)`` (``first``: the finest level's
+    score, when computed otherwise, e.g. blurred), times the area term of ``area_band``
+    ``(lo, hi)`` (``exp(-AREA_SLOPE * e)``, ``e`` how far ``log(|F| / |G|)`` lies outside
+    ``[log lo, log hi]``; ``None``: none), times the same term of ``trunk_band`` for the
+    ratio of the views' widths at their foot (:func:`trunk_widths`, summed over the views).
+    At ``scales = 1`` without a band, binary views score their binary NCC.
+
+    Examples
+    --------
+    >>> a = np.zeros((1, 8, 8), np.uint8); a[0, :, 3] = 1   # a trunk
+    >>> b = np.zeros_like(a); b[0, :, 4] = 1                # one pixel off
+    >>> shape_score(b, a), round(shape_score(b, a, scales=3), 3)
+    (0.0, 0.591)
+    >>> blob = np.zeros_like(a); blob[0, :, 2:6] = 1         # 4x the area
+    >>> round(shape_score(blob, a, scales=3), 3), round(shape_score(blob, a, 3, (0.8, 1.25)), 3)
+    (0.817, 0.025)
+    """
+    f_levels = _pyramid(views, scales)
+    g_levels = _pyramid(target, scales)
+    total = 0.0
+    for level, (f, g) in enumerate(zip(f_levels, g_levels)):
+        if level == 0 and first is not None:
+            total += first
+            continue
+        dot = (f * g).sum(axis=(1, 2))
+        norm = np.sqrt((f * f).sum(axis=(1, 2)) * (g * g).sum(axis=(1, 2)))
+        total += float(np.mean(np.where(norm > 0, dot / np.where(norm > 0, norm, 1.0), 0.0)))
+    score = total / len(f_levels)
+    if area_band is not None:
+        ratio = float(f_levels[0].sum()) / max(float(g_levels[0].sum()), 1e-300)
+        score *= _band_factor(ratio, area_band)
+    if trunk_band is not None:
+        ratio = trunk_widths(views).sum() / max(trunk_widths(target).sum(), 1e-300)
+        score *= _band_factor(float(ratio), trunk_band)
+    return score
 
 
 def plant_views(
@@ -188,6 +292,29 @@ class SilhouetteOptions(ObjectiveOptions):
     blur: float = Field(
         0.0, ge=0.0, le=16.0, description="search on views blurred by this sigma (pixels)"
     )
+    scales: int = Field(
+        1, ge=1, le=6, description="NCC averaged over this many levels of a Gaussian pyramid"
+    )
+    area_band: list[float] | None = Field(
+        None,
+        min_length=2,
+        max_length=2,
+        description="[lo, hi]: the score falls off outside this fit/target area ratio",
+    )
+
+    trunk_band: list[float] | None = Field(
+        None,
+        min_length=2,
+        max_length=2,
+        description="[lo, hi]: the score falls off outside this fit/target trunk width ratio",
+    )
+
+    @field_validator("area_band", "trunk_band")
+    @classmethod
+    def _check_band(cls, v):
+        if v is not None and not 0.0 < v[0] <= 1.0 <= v[1]:
+            raise ValueError(f"expected [lo, hi] with 0 < lo <= 1 <= hi, got {list(v)}")
+        return v
 
     @field_validator("threshold")
     @classmethod
@@ -288,6 +415,9 @@ class SilhouetteObjective(Objective):
         self.area_rejection = o.area_rejection
         self.line_width = o.line_width
         self.blur = o.blur
+        self.scales = o.scales
+        self.area_band = o.area_band
+        self.trunk_band = o.trunk_band
         self.n_views = 2 if o.views == "both" else 1
         #: the pictures' full-size silhouettes (view name -> (H, W) bool), as segmented
         self.pictures: dict[str, np.ndarray] = {}
@@ -358,14 +488,31 @@ class SilhouetteObjective(Objective):
         """Mean NCC over the scored views, in [0, 1] (blurred if ``blur > 0``)."""
         from growsim.kernels.views import blurred_ncc, ncc
 
+        shaped = self.scales > 1 or self.area_band is not None or self.trunk_band is not None
         if self.blur > 0.0:
             aa = phenotype_views(
                 plant, self.size, self.line_width, antialias=True, views=self.n_views
             )
             # a 2D phenotype has one view: it meets the target's front
-            return blurred_ncc(aa, self.target[: len(aa)], self.blur, self.area_rejection)
+            score = blurred_ncc(aa, self.target[: len(aa)], self.blur, self.area_rejection)
+            if shaped:
+                score = self._shaped(aa, score)
+            return score
         v = self.views(plant)
-        return ncc(v, self.target[: len(v)], self.area_rejection)
+        score = ncc(v, self.target[: len(v)], self.area_rejection)
+        if shaped:
+            score = self._shaped(v, score)
+        return score
+
+    def _shaped(self, views, first: float) -> float:
+        """The shape score of ``views`` (:func:`shape_score`), ``first`` its finest level."""
+        return shape_score(views, self.target[: len(views)], self.scales, self.area_band,
+                           first=first, trunk_band=self.trunk_band)  # fmt: skip
+
+    def area_ratios(self, plant) -> list[float]:
+        """Each scored view's area over the target's (the fit's ``area_band`` measure)."""
+        v = self.views(plant)
+        return [float(v[i].sum()) / float(self.target[i].sum()) for i in range(len(v))]
 
     def exact(self, plant) -> float:
         """The binary mean NCC (the seed's eq. 3 on silhouettes), whatever ``blur`` is."""
@@ -385,7 +532,8 @@ class SilhouetteObjective(Objective):
         Rows ``map_groups`` does not yield (leafy trees) are developed and scored here.
         """
         fast = "map_groups" in model.capabilities
-        if not fast or self.line_width != "thin":
+        shaped = self.scales > 1 or self.area_band is not None or self.trunk_band is not None
+        if not fast or self.line_width != "thin" or shaped:
             return None
         from growsim.kernels.ifs3d import score_population
 
