@@ -432,3 +432,89 @@ def test_fit_image_refuses_bad_arrange_and_blur(photo, tmp_path, capsys):
     assert main([*base, "--blur", "9"]) == 2  # 18 px at 128 (the next-to-last size)
     assert "--blur: expected 0 or more pixels, at most 16" in capsys.readouterr().err
     assert not (tmp_path / "x").exists()
+
+
+def test_the_shape_score_is_not_won_by_a_blob_or_a_lone_trunk():
+    """Binary NCC at 64 px pays a crown-covering blob and a lone trunk better than a tree
+    whose limbs are a little off; the photo fits' shape score (pyramid, area and trunk
+    width bands) ranks the near tree first."""
+    from scipy.ndimage import binary_closing, binary_fill_holes, shift
+
+    from growsim.kernels.views import ncc
+    from growsim.objectives.silhouette import shape_score
+
+    tree = honda.develop(honda.PRESETS["zelkova"], seed=3)
+    target = plant_views(tree, 64, "radius", views=1)
+    near = shift(target[0], (0, 2), order=0)[None]  # every limb two pixels off
+    blob = binary_fill_holes(binary_closing(target[0] > 0, iterations=4)).astype(np.uint8)[None]
+    trunk = np.zeros_like(target)
+    cols = np.flatnonzero(target[0, -3:].any(axis=0))
+    trunk[0, :, cols.min() : cols.max() + 1] = 1
+    plain = {k: ncc(v, target) for k, v in (("near", near), ("blob", blob), ("trunk", trunk))}
+    shaped = {k: shape_score(v, target, **PHOTO_SCORE)
+              for k, v in (("near", near), ("blob", blob), ("trunk", trunk))}  # fmt: skip
+    assert plain["blob"] > plain["near"]  # what the fits found before
+    assert shaped["near"] > shaped["blob"] and shaped["near"] > shaped["trunk"]
+
+
+def test_budget_scales_every_search_and_auto_fits_each_model(photo, tmp_path):
+    """--budget X multiplies the first stage's, the refinements' and the arrangement
+    searches' evaluations; --model auto (the default) fits every photo model at the first
+    size and writes what it kept and why."""
+    from growsim.fitting import fit_image
+
+    path, _ = photo
+    kw = dict(sizes=(32, 64), restarts=1, progress=False)
+    r = fit_image(path, out=tmp_path / "half", model="honda", leaves="bare", budget=0.1, **kw)
+    stages = {(s["size"], s["stage"]): s["evaluations"] for s in r.stages}
+    assert stages[64, "refine"] == 100 and stages[64, "arrange"] == 100
+    assert 750 <= stages[32, "ga"] <= 850  # 10 % of 7,500 (the GA ends whole generations)
+    auto = fit_image(path, out=tmp_path / "auto", budget=0.05, **kw)
+    s = auto.summary
+    assert set(s["models"]) == {"ifs3d", "honda"} and auto.model in s["models"]
+    assert s["choices"]["model"]["value"] == "auto" and "photo" in s["choices"]["model"]["why"]
+    assert auto.model == max(s["models"], key=s["models"].get)
+    assert (tmp_path / "auto" / "ifs3d-bare").is_dir()
+    assert (tmp_path / "auto" / "honda-leafy").is_dir()
+    for bad in (0, -1, 1000):
+        with pytest.raises(UserInputError, match="--budget"):
+            fit_image(path, out=tmp_path / "never", budget=bad)
+    assert not (tmp_path / "never").exists()
+
+
+@pytest.mark.parametrize("where", ["second GA", "finer size"])
+def test_fit_image_resumes_an_interrupted_fit(photo, tmp_path, monkeypatch, capsys, where):
+    """One --out holds one fit: a second fit there is refused before any work, naming
+    what is there; --resume continues an interrupted fit from its runs' last finished
+    stages to the same fit as an uninterrupted one, and refuses a finished fit."""
+    from growsim.fitting import fit as fitting
+
+    path, _ = photo
+    kw = dict(model="honda", evaluations=200, sizes=(32, 64), refine=20, arrange=20,
+              restarts=2, progress=False)  # fmt: skip
+    whole = fitting.fit_image(path, out=tmp_path / "whole", **kw)
+    name, real = ("_evolve", fitting._evolve) if where == "second GA" else (
+        "_size_stages", fitting._size_stages)
+    calls = []
+
+    def cut(*a, **k):
+        calls.append(1)
+        if (where == "second GA" and len(calls) == 2) or (where == "finer size" and a[1] == 1):
+            raise KeyboardInterrupt
+        return real(*a, **k)
+
+    monkeypatch.setattr(fitting, name, cut)
+    with pytest.raises(KeyboardInterrupt):
+        fitting.fit_image(path, out=tmp_path / "cut", **kw)
+    monkeypatch.setattr(fitting, name, real)
+    with pytest.raises(UserInputError, match="fit-image --resume"):
+        fitting.fit_image(path, out=tmp_path / "cut", **kw)
+    assert main(["fit-image", "--resume", str(tmp_path / "cut"), "--model", "ifs3d"]) == 2
+    assert "--resume: give the fit's directory alone (not --model)" in capsys.readouterr().err
+    again = fitting.fit_image(out=tmp_path / "cut", resume=True, progress=False)
+    assert again.params == whole.params and again.ncc == whole.ncc
+    drop = lambda stages: [{k: v for k, v in s.items() if k != "seconds"} for s in stages]  # noqa: E731
+    assert drop(again.stages) == drop(whole.stages)
+    assert again.summary["leaves"]["first_size"] == whole.summary["leaves"]["first_size"]
+    with pytest.raises(UserInputError, match="finished"):
+        fitting.fit_image(out=tmp_path / "cut", resume=True)

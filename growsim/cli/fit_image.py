@@ -57,7 +57,7 @@ def register(subparsers) -> None:
     p = subparsers.add_parser(
         "fit-image",
         help="fit a tree to one picture, or to a front and a side picture (PNG/JPEG)",
-        usage="growsim fit-image PICTURE [SIDE] --out DIR [options]",
+        usage="growsim fit-image PICTURE [SIDE] --out DIR [options] | --resume DIR",
         description="Fit a tree model to a picture of a tree, or to a front and a side "
         "picture. Drawings (grey, two levels) take the fast exact path (threshold, thin "
         "lines, 64 px), photos the photo one (sky and ground apart, 64,128,256 px); each "
@@ -65,9 +65,12 @@ def register(subparsers) -> None:
         "the choices are printed and kept in DIR/fit.json with the fit "
         "(fit_<view>.png, framed as silhouette_<view>.png).",
     )
-    p.add_argument("front", metavar="PICTURE", help="the tree's front (PNG, JPEG, ...)")
+    p.add_argument("front", nargs="?", default=None, metavar="PICTURE",
+                   help="the tree's front (PNG, JPEG, ...)")  # fmt: skip
     p.add_argument("side", nargs="?", default=None, metavar="SIDE", help="its side (optional)")
-    p.add_argument("--out", required=True, metavar="DIR", help="results directory (new)")
+    p.add_argument("--out", default=None, metavar="DIR", help="results directory (new)")
+    p.add_argument("--resume", default=None, metavar="DIR",
+                   help="continue the interrupted fit in DIR")  # fmt: skip
     p.add_argument(
         "--model",
         default="auto",
@@ -128,9 +131,28 @@ _OPTIONS = ("model", "budget", "sizes", "size", "segmentation", "threshold", "po
             "arrange", "blur", "seed", "restarts", "carry", "workers")  # fmt: skip
 
 
+#: the parser's defaults of :data:`_OPTIONS` (an option given beside --resume is refused)
+_DEFAULTS = {k: None for k in _OPTIONS} | {"model": "auto", "budget": 1.0, "segmentation": "auto",
+                                          "threshold": "otsu", "polarity": "auto", "seed": 0}
+
+
 def _main(args) -> int:
-    options = {k: getattr(args, k) for k in _OPTIONS}
-    result = fit_image(args.front, args.side, out=args.out, progress=not args.quiet, **options)
+    progress = not args.quiet
+    if args.resume is not None:
+        given = [f"--{k.replace('_', '-')}" for k in _OPTIONS
+                 if k != "workers" and getattr(args, k) != _DEFAULTS[k]]  # fmt: skip
+        if args.out is not None or given:
+            raise UserInputError(
+                f"--resume: give the fit's directory alone (not {', '.join(given) or '--out'}); "
+                "it goes on with the options it was started with"
+            )
+        result = fit_image(args.front, args.side, out=args.resume, resume=True,
+                           workers=args.workers, progress=progress)  # fmt: skip
+    else:
+        if args.front is None or args.out is None:
+            raise UserInputError("give a PICTURE and --out DIR (or --resume DIR)")
+        options = {k: getattr(args, k) for k in _OPTIONS}
+        result = fit_image(args.front, args.side, out=args.out, progress=progress, **options)
     summary, leaves = result.summary, result.summary["leaves"]
     shown = ", ".join(f"{k} {v:.4f}" for k, v in result.ncc_views.items())
     print(

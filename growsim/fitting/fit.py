@@ -152,6 +152,13 @@ def raster_sizes(values) -> tuple[int, ...]:
     return sizes
 
 
+#: a fit's state in its ``--out``: the options it was started with (``--resume``)
+FIT_STATE = "fit-state.json"
+
+#: each run's state in its directory: the stages it finished, its values and draws
+RUN_STATE = "fit-stages.json"
+
+
 @dataclass
 class _Fit:
     """One fit on its way through the sizes: its compiled plan (at the current size), the
@@ -169,6 +176,27 @@ class _Fit:
         """The binary NCC at its last stage."""
         return self.stages[-1]["ncc"]
 
+    def save(self, done: int) -> None:
+        """Write its state after the searches of size ``done`` (an index into the sizes)."""
+        state = {"done": done, "x": self.x.tolist(), "stages": self.stages,
+                 "draws": None if self.draws is None else self.draws.tolist()}  # fmt: skip
+        atomic_write(self.out / RUN_STATE, json.dumps(jsonable(state)))
+
+    @classmethod
+    def restore(cls, out: Path, config) -> tuple[_Fit, int] | None:
+        """The fit saved in ``out`` (:meth:`save`) and the index of the last size done, its
+        plan compiled by ``config(k)``; ``None`` if nothing was saved."""
+        from growsim.experiment import load_plan
+
+        path = out / RUN_STATE
+        if not path.is_file():
+            return None
+        state = json.loads(path.read_text())
+        draws = None if state["draws"] is None else np.asarray(state["draws"], dtype=np.float64)
+        fit = cls(load_plan(config(state["done"])), np.asarray(state["x"], dtype=np.float64),
+                  out, draws, state["stages"])  # fmt: skip
+        return fit, state["done"]
+
     @property
     def score(self) -> float:
         """The score searched at its last stage (the shape score, blurred or not; the
@@ -180,7 +208,7 @@ def _searched_apart(plan) -> bool:
     """Whether ``plan``'s searches score something else than the binary NCC (a blur, the
     shape terms)."""
     o = plan.objectives[0]
-    return o.blur > 0 or o.scales > 1 or o.area_band is not None
+    return o.blur > 0 or o.has_shape_terms
 
 
 class _Bar:
@@ -206,14 +234,20 @@ class _Bar:
             self.bar.close()
 
 
-def _evolve(plan, size: int, out: Path, workers, progress) -> _Fit:
+def _evolve(plan, size: int, out: Path, workers, progress, resume: bool = False) -> _Fit:
     """The first stage of one fit: the setup's GA on ``plan`` (compiled at the first size,
-    ``size``), run into ``out`` (``progress``: ``False`` or the bar's label); its row: size,
+    ``size``), run into ``out`` (``progress``: ``False`` or the bar's label; ``resume``:
+    continued from the run's checkpoint, or read back when it finished); its row: size,
     evaluations, seconds, binary NCC (and the ``score`` searched, when it differs)."""
-    from growsim.experiment import run
+    from growsim.experiment import read_run, run
 
     t0 = time.perf_counter()
-    result = run(plan, out=out, workers=workers, progress=progress)
+    if resume and (out / "summary.json").is_file():
+        result = read_run(out, history=False)
+    elif resume and (out / "config.toml").is_file():
+        result = run(None, out=out, workers=workers, progress=progress, resume=True)
+    else:
+        result = run(plan, out=out, workers=workers, progress=progress)
     fitness = plan.fitness()
     x = np.array([result.best_params[n] for n in fitness.evolved], dtype=np.float64)
     apart = _searched_apart(plan)
@@ -478,11 +512,42 @@ def _kept(judged: dict, names) -> tuple[str, str]:
     return m, per_model[m]
 
 
+#: the options of :func:`fit_image` a fit is started with, kept in its :data:`FIT_STATE`
+_SAVED = ("front", "side", "model", "budget", "sizes", "size", "segmentation", "threshold",
+          "polarity", "line_width", "leaves", "mask_front", "mask_side", "evaluations",
+          "refine", "arrange", "blur", "seed", "restarts", "carry")  # fmt: skip
+
+
+def _saved(out_dir: Path) -> dict:
+    """The options of the fit in ``out_dir`` to resume (:data:`FIT_STATE`); refused when
+    there is none, or it finished."""
+    path = out_dir / FIT_STATE
+    if (out_dir / "fit.json").is_file():
+        raise UserInputError(f"{out_dir}: this fit is finished (fit.json); nothing to resume")
+    if not path.is_file():
+        raise UserInputError(f"{out_dir}: no fit to resume here (no {FIT_STATE})")
+    return json.loads(path.read_text())["options"]
+
+
+def _check_fresh(out_dir: Path) -> None:
+    """Refuse an ``--out`` that holds anything: one directory, one fit."""
+    if out_dir.exists() and (not out_dir.is_dir() or any(out_dir.iterdir())):
+        held = sorted(p.name + ("/" if p.is_dir() else "") for p in out_dir.iterdir())
+        shown = ", ".join(held[:4]) + (", ..." if len(held) > 4 else "")
+        hint = (f"continue it with: growsim fit-image --resume {out_dir}; "
+                if (out_dir / FIT_STATE).is_file() and not (out_dir / "fit.json").is_file()
+                else "")  # fmt: skip
+        raise UserInputError(
+            f"{out_dir} already holds files ({shown}); {hint}a fit needs a new --out"
+        )
+
+
 def fit_image(
-    front: str | os.PathLike,
+    front: str | os.PathLike | None = None,
     side: str | os.PathLike | None = None,
     *,
     out: str | os.PathLike,
+    resume: bool = False,
     model: str = "auto",
     budget: float = 1.0,
     sizes=None,
@@ -505,8 +570,11 @@ def fit_image(
     progress: bool = True,
 ) -> FitResult:
     """Fit a model to the picture ``front`` of a tree, or to it and a ``side`` picture
-    (from the right), into the results directory ``out`` (see the module docstring for the
-    stages and the files written); returns the kept fit (:class:`FitResult`).
+    (from the right), into the results directory ``out`` (new: one directory, one fit;
+    see the module docstring for the stages and the files written); returns the kept fit
+    (:class:`FitResult`). ``resume=True`` (no pictures, no options) continues the fit in
+    ``out`` that was interrupted, with the options it was started with, from each run's
+    last finished stage (a GA from its checkpoint): the same fit as an uninterrupted one.
 
     The keywords are ``growsim fit-image``'s options, with its defaults: ``model``
     (``"auto"``: every model of :data:`~growsim.fitting.setups.FIT_SETUPS` for the
@@ -544,6 +612,26 @@ def fit_image(
     from growsim.objectives.silhouette import phenotype_views
     from growsim.pictures.images import silhouette_image
 
+    out_dir = Path(out)
+    if resume:
+        if front is not None or side is not None:
+            raise UserInputError(
+                "--resume: give the fit's directory alone; it goes on with the pictures and "
+                "options it was started with"
+            )
+        saved = _saved(out_dir)
+        (front, side, model, budget, sizes, size, segmentation, threshold, polarity, line_width,
+         leaves, mask_front, mask_side, evaluations, refine, arrange, blur, seed, restarts,
+         carry) = (saved[k] for k in _SAVED)  # fmt: skip
+    elif front is None:
+        raise UserInputError("no picture given (or --resume DIR to continue a fit)")
+    else:
+        _check_fresh(out_dir)
+    here = locals()
+    options = {k: here[k] for k in _SAVED}
+    for k in ("front", "side", "mask_front", "mask_side"):
+        if options[k] is not None:
+            options[k] = str(Path(options[k]).absolute())
     if segmentation not in SEGMENTATIONS:
         raise UserInputError(
             f"--segmentation: expected one of {', '.join(SEGMENTATIONS)}, got {segmentation!r}"
@@ -571,7 +659,6 @@ def fit_image(
                     mask_side=mask_side, segmentation=segmentation)  # fmt: skip
     runs = [(m, mode, seed + r) for m in names for mode in settings[m]["modes"]
             for r in range(settings[m]["restarts"])]  # fmt: skip
-    out_dir = Path(out)
     t0 = time.perf_counter()
 
     def config(m, mode, s, size, sigma=0.0):
@@ -602,13 +689,30 @@ def fit_image(
                      st["sizes"], st["setup"], budgets, s,
                      label_of(*r) if progress else None)  # fmt: skip
 
+    def plan_at(r, k):
+        # the plan of run r's searches at its k-th size (blurred but at the last)
+        st = settings[r[0]]
+        last = k == len(st["sizes"]) - 1
+        sigma = 0.0 if last else st["blur"] * st["sizes"][k] / st["sizes"][0]
+        return load_plan(config(*r, st["sizes"][k], sigma))
+
+    if not resume:
+        out_dir.mkdir(parents=True, exist_ok=True)
+        atomic_write(out_dir / FIT_STATE, json.dumps({"options": jsonable(options)}, indent=1))
     fits: dict[tuple[str, str, int], _Fit] = {}
+    done: dict[tuple[str, str, int], int] = {}
     for r in runs:
         size0 = settings[r[0]]["sizes"][0]
         run_out = out_dir / name_of(*r) if len(runs) > 1 else out_dir
+        restored = _Fit.restore(run_out, lambda k, r=r: plan_at(r, k)) if resume else None
+        if restored is not None:
+            fits[r], done[r] = restored
+            continue
         label = f"{label_of(*r)}: {size0} px GA" if progress else False
-        fits[r] = _evolve(first[r], size0, run_out, workers, label)
+        fits[r] = _evolve(first[r], size0, run_out, workers, label, resume)
         stages(r, 0)
+        fits[r].save(0)
+        done[r] = 0
     # every fit at the end of the first size; the best of each model and kind of tree,
     # judged at its model's final size (finer: a blob that passes at 64 px shows there)
     first_size = {label_of(*r): {"ncc": f.ncc, "score": f.score} for r, f in fits.items()}
@@ -631,8 +735,9 @@ def fit_image(
     ranked.sort(key=lambda r: -fits[r].score)
     carried = ranked[: st["carry"] or len(ranked)]
     for r in carried:
-        for k in range(1, len(st["sizes"])):
+        for k in range(done[r] + 1, len(st["sizes"])):
             stages(r, k)
+            fits[r].save(k)
     kept = fits[max(carried, key=lambda r: fits[r].score)]
     setup = st["setup"]
     plan, x, draws = kept.plan, kept.x, kept.draws

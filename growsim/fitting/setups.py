@@ -72,8 +72,13 @@ HONDA_FIXED: dict = {"pipe": 1}
 
 #: The silhouette objective's shape terms a photo's searches score with
 #: (:func:`~growsim.objectives.silhouette.shape_score`): three pyramid levels, the fit's
-#: area and its trunk's width within 0.8x-1.25x of the picture's
-PHOTO_SCORE: dict = {"scales": 3, "area_band": [0.8, 1.25], "trunk_band": [0.8, 1.25]}
+#: area and its trunk's width within 0.8x-1.25x of the picture's, the crown's outline
+PHOTO_SCORE: dict = {
+    "scales": 3,
+    "area_band": [0.8, 1.25],
+    "trunk_band": [0.8, 1.25],
+    "outline": True,
+}
 
 #: The ``[output]`` of a fit's runs: no meshes or screenshots (``fit-image`` writes the
 #: kept fit's)

@@ -58,6 +58,7 @@ __all__ = [
     "AREA_SLOPE",
     "SilhouetteObjective",
     "SilhouetteOptions",
+    "outlines",
     "phenotype_views",
     "plant_views",
     "shape_score",
@@ -104,6 +105,22 @@ def trunk_widths(views, rows: float = TRUNK_ROWS) -> np.ndarray:
     return v[:, -n:, :].sum(axis=2).mean(axis=1)
 
 
+def outlines(views) -> np.ndarray:
+    """Each view ``(V, S, S)`` (> 0 the tree) filled, row by row, from its leftmost to its
+    rightmost tree pixel: the crown's outline, whatever the branches inside it do.
+
+    Examples
+    --------
+    >>> a = np.zeros((1, 3, 5), np.uint8); a[0, 0, [1, 3]] = 1; a[0, 2, 2] = 1
+    >>> outlines(a)[0].astype(int).tolist()
+    [[0, 1, 1, 1, 0], [0, 0, 0, 0, 0], [0, 0, 1, 0, 0]]
+    """
+    v = np.asarray(views) > 0
+    left = np.maximum.accumulate(v, axis=2)
+    right = np.maximum.accumulate(v[..., ::-1], axis=2)[..., ::-1]
+    return left & right
+
+
 def _band_factor(ratio: float, band) -> float:
     """``exp(-AREA_SLOPE * e)``, ``e`` how far ``log(ratio)`` lies outside ``log(band)``."""
     lo, hi = band
@@ -112,15 +129,17 @@ def _band_factor(ratio: float, band) -> float:
 
 
 def shape_score(views, target, scales: int = 1, area_band=None, first: float | None = None,
-                trunk_band=None):  # fmt: skip
+                trunk_band=None, outline: bool = False):  # fmt: skip
     """The shape score of ``views`` against ``target`` (both ``(V, S, S)``, > 0 the tree):
     the mean over ``scales`` levels of a Gaussian pyramid (:func:`_pyramid`) of the mean
     over views of the grey-level NCC ``<F, G> / (|F| |G|)`` (``first``: the finest level's
     score, when computed otherwise, e.g. blurred), times the area term of ``area_band``
     ``(lo, hi)`` (``exp(-AREA_SLOPE * e)``, ``e`` how far ``log(|F| / |G|)`` lies outside
     ``[log lo, log hi]``; ``None``: none), times the same term of ``trunk_band`` for the
-    ratio of the views' widths at their foot (:func:`trunk_widths`, summed over the views).
-    At ``scales = 1`` without a band, binary views score their binary NCC.
+    ratio of the views' widths at their foot (:func:`trunk_widths`, summed over the views),
+    and with ``outline`` times the intersection over union of the outlines
+    (:func:`outlines`: a lone trunk in a wide crown's picture keeps a sliver of its score).
+    At ``scales = 1`` without a band or outline, binary views score their binary NCC.
 
     Examples
     --------
@@ -149,6 +168,9 @@ def shape_score(views, target, scales: int = 1, area_band=None, first: float | N
     if trunk_band is not None:
         ratio = trunk_widths(views).sum() / max(trunk_widths(target).sum(), 1e-300)
         score *= _band_factor(float(ratio), trunk_band)
+    if outline:
+        f, g = outlines(views), outlines(target)
+        score *= float(np.count_nonzero(f & g)) / max(float(np.count_nonzero(f | g)), 1.0)
     return score
 
 
@@ -309,6 +331,10 @@ class SilhouetteOptions(ObjectiveOptions):
         description="[lo, hi]: the score falls off outside this fit/target trunk width ratio",
     )
 
+    outline: bool = Field(
+        False, description="times the IoU of the fit's and the target's outlines (row spans)"
+    )
+
     @field_validator("area_band", "trunk_band")
     @classmethod
     def _check_band(cls, v):
@@ -418,6 +444,7 @@ class SilhouetteObjective(Objective):
         self.scales = o.scales
         self.area_band = o.area_band
         self.trunk_band = o.trunk_band
+        self.outline = o.outline
         self.n_views = 2 if o.views == "both" else 1
         #: the pictures' full-size silhouettes (view name -> (H, W) bool), as segmented
         self.pictures: dict[str, np.ndarray] = {}
@@ -488,7 +515,7 @@ class SilhouetteObjective(Objective):
         """Mean NCC over the scored views, in [0, 1] (blurred if ``blur > 0``)."""
         from growsim.kernels.views import blurred_ncc, ncc
 
-        shaped = self.scales > 1 or self.area_band is not None or self.trunk_band is not None
+        shaped = self.has_shape_terms
         if self.blur > 0.0:
             aa = phenotype_views(
                 plant, self.size, self.line_width, antialias=True, views=self.n_views
@@ -504,10 +531,17 @@ class SilhouetteObjective(Objective):
             score = self._shaped(v, score)
         return score
 
+    @property
+    def has_shape_terms(self) -> bool:
+        """Whether the score has shape terms (:func:`shape_score`)."""
+        return (self.scales > 1 or self.area_band is not None or self.trunk_band is not None
+                or self.outline)  # fmt: skip
+
     def _shaped(self, views, first: float) -> float:
         """The shape score of ``views`` (:func:`shape_score`), ``first`` its finest level."""
         return shape_score(views, self.target[: len(views)], self.scales, self.area_band,
-                           first=first, trunk_band=self.trunk_band)  # fmt: skip
+                           first=first, trunk_band=self.trunk_band,
+                           outline=self.outline)  # fmt: skip
 
     def area_ratios(self, plant) -> list[float]:
         """Each scored view's area over the target's (the fit's ``area_band`` measure)."""
@@ -532,7 +566,7 @@ class SilhouetteObjective(Objective):
         Rows ``map_groups`` does not yield (leafy trees) are developed and scored here.
         """
         fast = "map_groups" in model.capabilities
-        shaped = self.scales > 1 or self.area_band is not None or self.trunk_band is not None
+        shaped = self.has_shape_terms
         if not fast or self.line_width != "thin" or shaped:
             return None
         from growsim.kernels.ifs3d import score_population
