@@ -152,6 +152,10 @@ def raster_sizes(values) -> tuple[int, ...]:
     return sizes
 
 
+#: ``--model auto`` on a drawing: a model whose fit matches it this well at the first size
+#: (binary NCC) ends the search, the next models are not fitted (none can do much better)
+AUTO_ENOUGH = 0.95
+
 #: a fit's state in its ``--out``: the options it was started with (``--resume``)
 FIT_STATE = "fit-state.json"
 
@@ -701,18 +705,27 @@ def fit_image(
         atomic_write(out_dir / FIT_STATE, json.dumps({"options": jsonable(options)}, indent=1))
     fits: dict[tuple[str, str, int], _Fit] = {}
     done: dict[tuple[str, str, int], int] = {}
+    enough = None  # a drawing's model that matched it: the next models are not fitted
     for r in runs:
+        if enough is not None and r[0] != enough:
+            continue
         size0 = settings[r[0]]["sizes"][0]
         run_out = out_dir / name_of(*r) if len(runs) > 1 else out_dir
         restored = _Fit.restore(run_out, lambda k, r=r: plan_at(r, k)) if resume else None
         if restored is not None:
             fits[r], done[r] = restored
-            continue
-        label = f"{label_of(*r)}: {size0} px GA" if progress else False
-        fits[r] = _evolve(first[r], size0, run_out, workers, label, resume)
-        stages(r, 0)
-        fits[r].save(0)
-        done[r] = 0
+        else:
+            label = f"{label_of(*r)}: {size0} px GA" if progress else False
+            fits[r] = _evolve(first[r], size0, run_out, workers, label, resume)
+            stages(r, 0)
+            fits[r].save(0)
+            done[r] = 0
+        if drawing and len(names) > 1 and fits[r].ncc >= AUTO_ENOUGH:
+            enough = r[0]
+    if enough is not None:
+        names = [m for m in names if any(r[0] == m for r in fits)]
+        model_choice["why"] += (f"; {enough}'s fit matched the drawing (NCC >= {AUTO_ENOUGH}), "
+                                "the next models were not fitted")  # fmt: skip
     # every fit at the end of the first size; the best of each model and kind of tree,
     # judged at its model's final size (finer: a blob that passes at 64 px shows there)
     first_size = {label_of(*r): {"ncc": f.ncc, "score": f.score} for r, f in fits.items()}
