@@ -340,14 +340,21 @@ def _write_masks(objective, out: Path, pictures: dict) -> list[Path]:
     return written
 
 
-def _write_fits(objective, fitted, out: Path) -> tuple[list[Path], dict[str, float]]:
+def _write_fits(objective, fitted, phenotype, out: Path) -> tuple[list[Path], dict[str, float]]:
     """The fitted tree's views framed as the target: ``fit_<view>.png`` (black on white),
     the size and placement of ``silhouette_<view>.png``
     (:func:`~growsim.pictures.images.unframe`), so it can be scored any way; and each
-    view's area over the target's there."""
+    view's area over the target's there. Branches drawn at their width are drawn again at
+    the picture's resolution (a raster as large as the picture, at most 1024 px), so a
+    thin branch is as thin as the picture's; thin lines take ``fitted`` (the fitted size's
+    views), which frame exactly."""
+    from growsim.objectives.silhouette import phenotype_views
     from growsim.pictures.images import unframe
 
     masks = list(objective.pictures.values())[: objective.n_views]
+    if objective.line_width == "radius":
+        size = min(1024, max(max(m.shape) for m in masks))
+        fitted = phenotype_views(phenotype, size, "radius", views=objective.n_views)
     written, areas = [], {}
     for i, view in enumerate(list(objective.pictures)[: objective.n_views]):
         back = unframe(fitted[i], *masks, view=i, line_width=objective.line_width)
@@ -787,7 +794,7 @@ def fit_image(
     silhouette_image(panels, out / "silhouettes.png", titles=titles[: len(panels)], scale=2)
     paths = {"front": front, "side": side}
     written = _write_masks(objective, out, paths)
-    fit_files, areas = _write_fits(objective, fitted, out)
+    fit_files, areas = _write_fits(objective, fitted, tree.phenotype, out)
     written += fit_files
     choices = {"segmentation": seg_choice, "model": model_choice, **st["choices"]}
     summary = {

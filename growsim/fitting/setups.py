@@ -72,10 +72,11 @@ HONDA_FIXED: dict = {"pipe": 1}
 
 #: The silhouette objective's shape terms a photo's searches score with
 #: (:func:`~growsim.objectives.silhouette.shape_score`): three pyramid levels, the fit's
-#: area and its trunk's width within 0.8x-1.25x of the picture's, the crown's outline
+#: area within 0.8x-1.15x of the picture's and its trunk's width within 0.8x-1.25x, the
+#: crown's outline
 PHOTO_SCORE: dict = {
     "scales": 3,
-    "area_band": [0.8, 1.25],
+    "area_band": [0.8, 1.15],
     "trunk_band": [0.8, 1.25],
     "outline": True,
 }
