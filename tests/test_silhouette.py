@@ -181,6 +181,11 @@ def test_area_rejection_in_batch():
         ({"target_model": "ifs3d", "mask_front": "m.png"}, "mask"),
         ({"target_model": "ifs3d", "blur": -1.0}, "blur"),
         ({"target_model": "ifs3d", "blur": "wide"}, "blur"),
+        ({"target_model": "ifs3d", "area_band": [1.2, 0.8]}, "area_band"),
+        ({"target_model": "ifs3d", "area_band": [0.8]}, "area_band"),
+        ({"target_model": "ifs3d", "trunk_band": [0.0, 2.0]}, "trunk_band"),
+        ({"target_model": "ifs3d", "scales": 0}, "scales"),
+        ({"target_model": "ifs3d", "outline": "maybe"}, "outline"),
     ],
 )
 def test_bad_options(kwargs, match):

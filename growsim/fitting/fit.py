@@ -5,37 +5,35 @@ The pictures become silhouettes (:mod:`growsim.pictures`). By default
 (``segmentation="auto"``) each picture is classified
 (:func:`~growsim.pictures.images.classify_picture`): a drawing or silhouette (near grey,
 two grey levels) is read by a grey threshold and fitted as the seed fitted them (thin
-lines, the setup's ``drawing`` keywords: one size, the setup's leaves); a photo by the photo
-segmentation (the tree apart from sky and ground), coarse to fine, bare and leafy. What
-was chosen and why is ``fit.json``'s ``choices`` (:func:`_choices`); an option given
-overrides its choice. A bad segmentation is refused with a message naming the picture, before any
-evolution. The model is fitted coarse to fine: the setup's GA (and polish) at the first
-of ``sizes`` (64 px), then a local refinement of the best at each finer size (128, 256
-px, :func:`~growsim.fitting.setups.refine`), so branch structure counts. With ``leaves
-= "auto"`` (the default) a bare and a leafy tree are both fitted and the leafy one is
-kept only if clearly better (:data:`~growsim.fitting.setups.LEAF_MARGIN`), so a winter
-tree is fitted by a bare tree; each kind is fitted ``restarts`` times (GA seeds
-``seed``, ``seed + 1``, ...), the ``carry`` that scored best at the end of the first
-size go on to the finer sizes, and the best at the final size is kept. Every value of a
-discrete parameter (the leaves per branch) is tried at every size
-(:func:`~growsim.fitting.setups.sweep_discrete`): the GA and the refinement seldom step
-across an integer. For a model with the ``draws`` capability (Honda) the arrangement of
-the branches is fitted too, after the GA and after each refinement (``arrange``
-evaluations, :func:`~growsim.fitting.setups.arrange`): a picture's tree never has the
-model's random arrangement. The searches before the last size score views blurred by
-``blur`` pixels (partial credit for a branch near its place); every stage reports the
-binary NCC. Every model is one :class:`~growsim.fitting.setups.FitSetup` in
-:data:`~growsim.fitting.setups.FIT_SETUPS` (its tables, the parameters of its leaves and
-of a bare tree, the views it has, its restarts, its arrangement search, its blur, the
-file it is written to): adding a model is adding an entry. With one picture a 3D model's
-front view is fitted and its side is left free (the silhouette objective's ``views =
-"front"``).
+lines, binary NCC, the setup's ``drawing`` keywords: one size, the setup's leaves); a
+photo by the photo segmentation (the tree apart from sky and ground), coarse to fine,
+bare and leafy, on the shape score (:data:`~growsim.fitting.setups.PHOTO_SCORE`,
+:func:`~growsim.objectives.silhouette.shape_score`: a score a blob or a lone trunk cannot
+win). What was chosen and why is ``fit.json``'s ``choices``; an option given overrides
+its choice. A bad picture is refused with a message naming it, before any evolution.
 
-Writes into ``out``: the first stage's run results (``config.toml``,
-``history.parquet``, ``best.json``, ...; with several fits, one directory each:
-``bare-0``, ``leafy-1``, ...), ``fit.json`` (every stage of the kept fit: size,
-evaluations, seconds, NCC; the final parameters and the fitted arrangement, ``draws``;
-``leaves``: which fit was kept and every fit's final NCC), the fitted tree
+``model="auto"`` fits every model whose :class:`~growsim.fitting.setups.FitSetup` takes
+the picture's kind (``kinds``): each candidate (model, and with ``leaves="auto"`` a bare
+and a leafy tree) is fitted ``restarts`` times at the first size (the setup's GA and
+polish, the sweep of its discrete parameters, :func:`~growsim.fitting.setups.sweep_discrete`,
+and for a model with the ``draws`` capability the search of its branches' arrangement,
+:func:`~growsim.fitting.setups.arrange`), its best judged at its final size; the leafy
+tree is kept only if it beats the bare one by :data:`~growsim.fitting.setups.LEAF_MARGIN`,
+then the best model. On a drawing, a model whose fit reaches :data:`AUTO_ENOUGH` ends the
+search. The ``carry`` best restarts of the kept kind go on to the finer sizes (a local
+refinement, :func:`~growsim.fitting.setups.refine`, then the sweep and the arrangement at
+each), and the best at the final size is kept. ``budget`` multiplies every search's
+evaluations. Every stage reports the binary NCC beside the score searched.
+
+One ``out`` holds one fit: a fit into a directory that holds files is refused. The
+options are kept in :data:`FIT_STATE` and each run's finished stages in its
+:data:`RUN_STATE`, so ``resume=True`` continues an interrupted fit to the same result.
+
+Writes into ``out``: each candidate's run results (``config.toml``, ``history.parquet``,
+``best.json``, ...; with several fits, one directory each: ``bare-0``, ``honda-leafy-1``,
+...), ``fit.json`` (every stage of the kept fit: size, evaluations, seconds, NCC, score;
+the final parameters and the fitted arrangement, ``draws``; ``models`` and ``leaves``:
+every candidate's score and which was kept; ``area_ratio``), the fitted tree
 (:attr:`~growsim.fitting.setups.FitSetup.shape`: ``tree.glb``; a 2D model's
 ``attractor.png``), ``silhouette_<view>.png`` (the silhouette used, at the picture's
 size), ``fit_<view>.png`` (the fitted tree framed as it: same size and placement,
