@@ -82,7 +82,7 @@ class Tank(Options):
 
     preset: Literal[tuple(TANKS)] | None = Field(  # type: ignore[valid-type]
         None,
-        description="one of the seed's tanks (small 300x400x300, medium 400x600x300, large "
+        description="one of Okusa's tanks (small 300x400x300, medium 400x600x300, large "
         "800x800x800) with the documented obstacle layout; size and obstacles given "
         "replace the preset's",
     )

@@ -306,8 +306,8 @@ class SilhouetteOptions(ObjectiveOptions):
         None, description="parameters of target_model (over the preset)"
     )
     target_seed: int = Field(0, description="seed the target is grown with")
-    size: int = Field(64, ge=8, le=1024, description="raster size in pixels (the seed's 64)")
-    area_rejection: bool = Field(False, description="the seed's 0.5x-2x area rule")
+    size: int = Field(64, ge=8, le=1024, description="raster size in pixels (Kuwahara et al.'s 64)")
+    area_rejection: bool = Field(False, description="Kuwahara et al.'s 0.5x-2x area rule")
     line_width: Literal["thin", "radius"] = Field(
         "thin", description="'thin' 1-pixel lines, or 'radius': as wide as the tubes"
     )
