@@ -96,7 +96,11 @@ PARSE_ONLY = {
 }
 
 #: commands shown failing on purpose, and their exit code
-EXIT_CODES = {"growsim run experiments/quickstart.toml --set ga.populaton=50": 2}
+EXIT_CODES = {
+    "growsim run experiments/quickstart.toml --set ga.populaton=50": 2,
+    # shown for an interrupted fit; the page's fit before it finished
+    "growsim fit-image --resume runs/mytree": 2,
+}
 
 #: sources whose commands take long (fits, Dask, process pools): marked slow
 SLOW = {
