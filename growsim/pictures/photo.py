@@ -241,6 +241,43 @@ def _ground_band(lab, b: int, sky_colour):
     return horizon, smooth_left, smooth_right, left, right
 
 
+#: :func:`_without_lines`: a row this full of foreground, at most this many rows tall, is
+#: a line across the picture (a horizon's seam, a wire), not the tree
+LINE_FULL, LINE_ROWS = 0.95, 3
+
+
+def _without_lines(fg: np.ndarray) -> np.ndarray:
+    """``fg`` ``(H, W)`` without lines across the picture: runs of at most
+    :data:`LINE_ROWS` rows, each at least :data:`LINE_FULL` foreground, are cleared but
+    where the rows just above and below them are foreground too (a trunk crossing the
+    line keeps its pixels).
+
+    Examples
+    --------
+    >>> fg = np.zeros((7, 10), bool); fg[3] = True; fg[:, 4] = True
+    >>> out = _without_lines(fg)
+    >>> int(out[3].sum()), bool(out[:, 4].all())
+    (1, True)
+    """
+    full = fg.mean(axis=1) >= LINE_FULL
+    out = fg.copy()
+    h = fg.shape[0]
+    r = 0
+    while r < h:
+        if not full[r]:
+            r += 1
+            continue
+        end = r
+        while end + 1 < h and full[end + 1]:
+            end += 1
+        if end - r + 1 <= LINE_ROWS:
+            above = fg[r - 1] if r > 0 else np.zeros(fg.shape[1], bool)
+            below = fg[end + 1] if end + 1 < h else np.zeros(fg.shape[1], bool)
+            out[r : end + 1] = (above & below)[None, :]
+        r = end + 1
+    return out
+
+
 def segment_photo(image, *, mask=None, name: str = "image") -> Segmentation:
     """Separate a tree from the sky and the ground in a colour picture.
 
@@ -427,6 +464,7 @@ def segment_photo(image, *, mask=None, name: str = "image") -> Segmentation:
             f"Delta E around a smooth gradient (at most {MAX_SKY_NOISE:g}); photograph the "
             "tree against the sky, give a mask, or use the threshold segmentation"
         )
+    fg = _without_lines(fg)
     labels = label(fg, connectivity=2)
     sizes = np.bincount(labels.ravel())
     sizes[0] = 0
