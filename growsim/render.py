@@ -20,6 +20,7 @@ from growsim.files import atomic_path, atomic_write
 __all__ = [
     "MAX_SIZE",
     "MIN_SIZE",
+    "VIEWER_KEYS",
     "VIEWS",
     "aim_camera",
     "check_size",
@@ -29,6 +30,7 @@ __all__ = [
     "scene_image",
     "show_scene",
     "view_vectors",
+    "viewer_hint",
 ]
 
 #: the views of every command (``growsim grow --view``, ``growsim show --view``): camera
@@ -111,9 +113,25 @@ def scene_image(draw, size, *, background="white") -> np.ndarray:
     return np.asarray(img)[..., :3].copy()
 
 
-def show_scene(draw, *, background="white") -> None:
+#: the key hint written in the corner of every interactive window
+VIEWER_KEYS = "drag: rotate   shift+drag: pan   scroll: zoom   r: reset view   q: close"
+
+
+def viewer_hint(pl) -> None:
+    """Write :data:`VIEWER_KEYS` in the lower left corner of plotter ``pl``.
+
+    Examples
+    --------
+    >>> import pyvista as pv
+    >>> pl = pv.Plotter(off_screen=True, window_size=(64, 64))
+    >>> viewer_hint(pl); pl.close()
+    """
+    pl.add_text(VIEWER_KEYS, position="lower_left", font_size=8, color="black")
+
+
+def show_scene(draw, *, background="white", title: str | None = None) -> None:
     """Open an interactive pyvista window (needs a display) on the scene ``draw(plotter)``
-    fills.
+    fills, titled ``title`` (default ``growsim``), with the keys' hint in a corner.
 
     Examples
     --------
@@ -125,7 +143,8 @@ def show_scene(draw, *, background="white") -> None:
     pl = pv.Plotter()
     pl.set_background(background)
     draw(pl)
-    pl.show()
+    viewer_hint(pl)
+    pl.show(title=title or "growsim")
 
 
 def view_vectors(view) -> tuple[np.ndarray, tuple]:

@@ -106,19 +106,23 @@ def _help(capsys, *argv) -> str:
 
 def test_grow_help_lists_every_models_parameters_and_presets(capsys):
     """docs/configs.md sends readers to ``growsim grow MODEL --help`` for a model's
-    parameters: ``grow --help`` lists every registered model's parameters (range, default)
-    and presets, ``grow MODEL --help`` that model's."""
+    parameters: ``grow --help`` lists every registered model (one line each, with its
+    presets) and stays short; ``grow MODEL --help`` lists that model's parameters (range,
+    default) and presets."""
     from growsim.models import MODELS
 
     text = _help(capsys, "grow", "--help")
+    assert len(text.splitlines()) < 80
+    assert "growsim grow MODEL --help" in text
     for name in MODELS:
         model = MODELS.get(name)
-        assert f"\n{name} " in text
-        for p in model.params:
-            assert f"\n  {p.name} " in text, p.name
+        assert f"\n  {name} (" in text
         for preset in model.presets:
             assert preset in text
-    assert "0 .. 1, default 0.95" in text  # honda's f
+        one = _help(capsys, "grow", name, "--help")
+        for p in model.params:
+            assert f"\n  {p.name} " in one, p.name
+    assert "0 .. 1, default 0.95" in _help(capsys, "grow", "honda", "--help")  # honda's f
     one = _help(capsys, "grow", "ifs3d", "--help")
     assert "theta_y_5" in one and "table1" in one
     assert "e_wandering_bush" not in one and "\n  theta0 " not in one

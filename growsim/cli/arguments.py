@@ -9,9 +9,11 @@ import argparse
 
 __all__ = [
     "add_color_options",
+    "add_environment_options",
     "add_evaluation_options",
     "add_overrides",
     "add_screenshot_options",
+    "environment_table",
 ]
 
 
@@ -145,3 +147,85 @@ def add_color_options(p: argparse.ArgumentParser) -> None:
         help="draw the light's direction as an arrow from the light's side "
         "(default: with --color light)",
     )
+
+
+def add_environment_options(p: argparse.ArgumentParser) -> None:
+    """``--config FILE`` (an experiment config: its ``[environment]``, the whole file
+    validated as ``growsim run`` does) or ``--environment FILE`` (a TOML file of the
+    environment's tables, or any file with an ``[environment]`` table): the environment
+    ``grow`` grows in and ``show`` colours by (:func:`environment_table` reads them).
+
+    Examples
+    --------
+    >>> p = argparse.ArgumentParser()
+    >>> add_environment_options(p)
+    >>> p.parse_args(["--config", "experiments/hormone_3d.toml"]).config
+    'experiments/hormone_3d.toml'
+    """
+    g = p.add_mutually_exclusive_group()
+    g.add_argument(
+        "--config",
+        metavar="FILE",
+        help="take the environment of this experiment config (its [environment] table)",
+    )
+    g.add_argument(
+        "--environment",
+        metavar="FILE",
+        help="take the environment of this TOML file ([light], [water], ... tables, or an "
+        "[environment] table)",
+    )
+
+
+def environment_table(args: argparse.Namespace) -> tuple[dict, str] | None:
+    """The ``[environment]`` table of ``--config FILE`` or ``--environment FILE`` (shorthands
+    written as tables) and a label naming where it came from, or ``None`` if neither is
+    given. A missing, unreadable or invalid file is a one-line error naming the option and
+    the key; ``--config`` validates the whole config, as ``growsim run`` does.
+
+    Examples
+    --------
+    >>> a = argparse.Namespace(config="experiments/hormone_2d.toml", environment=None)
+    >>> table, label = environment_table(a)
+    >>> table["light"]["diffuse"], label
+    (0.5, '--config experiments/hormone_2d.toml')
+    >>> environment_table(argparse.Namespace(config=None, environment=None)) is None
+    True
+    """
+    from pathlib import Path
+
+    from pydantic import ValidationError
+
+    from growsim.env import Environment
+    from growsim.env.environment import expand_shorthands
+    from growsim.errors import ConfigError
+    from growsim.experiment.load import read_config, read_toml
+    from growsim.options import validation_message
+
+    config, env_file = getattr(args, "config", None), getattr(args, "environment", None)
+    if config is None and env_file is None:
+        return None
+    option, path = ("--config", config) if config is not None else ("--environment", env_file)
+    label = f"{option} {path}"
+    if config is not None:
+        try:
+            read_config(path)
+        except ConfigError as exc:
+            msg = str(exc)
+            raise ConfigError(msg if msg.startswith(str(path)) else f"{label}: {msg}") from None
+        data = read_toml(Path(path))
+        table = data.get("environment", {})
+    else:
+        data = read_toml(Path(path))
+        table = data["environment"] if "environment" in data else data
+    if not isinstance(table, dict):
+        raise ConfigError(f"{label}: environment: expected a table")
+    try:
+        table = expand_shorthands(table)
+    except ValueError as exc:
+        raise ConfigError(f"{label}: environment.{exc}") from None
+    try:
+        Environment.model_validate(table)
+    except ValidationError as exc:
+        msg = validation_message(exc, "environment.", Environment)
+        raise ConfigError(f"{label}: {msg}") from None
+    return table, label

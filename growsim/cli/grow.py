@@ -2,13 +2,16 @@
 it, print its counts and measures.
 
 Works for every plant model in :data:`growsim.models.MODELS` (``--set`` over the model's
-parameters, ``--preset`` over its presets); ``growsim grow --help`` lists every model's
-parameters (range, default) and presets, ``growsim grow MODEL --help`` one model's
-(:func:`models_help`). The screenshot options (``--view``, ``--size``) and the colouring
-(``--color light|stress|water``, ``--light-arrow``) are shared with ``growsim show``
-(:mod:`growsim.cli.arguments`); the environment the colours show is the default one with
-``--light-direction``, ``--light-intensity`` and ``--water-supply``
-(:func:`environment_from_args`).
+parameters, ``--preset`` over its presets); ``growsim grow --help`` lists the models and
+their presets, ``growsim grow MODEL --help`` one model's parameters (range, default) and
+presets (:func:`models_help`). The screenshot options (``--view``, ``--size``) and the
+colouring (``--color light|stress|water``, ``--light-arrow``) are shared with ``growsim
+show`` (:mod:`growsim.cli.arguments`). The environment the plant grows in (and the colours
+show) is that of ``--config FILE`` (an experiment's ``[environment]``) or ``--environment
+FILE``, else the one the preset carries (hormone's demo genomes: the sun a little from the
+side, a sky), else the default one; ``--light-direction``, ``--light-intensity`` and
+``--water-supply`` set keys over it (:func:`environment_base`,
+:func:`environment_from_args`).
 """
 
 from __future__ import annotations
@@ -20,10 +23,21 @@ import sys
 import textwrap
 from pathlib import Path
 
-from growsim.cli.arguments import add_color_options, add_screenshot_options
+from growsim.cli.arguments import (
+    add_color_options,
+    add_environment_options,
+    add_screenshot_options,
+)
 from growsim.errors import UserInputError
 
-__all__ = ["environment_from_args", "models_help", "parse_sets", "register", "run_grow"]
+__all__ = [
+    "environment_base",
+    "environment_from_args",
+    "models_help",
+    "parse_sets",
+    "register",
+    "run_grow",
+]
 
 #: the environment options of ``grow``: option -> (table, key) of ``[environment]``
 ENVIRONMENT_OPTIONS = {
@@ -59,46 +73,78 @@ def _number(x: float) -> str:
 
 
 def models_help(name: str | None = None) -> str:
-    """The parameters (range, default, unit, meaning) and presets of the registered models
-    (:data:`growsim.models.MODELS`), or of model ``name`` only if it is one of them: the
-    epilog of ``growsim grow --help``.
+    """The epilog of ``growsim grow --help``: with ``name`` one of the registered models
+    (:data:`growsim.models.MODELS`), that model's parameters (range, default, unit, meaning)
+    and presets; otherwise one line a model (its phenotype, how many parameters, its
+    presets) and how to see a model's parameters.
 
     Examples
     --------
     >>> text = models_help("honda")
     >>> "zelkova" in text and "  f " in text and "ifs3d" not in text
     True
+    >>> short = models_help()
+    >>> "growsim grow MODEL --help" in short and "h0_bias" not in short
+    True
     """
+    from growsim.models import MODELS
+
+    if name not in MODELS:
+        lines = [
+            "models ('growsim grow MODEL --help' lists a model's parameters, their ranges",
+            "and defaults, for --set NAME=VALUE):",
+        ]
+        for model_name in MODELS:
+            model = MODELS.get(model_name)
+            presets = ", ".join(sorted(model.presets)) or "(none)"
+            lines += textwrap.wrap(
+                f"{model_name} ({model.phenotype}, {len(model.param_spec())} parameters); "
+                f"presets: {presets}",
+                88,
+                initial_indent="  ",
+                subsequent_indent="      ",
+            )
+        return "\n".join(lines) + "\n"
+    return _model_help(name)
+
+
+def _model_help(model_name: str) -> str:
+    """The parameters and presets of one model (see :func:`models_help`)."""
     from growsim.models import MODELS
     from growsim.models.base import Model
 
-    names = [name] if name in MODELS else list(MODELS)
-    lines = ["models: their parameters (--set NAME=VALUE; range, default) and presets (--preset):"]
-    for model_name in names:
-        model = MODELS.get(model_name)
-        rows = []
-        for p in model.params:
-            unit = f" {p.unit}" if p.unit else ""
-            rng = f"{_number(p.low)} .. {_number(p.high)}{unit}, default {_number(p.default)}"
-            rows.append((p.name, p.kind, rng, p.doc))
-        lines += ["", f"{model_name} (phenotype: {model.phenotype})"]
-        presets = ", ".join(sorted(model.presets)) or "(none)"
+    model = MODELS.get(model_name)
+    lines = [f"{model_name}: its parameters (--set NAME=VALUE; range, default) and presets:"]
+    rows = []
+    for p in model.params:
+        unit = f" {p.unit}" if p.unit else ""
+        rng = f"{_number(p.low)} .. {_number(p.high)}{unit}, default {_number(p.default)}"
+        rows.append((p.name, p.kind, rng, p.doc))
+    lines += ["", f"{model_name} (phenotype: {model.phenotype})"]
+    presets = ", ".join(sorted(model.presets)) or "(none)"
+    lines += textwrap.wrap(f"presets: {presets}", 88, initial_indent="  ", subsequent_indent="    ")
+    if model.preset_environments:
         lines += textwrap.wrap(
-            f"presets: {presets}", 88, initial_indent="  ", subsequent_indent="    "
+            f"(presets {', '.join(sorted(model.preset_environments))} grow in their own "
+            "environment unless --config or --environment is given)",
+            88,
+            initial_indent="  ",
+            subsequent_indent="   ",
         )
-        if rows:
-            w0, w2 = (max(len(r[i]) for r in rows) for i in (0, 2))
-            lines += [f"  {a:<{w0}}  {b:<4}  {c:<{w2}}  {d}".rstrip() for a, b, c, d in rows]
-        if type(model).param_spec is not Model.param_spec:
-            lines.append("  (shown for the default fixed values: the list depends on them)")
+    if rows:
+        w0, w2 = (max(len(r[i]) for r in rows) for i in (0, 2))
+        lines += [f"  {a:<{w0}}  {b:<4}  {c:<{w2}}  {d}".rstrip() for a, b, c, d in rows]
+    if type(model).param_spec is not Model.param_spec:
+        lines.append("  (shown for the default fixed values: the list depends on them)")
     return "\n".join(lines) + "\n"
 
 
-def environment_from_args(args: argparse.Namespace):
-    """The :class:`growsim.env.Environment` of ``grow``'s options: the default one with
-    ``--light-direction X Y Z`` (the direction the light travels, y up), ``--light-intensity``
-    and ``--water-supply`` where given; a bad value is a :class:`UserInputError` naming its
-    option.
+def environment_from_args(args: argparse.Namespace, base=None):
+    """The :class:`growsim.env.Environment` of ``grow``'s options: the ``[environment]``
+    table ``base`` (a ``(table, label)`` pair: that of ``--config``/``--environment`` or of
+    the preset; ``None``: the default environment) with ``--light-direction X Y Z`` (the
+    direction the light travels, y up), ``--light-intensity`` and ``--water-supply`` over it
+    where given; a bad value is a :class:`UserInputError` naming its option.
 
     Examples
     --------
@@ -107,19 +153,25 @@ def environment_from_args(args: argparse.Namespace):
     >>> env = environment_from_args(a)
     >>> env.light.direction, env.light.intensity, env.water.supply
     ([1.0, 0.0, 0.0], 1.0, 0.5)
+    >>> env = environment_from_args(a, ({"light": {"diffuse": 0.5}}, "preset demo_3d"))
+    >>> env.light.direction, env.light.diffuse
+    ([1.0, 0.0, 0.0], 0.5)
     >>> environment_from_args(argparse.Namespace(light_direction=[0, 0, 0]))
     ... # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
     growsim.errors.UserInputError: --light-direction 0 0 0: expected a finite non-zero 3-vector...
     """
+    import copy
+
     from pydantic import ValidationError
 
     from growsim.env import Environment
 
-    data: dict[str, dict] = {}
+    table, label = base if base is not None else ({}, "environment")
+    data: dict[str, dict] = copy.deepcopy(dict(table))
     given = {}
-    for option, (table, key) in ENVIRONMENT_OPTIONS.items():
+    for option, (key_table, key) in ENVIRONMENT_OPTIONS.items():
         value = getattr(args, option[2:].replace("-", "_"), None)
         if value is None:
             continue
@@ -128,17 +180,45 @@ def environment_from_args(args: argparse.Namespace):
         if not all(math.isfinite(v) for v in numbers):
             what = "finite numbers" if isinstance(value, list) else "a finite number"
             raise UserInputError(f"{option} {shown}: expected {what}")
-        data.setdefault(table, {})[key] = value
-        given[(table, key)] = option, shown
+        sub = data.get(key_table)
+        data[key_table] = {**(sub if isinstance(sub, dict) else {}), key: value}
+        given[(key_table, key)] = option, shown
     try:
         return Environment.model_validate(data)
     except ValidationError as exc:
         err = exc.errors()[0]
         option, shown = given.get(tuple(err["loc"][:2]), (None, None))
         msg = err["msg"].removeprefix("Value error, ")
-        if option is None:  # pragma: no cover - every option is mapped above
-            raise UserInputError(f"environment: {msg}") from None
+        if option is None:
+            raise UserInputError(f"{label}: environment: {msg}") from None
         raise UserInputError(f"{option} {shown}: {msg}") from None
+
+
+def environment_base(args: argparse.Namespace, model) -> tuple[dict, str] | None:
+    """Where ``grow``'s environment starts: the ``[environment]`` of ``--config`` or
+    ``--environment`` (:func:`growsim.cli.arguments.environment_table`), else the one the
+    preset carries (:meth:`growsim.models.base.Model.preset_environment`), else ``None``
+    (the default environment); with the label ``grow`` reports.
+
+    Examples
+    --------
+    >>> from growsim.models import get_model
+    >>> a = argparse.Namespace(config=None, environment=None, preset="demo_3d")
+    >>> table, label = environment_base(a, get_model("hormone"))
+    >>> table["light"]["direction"], label
+    ([0.3, -1.0, 0.2], 'preset demo_3d')
+    >>> environment_base(argparse.Namespace(preset="zelkova"), get_model("honda")) is None
+    True
+    """
+    from growsim.cli.arguments import environment_table
+
+    found = environment_table(args)
+    if found is not None:
+        return found
+    preset = getattr(args, "preset", None)
+    if preset is not None and model.preset_environment(preset):
+        return model.preset_environment(preset), f"preset {preset}"
+    return None
 
 
 class _ModelsHelp(argparse.Action):
@@ -164,7 +244,10 @@ def run_grow(args: argparse.Namespace) -> int:
         from growsim.render import check_size
 
         check_size(args.size, "--size")
-    env = environment_from_args(args)
+    if args.preset is not None:
+        model.preset(args.preset)  # an unknown preset first, before any file is read
+    base = environment_base(args, model)
+    env = environment_from_args(args, base)
     if args.screenshot is None and (args.color is not None or args.light_arrow):
         option = f"--color {args.color}" if args.color is not None else "--light-arrow"
         raise UserInputError(f"{option}: grow draws it on the image; add --screenshot PATH.png")
@@ -189,6 +272,7 @@ def run_grow(args: argparse.Namespace) -> int:
         raise UserInputError(f"--export {args.export}: use .vtp, .ply, .obj or .glb")
     # models default their own seed (honda: its ``seed`` parameter); pass one only if given
     plant = model.develop(params, seed=args.seed, env=env)
+    args.environment_label = base[1] if base is not None else "default"
     if model.phenotype != "plant":
         return _report_other(args, plant, params)
 
@@ -214,6 +298,7 @@ def run_grow(args: argparse.Namespace) -> int:
         "preset": args.preset,
         "params": {k: (int(v) if float(v).is_integer() else v) for k, v in params.items()},
         "seed": plant.meta.get("seed", params.get("seed")),
+        "environment": args.environment_label,
         "counts": {
             "segments": plant.n_segments,
             "stems": plant.n_stems,
@@ -237,6 +322,7 @@ def run_grow(args: argparse.Namespace) -> int:
             f"{args.model}{' ' + args.preset if args.preset else ''}: {c['stems']} stems, "
             f"{c['leaves']} leaves, {c['tips']} tips, {c['mesh_vertices']} mesh vertices, "
             f"height {info['measures']['height']:.3g}"
+            + ("" if base is None else f" (environment: {base[1]})")
         )
         for opt, path in (("mesh", args.export), ("image", args.screenshot), ("plant", args.save)):
             if path is not None:
@@ -259,6 +345,7 @@ def _report_other(args: argparse.Namespace, phenotype, params) -> int:
         "model": args.model,
         "preset": args.preset,
         "phenotype": kind,
+        "environment": getattr(args, "environment_label", "default"),
         "params": {k: (int(v) if float(v).is_integer() else v) for k, v in params.items()},
         "measures": phenotype.measures(),
     }
@@ -292,8 +379,9 @@ def register(subparsers) -> None:
             "Grow one plant. Example: growsim grow honda --preset zelkova --set f=0.8 "
             "--export tree.glb --screenshot tree.png --json. Colour it by its environment: "
             "growsim grow honda --preset zelkova --light-direction 1 0 0 --color light "
-            "--screenshot lit.png. 'growsim grow MODEL --help' lists that model's parameters "
-            "and presets."
+            "--screenshot lit.png. Grow it in an experiment's environment: growsim grow "
+            "hormone --preset demo_3d --config experiments/hormone_3d.toml. 'growsim grow "
+            "MODEL --help' lists that model's parameters and presets."
         ),
         formatter_class=argparse.RawDescriptionHelpFormatter,
         add_help=False,
@@ -303,22 +391,27 @@ def register(subparsers) -> None:
         "-h",
         "--help",
         action=_ModelsHelp,
-        help="show this help, the models' parameters and presets",
+        help="show this help and the models; with MODEL before it, that model's parameters",
     )
     p.add_argument("model", help="model name (growsim.models.MODELS: honda, ifs3d, ...)")
-    p.add_argument("--preset", help="named parameter set of the model (listed below)")
+    p.add_argument(
+        "--preset",
+        help="named parameter set of the model (listed below); a preset may carry its "
+        "environment (hormone's demo_2d, demo_3d: sun from the side, a sky)",
+    )
     p.add_argument("--seed", type=int, help="random seed (overrides the preset's)")
     p.add_argument(
         "--set",
         action="append",
         metavar="NAME=VALUE",
-        help="set a parameter (repeatable; names and ranges below)",
+        help="set a parameter (repeatable; names and ranges: growsim grow MODEL --help)",
     )
     p.add_argument("--export", metavar="PATH", help="mesh file: .vtp, .ply, .obj or .glb")
     p.add_argument("--screenshot", metavar="PATH", help="PNG render")
     p.add_argument("--save", metavar="PATH", help="the Plant skeleton as .npz")
     add_screenshot_options(p, view="front")
     add_color_options(p)
+    add_environment_options(p)
     p.add_argument(
         "--light-direction",
         type=float,

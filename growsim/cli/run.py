@@ -10,6 +10,13 @@ from growsim.errors import UserInputError
 
 __all__ = ["register"]
 
+#: what ``growsim show`` opens, by phenotype kind (the end of ``growsim run``)
+SHOW_WHAT = {
+    "plant": "the best plant",
+    "trajectory": "the best fish's swim",
+    "points2d": "the best attractor",
+}
+
 
 def register(subparsers) -> None:
     """Add the ``run`` subcommand.
@@ -49,6 +56,15 @@ def main(args: argparse.Namespace) -> int:
             raise UserInputError("--out: not used with --resume (results stay in the DIR resumed)")
         if args.overrides:
             raise UserInputError("--set: a resumed run keeps its config; start a new run instead")
+        from growsim.experiment.results import RunDir
+
+        if RunDir(args.resume).is_complete() and args.config is None:
+            # finished: nothing to resume; say so and leave its outputs as they are
+            print(
+                f"{args.resume}: this run is finished (summary.json); nothing to resume, "
+                f"its results are unchanged; look at it with: growsim show {args.resume}"
+            )
+            return 0
     elif args.config is None:
         raise UserInputError("give a CONFIG to run, or --resume DIR")
     result = run(
@@ -73,8 +89,10 @@ def main(args: argparse.Namespace) -> int:
         pngs = sorted(p.name for p in out.glob("best_*.png"))
         if pngs:
             print(f"  renders: {', '.join(str(out / n) for n in pngs)}")
-        print(f"  look at the tree: growsim show {out}")
-        print(f"  compare runs:     growsim compare {out} ...")
+        kind = result.best.get("phenotype", "plant")
+        what = SHOW_WHAT.get(kind, f"the best {kind}")
+        print(f"  look at {what}: growsim show {out}")
+        print(f"  compare runs: growsim compare {out} ...")
         for w in s.get("warnings", []):
             print(f"  warning: {w}", file=sys.stderr)
     return 0

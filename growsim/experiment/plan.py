@@ -254,10 +254,42 @@ def _build_objective(cfg: Config, i: int, mp: ModelPlan):
         )
     try:
         return cls(options, env=mp.environment)
-    except GrowsimError as exc:
-        raise ConfigError(f"{where}: {exc}") from None
-    except (ValueError, KeyError, OSError) as exc:
-        raise ConfigError(f"{where}: {exc}") from None
+    except (GrowsimError, ValueError, KeyError, OSError) as exc:
+        raise ConfigError(_objective_message(cfg, i, str(exc))) from None
+
+
+def _objective_message(cfg: Config, i: int, text: str) -> str:
+    """``text`` (an objective's refusal) prefixed with the key the user wrote: ``objective``
+    (the one ``[[objective]]`` table; ``objective[i]`` and which table, among several) and
+    the option whose value or name the text starts with (e.g. ``objective.front``).
+
+    Examples
+    --------
+    >>> from growsim.experiment.load import validate
+    >>> cfg = validate({"model": {"kind": "ifs3d"},
+    ...                 "objective": [{"kind": "silhouette", "front": "a.png", "side": "b.png"}]})
+    >>> _objective_message(cfg, 0, "a.png: image file not found")
+    'objective.front: a.png: image file not found'
+    >>> _objective_message(cfg, 0, "side: the side view is missing")
+    'objective.side: the side view is missing'
+    """
+    options = cfg.objective[i]
+    n = len(cfg.objective)
+    where = "objective" if n == 1 else f"objective[{i}]"
+    tail = "" if n == 1 else f" (the {_ordinal(i + 1)} [[objective]], {options.kind})"
+    fields = options.model_dump() if hasattr(options, "model_dump") else {}
+    for key, value in fields.items():
+        if key in ("kind", "weight"):
+            continue
+        if text.startswith(f"{key}: "):
+            return f"{where}.{key}{tail}: {text[len(key) + 2 :]}"
+        if isinstance(value, str) and value and text.startswith(value):
+            return f"{where}.{key}{tail}: {text}"
+    return f"{where}{tail}: {text}"
+
+
+def _ordinal(k: int) -> str:
+    return f"{k}{'th' if 10 <= k % 100 <= 20 else {1: 'st', 2: 'nd', 3: 'rd'}.get(k % 10, 'th')}"
 
 
 def compile_plan(cfg: Config) -> ExperimentPlan:

@@ -110,8 +110,9 @@ class RunDir:
         return self.summary_path.is_file()
 
     @contextlib.contextmanager
-    def lock(self) -> Iterator[RunDir]:
-        """Hold an exclusive lock on the directory; a second holder refuses at once.
+    def lock(self, resume: bool = False) -> Iterator[RunDir]:
+        """Hold an exclusive lock on the directory; a second holder refuses at once (its
+        message for ``resume``: no ``--out`` to change).
 
         The lock is an ``flock`` on ``.lock`` (which holds the pid): the kernel drops it
         when the process dies (even by SIGKILL), so a killed run leaves no stale lock to
@@ -144,9 +145,9 @@ class RunDir:
             except BlockingIOError:
                 other = os.pread(fd, 64, 0).decode(errors="replace").strip() or "?"
                 os.close(fd)
+                hint = "wait for it to end" if resume else "choose another --out"
                 raise UserInputError(
-                    f"{self.path} is in use by another growsim run (pid {other}); "
-                    "choose another --out"
+                    f"{self.path} is in use by another growsim run (pid {other}); {hint}"
                 ) from None
             except BaseException:
                 os.close(fd)

@@ -200,7 +200,8 @@ def run(
     ``experiment.seed``. ``workers``: local process pool size;
     ``scheduler``: ``"local"`` (a Dask LocalCluster of ``workers`` processes) or a Dask
     scheduler address. ``resume=True`` continues from ``out/checkpoint.npz`` to the same
-    history and best as an uninterrupted run. ``progress``: a tqdm bar on stderr (only when
+    history and best as an uninterrupted run (a finished run is read back as it is: nothing
+    to resume, none of its outputs rewritten). ``progress``: a tqdm bar on stderr (only when
     stderr is a TTY; a text: the bar, labelled with it). ``callback(ga, row)`` is called
     after every generation (return True to stop). ``executor``: any
     ``concurrent.futures.Executor`` to evaluate on (instead of ``workers``/``scheduler``;
@@ -237,6 +238,11 @@ def run(
                 )
         elif seed is not None and seed != plan.seed:
             raise ConfigError(f"--seed {seed}: the run in {rd.path} has seed {plan.seed}")
+        if rd.is_complete():  # finished: nothing to resume; its outputs stay as they are
+            from growsim.experiment.results import read_run
+
+            log.info("%s: the run is finished; nothing to resume", rd.path)
+            return read_run(rd.path)
     else:
         if config is None:
             raise UserInputError("no config given")
@@ -254,7 +260,7 @@ def run(
         fitness, ga = _build(plan, ext)
         try:
             try:
-                with rd.lock():
+                with rd.lock(resume=resume):
                     if not resume:
                         rd.create_fresh()
                         rd.write_text("config.toml", plan.config.to_toml())

@@ -23,6 +23,7 @@ A model is a :class:`Model` (one instance per model, registered by name in
 from __future__ import annotations
 
 import abc
+import copy
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
@@ -128,6 +129,9 @@ class Model(abc.ABC):
     params: ClassVar[tuple[Param, ...]] = ()
     #: named parameter sets
     presets: ClassVar[Mapping[str, Mapping[str, float]]] = {}
+    #: the ``[environment]`` table a preset is shown in (``growsim grow --preset``), if any;
+    #: an experiment naming the preset keeps its own ``[environment]``
+    preset_environments: ClassVar[Mapping[str, Mapping[str, Any]]] = {}
     #: True when :meth:`grow` yields one phenotype per growth step
     stepwise: ClassVar[bool] = False
     #: the optional capabilities implemented (names in :data:`CAPABILITIES`)
@@ -146,6 +150,21 @@ class Model(abc.ABC):
                 f"available: {', '.join(sorted(self.presets)) or '(none)'}"
             )
         return dict(self.presets[name])
+
+    def preset_environment(self, name: str) -> dict[str, Any]:
+        """The ``[environment]`` table preset ``name`` is grown in by ``growsim grow``
+        (:attr:`preset_environments`; empty: the default environment).
+
+        Examples
+        --------
+        >>> from growsim.models import get_model
+        >>> get_model("hormone").preset_environment("demo_3d")["light"]["diffuse"]
+        0.5
+        >>> get_model("honda").preset_environment("zelkova")
+        {}
+        """
+        self.preset(name)  # an unknown preset is refused the same way
+        return copy.deepcopy(dict(self.preset_environments.get(name, {})))
 
     def resolve(
         self, values: Mapping[str, float] | None = None, where: str = ""

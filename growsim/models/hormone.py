@@ -48,6 +48,7 @@ __all__ = [
     "MODEL",
     "PARAMS",
     "PRESETS",
+    "PRESET_ENVIRONMENTS",
     "develop",
     "environment_args",
     "genes",
@@ -137,6 +138,17 @@ def _genes_demo() -> dict[str, float]:
 PRESETS = {
     "demo_2d": {"dims": 2, "steps": 30, **_genes_demo()},
     "demo_3d": {"dims": 3, "steps": 30, **_genes_demo()},
+}
+
+#: the environment each preset is shown in by ``growsim grow --preset`` (that of the
+#: figure and counts of ``docs/models/hormone.md``, made by ``benchmarks/hormone_figures.py``:
+#: the sun a little from the side, half the light from the sky, as in
+#: ``experiments/hormone_3d.toml``; ``hormone_2d.toml``'s sun has no z part, where the 2D
+#: demo grows 54 modules, not 66). Under the default light (the sun at the zenith, no sky)
+#: the side walls see no light and the demo genome stays one module.
+PRESET_ENVIRONMENTS = {
+    "demo_2d": {"light": {"direction": [0.3, -1.0, 0.2], "diffuse": 0.5}, "water": {"supply": 1.0}},
+    "demo_3d": {"light": {"direction": [0.3, -1.0, 0.2], "diffuse": 0.5}, "water": {"supply": 1.0}},
 }
 
 
@@ -379,6 +391,7 @@ class Hormone(Model):
     capabilities = frozenset({"population"})
     params = PARAMS
     presets = PRESETS
+    preset_environments = PRESET_ENVIRONMENTS
     stepwise = True
 
     def develop(self, params=None, *, seed=None, env=None) -> Plant:

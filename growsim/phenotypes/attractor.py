@@ -285,11 +285,11 @@ class Attractor(Phenotype):
 
         return scene_image(lambda pl: self._plotter_scene(pl, view), size)
 
-    def show(self, *, view: str = "front") -> None:
-        """An interactive pyvista window of the points (needs a display)."""
+    def show(self, *, view: str = "front", title: str | None = None) -> None:
+        """An interactive pyvista window of the points (needs a display), titled ``title``."""
         from growsim.render import show_scene
 
-        show_scene(lambda pl: self._plotter_scene(pl, view))
+        show_scene(lambda pl: self._plotter_scene(pl, view), title=title)
 
     def to_json(self) -> dict[str, Any]:
         """The code as JSON-able rows ``{"maps": [[a, b, c, d, e, f], ...], "p": [...]}``."""

@@ -118,13 +118,14 @@ class Phenotype(abc.ABC):
         uint8, 1 where it is, framed with its base on the centre column and bottom row."""
         raise NotImplementedError(f"phenotype {self.phenotype!r} has no 'front_view' capability")
 
-    def show(self, *, view: str = "iso") -> None:
-        """Open an interactive window (needs a display). Default: the rendered image in
-        a matplotlib window."""
+    def show(self, *, view: str = "iso", title: str | None = None) -> None:
+        """Open an interactive window (needs a display), titled ``title``. Default: the
+        rendered image in a matplotlib window."""
         import matplotlib.pyplot as plt
 
         plt.imshow(self.render_image(view=view))
         plt.axis("off")
+        plt.gcf().canvas.manager.set_window_title(title or "growsim")
         plt.show()
 
 

@@ -4,9 +4,10 @@ phenotype (:mod:`growsim.phenotypes`).
 It holds, per frame (row 0 is the start), the centre, the orientation and speed, the
 collisions counted there and the manoeuvre (0 straight, 1 turning, 2 pitching), with the
 fish's body (its row of the kernel's fish table) and the tank it swam in. Pictures are
-pyvista renders of the tank, its obstacles and the path as a string of spheres (the
-seed's Fig. 1: red spheres where the fish passed; black where it collided; a green one at
-the start); :meth:`Trajectory.animation` writes the swim as a GIF.
+pyvista renders of the tank, its obstacles and the path as a tube coloured by time
+(viridis: dark at the start, yellow at the end; the seed's Fig. 1 drew red spheres where
+the fish passed), black spheres where it collided and a green one at the start;
+:meth:`Trajectory.animation` writes the swim as a GIF.
 """
 
 from __future__ import annotations
@@ -31,6 +32,8 @@ _OBSTACLE = (0.55, 0.58, 0.62)
 _FISH = (0.95, 0.55, 0.05)
 #: at most this many spheres draw a path
 MAX_SPHERES = 400
+#: at most this many points of the path are drawn (a long swim is thinned evenly)
+MAX_PATH_POINTS = 4000
 #: colours of the 4 colour genes (the fish in an animation)
 FISH_COLORS = ((0.95, 0.55, 0.05), (0.20, 0.45, 0.85), (0.85, 0.20, 0.55), (0.35, 0.70, 0.30))
 #: a fish circles forever when, over the second half of its frames, it turns more than
@@ -186,7 +189,8 @@ class Trajectory(Phenotype):
 
     # ------------------------------------------------------------------ pictures
     def _sample(self, upto: int | None = None) -> np.ndarray:
-        """Row indices of the path drawn as spheres (at most :data:`MAX_SPHERES`)."""
+        """Row indices of the path where collisions are drawn as spheres (at most
+        :data:`MAX_SPHERES`)."""
         n = len(self.positions) if upto is None else max(1, min(upto, len(self.positions)))
         step = max(1, int(np.ceil(n / MAX_SPHERES)))
         return np.arange(0, n, step)
@@ -214,18 +218,68 @@ class Trajectory(Phenotype):
                 opacity=0.6,
             )
 
-    def _path(self, pl, upto: int | None = None) -> None:
-        """The path so far as spheres (red, black where it collided), the start green."""
+    def path_line(self, upto: int | None = None):
+        """The path of the first ``upto`` frames (default: all) as a pyvista polyline with
+        the point array ``frame`` (its row): at most :data:`MAX_PATH_POINTS` points, evenly
+        thinned, the first and the last kept; ``None`` for fewer than two frames.
+
+        Examples
+        --------
+        >>> from growsim.models.fish import develop
+        >>> line = develop({"frames": 200}).path_line()
+        >>> line.n_points, line.point_data["frame"][[0, -1]].tolist()
+        (201, [0.0, 200.0])
+        """
         import pyvista as pv
 
-        idx = self._sample(upto)
+        n = len(self.positions) if upto is None else max(1, min(upto, len(self.positions)))
+        step = max(1, int(np.ceil(n / MAX_PATH_POINTS)))
+        idx = np.arange(0, n, step)
+        if idx[-1] != n - 1:
+            idx = np.append(idx, n - 1)
+        if idx.size < 2:
+            return None
+        line = pv.lines_from_points(self.positions[idx])
+        line.point_data["frame"] = idx.astype(float)
+        return line
+
+    def _path(self, pl, upto: int | None = None, legend: bool = True) -> None:
+        """The path so far as a tube along the centres, coloured by time (the frame, on
+        one scale from the start to the last frame), black spheres where it collided, the
+        start a green sphere; with ``legend`` a scalar bar of the frames."""
+        import pyvista as pv
+
         r = self._radius()
-        hit = self.hits[idx] > 0
-        for mask, color in ((~hit, _RED), (hit, _BLACK)):
-            if mask.any():
-                pts = pv.PolyData(self.positions[idx[mask]])
-                pl.add_mesh(pts.glyph(geom=pv.Sphere(radius=r), scale=False, orient=False),
-                            color=color)  # fmt: skip
+        line = self.path_line(upto)
+        if line is not None:
+            bar = {
+                "title": "frame",
+                "color": "black",
+                "vertical": False,
+                "position_x": 0.25,
+                "position_y": 0.02,
+                "width": 0.5,
+                "height": 0.06,
+                "n_labels": 2,
+                "fmt": "%.0f",
+                "title_font_size": 12,
+                "label_font_size": 11,
+            }
+            pl.add_mesh(
+                line.tube(radius=0.5 * r, n_sides=8),
+                scalars="frame",
+                cmap="viridis",
+                clim=(0.0, float(max(len(self.positions) - 1, 1))),
+                show_scalar_bar=bool(legend),
+                scalar_bar_args=bar,
+                ambient=0.35,
+            )
+        hit = self._sample(upto)
+        hit = hit[self.hits[hit] > 0]
+        if hit.size:
+            pts = pv.PolyData(self.positions[hit])
+            pl.add_mesh(pts.glyph(geom=pv.Sphere(radius=1.5 * r), scale=False, orient=False),
+                        color=_BLACK)  # fmt: skip
         pl.add_mesh(pv.Sphere(radius=2 * r, center=self.positions[0]), color=_START)
 
     def _camera(self, pl, view) -> None:
@@ -261,11 +315,11 @@ class Trajectory(Phenotype):
 
         return scene_image(lambda pl: self._scene(pl, view), size)
 
-    def show(self, *, view: str = "iso") -> None:
-        """An interactive pyvista window (needs a display)."""
+    def show(self, *, view: str = "iso", title: str | None = None) -> None:
+        """An interactive pyvista window (needs a display), titled ``title``."""
         from growsim.render import show_scene
 
-        show_scene(lambda pl: self._scene(pl, view))
+        show_scene(lambda pl: self._scene(pl, view), title=title)
 
     def _scene(self, pl, view) -> None:
         self._static(pl)

@@ -76,6 +76,33 @@ def run_label(run: RunRecord) -> str:
     return run.path.name
 
 
+def _variant_name(runs: Sequence[RunRecord]) -> str | None:
+    """The name the config gives the group's sweep variant (``[[sweep.variants]] name``,
+    the directory of ``.../half_water/seed-N``, or ``half_water_light=0.5`` with a
+    ``--vary``), if all its runs share one; else ``None``.
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> cfg = {"sweep": {"variants": [{"name": "half_water"}]}}
+    >>> _variant_name([RunRecord(Path("sw/half_water/seed-1"), cfg, {})])
+    'half_water'
+    >>> _variant_name([RunRecord(Path("sw/light=0.5/seed-1"), cfg, {})]) is None
+    True
+    """
+    found = set()
+    for r in runs:
+        if not r.path.name.startswith("seed-"):
+            return None
+        label = run_label(r)
+        variants = (r.config.get("sweep") or {}).get("variants") or []
+        names = {str(v.get("name")) for v in variants if isinstance(v, dict) and v.get("name")}
+        if not any(label == n or label.startswith(n + "_") for n in names):
+            return None
+        found.add(label)
+    return found.pop() if len(found) == 1 else None
+
+
 def _family_key(run: RunRecord) -> str:
     """Model kind and objectives (every option): runs whose fitness is comparable."""
     return json.dumps(
@@ -179,6 +206,9 @@ def families(runs: Sequence[RunRecord], notes: list[str]) -> list[Family]:
         configs = [result_config(m[0]) for m in members]
         if len(members) > 1:
             labels, diff = diff_labels(configs, universe)
+            named = [_variant_name(m) for m in members]
+            if all(named) and len(set(named)) == len(named):  # the sweep's own names
+                labels = named
         else:
             names = dict.fromkeys(
                 str(r.config.get("experiment", {}).get("name") or run_label(r)) for r in members[0]

@@ -331,8 +331,8 @@ def garden_html(stats, shares) -> str:
     if not len(shares) and not len(stats):
         return ""
     parts = ["<h2>Common garden</h2>", f"<p class='n'>{_e_doc()}</p>"]
-    body = [[r.family, r.measure, _g(r.origin), _g(r.garden), _g(r.interaction),
-             _g(r.residual), str(r.n)] for r in shares.itertuples()]  # fmt: skip
+    body = [[r.family, r.measure, _share(r.origin), _share(r.garden), _share(r.interaction),
+             _share(r.residual), str(r.n)] for r in shares.itertuples()]  # fmt: skip
     head = ["family", "quantity", "origin (genetic)", "garden (plastic)", "interaction",
             "residual", "n"]  # fmt: skip
     parts.append(_table(head, body, "Shares of each quantity's sum of squares"))
@@ -343,8 +343,26 @@ def garden_html(stats, shares) -> str:
             {**r, "measure": f"{r['measure']} (in {r['within']})"} for r in sub.to_dict("records")
         ]
         what = "origins in one garden" if contrast == "genetic" else "gardens for one origin"
-        parts.append(_tests_table(recs, f"{contrast}: {what}, Holm p < 0.05 ({len(recs)})"))
+        if recs:
+            parts.append(_tests_table(recs, f"{contrast}: {what}, Holm p < 0.05 ({len(recs)})"))
+        else:  # no empty table with headers only
+            parts.append(f"<p class='n'>{contrast} ({what}): no test with Holm p &lt; 0.05</p>")
     return "\n".join(parts)
+
+
+def _share(v) -> str:
+    """A share of a sum of squares (in [0, 1]): 3 decimals, so a rounding-error share
+    reads 0, not 2.8e-30.
+
+    Examples
+    --------
+    >>> _share(2.8e-30), _share(0.41666), _share(1.0), _share(float("nan"))
+    ('0', '0.417', '1', '-')
+    """
+    if not isinstance(v, (int, float)) or not math.isfinite(v):
+        return "-"
+    text = f"{round(float(v), 3):.3f}".rstrip("0").rstrip(".")
+    return "0" if text in ("0", "-0") else text
 
 
 def _e_doc() -> str:

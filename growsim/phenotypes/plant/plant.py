@@ -500,11 +500,11 @@ class Plant(Phenotype):
 
         return viz.screenshot(self, path, view=view, size=size)
 
-    def show(self, *, view: str = "iso") -> None:
+    def show(self, *, view: str = "iso", title: str | None = None) -> None:
         """An interactive pyvista window: :func:`growsim.phenotypes.plant.views.show`."""
         from growsim.phenotypes.plant import views as viz
 
-        viz.show(self, view=view)
+        viz.show(self, view=view, title=title)
 
     # ------------------------------------------------------------------ persistence
     def save(self, path: str | os.PathLike) -> Path:

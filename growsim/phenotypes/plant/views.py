@@ -45,6 +45,7 @@ from growsim.render import (
     save_png,
     scene_image,
     view_vectors,
+    viewer_hint,
 )
 
 __all__ = [
@@ -248,9 +249,12 @@ def screenshot(plant_or_mesh, path, **options) -> Path:
     return save_png(render_image(plant_or_mesh, **options), path)
 
 
-def show(plant_or_mesh, *, view="iso", color=None, env=None, light_arrow=None) -> None:
-    """Open an interactive pyvista window (needs a display); ``color``, ``env`` and
-    ``light_arrow`` as in :func:`render_image` (with the scalar bar).
+def show(
+    plant_or_mesh, *, view="iso", color=None, env=None, light_arrow=None, title=None
+) -> None:
+    """Open an interactive pyvista window (needs a display), titled ``title`` (default
+    ``growsim``), with the keys' hint (:data:`growsim.render.VIEWER_KEYS`); ``color``,
+    ``env`` and ``light_arrow`` as in :func:`render_image` (with the scalar bar).
 
     Raises :class:`growsim.errors.UserInputError` when no display is available, saying to
     use :func:`screenshot` instead.
@@ -273,7 +277,8 @@ def show(plant_or_mesh, *, view="iso", color=None, env=None, light_arrow=None) -
     bounds, framing = _scene(pl, plant_or_mesh, color, env, light_arrow, True)
     if bounds is not None:
         _camera(pl, bounds, view, **framing)
-    pl.show()
+    viewer_hint(pl)
+    pl.show(title=title or "growsim")
 
 
 def turntable(
