@@ -41,6 +41,7 @@ from growsim.phenotypes.attractor import singular_values
 
 __all__ = [
     "DEFAULT_N_MAPS",
+    "FIT_N_MAPS",
     "FORMS",
     "IFS2D",
     "MAX_N_MAPS",
@@ -64,6 +65,9 @@ __all__ = [
 NAME = "ifs2d"
 DEFAULT_N_MAPS = 4
 MAX_N_MAPS = 12
+#: Maps of a fit to a picture (:func:`fit_tables`): the classic attractors have 2-6 (the
+#: fern and the maple leaf 4, Bourke's tree 6); a map of weight 0 is switched off
+FIT_N_MAPS = 6
 #: Largest attractor :func:`develop` draws (points).
 MAX_POINTS = 20_000_000
 #: fields of a map in each ``form``, then the shared ``e``, ``f``, ``p``
@@ -348,23 +352,40 @@ def develop(params: Mapping[str, float] | None = None, *, seed: int = 0, env=Non
     return Attractor(points, maps, prob, params=p, meta={"model": NAME, "seed": int(seed)})
 
 
-def fit_tables() -> dict:
+def fit_tables(maps: int | None = None) -> dict:
     """The ``[model]``, ``[ga]`` and ``[output]`` tables that fit a code to one picture of
-    an attractor (``growsim fit-image picture.png --model ifs2d``): those of
-    ``experiments/ifs_fern_fit.toml`` (a test keeps them equal). Every parameter of 4 maps
-    is evolved (28 numbers), 20,000 chaos-game points a plant, maps kept below 0.9;
-    40,000 evaluations: a GA of 100, then 28,000 of CMA-ES.
+    an attractor. ``maps = None``: those of ``experiments/ifs_fern_fit.toml`` (a test
+    keeps them equal): every parameter of 4 maps is evolved (28 numbers), each weight at
+    least 0.01. ``maps = N``: ``N`` maps whose weights may reach 0, which switches a map
+    off, so the search chooses how many of them the picture needs (``growsim fit-image
+    picture.png --model ifs2d`` runs :data:`FIT_N_MAPS`: a 3-map triangle and Bourke's
+    6-map tree alike). Both: 20,000 chaos-game points a plant, maps kept below 0.9;
+    40,000 evaluations, a GA of 100, then 28,000 of CMA-ES (``fit-image`` runs half of
+    that on a drawing: ``FIT_SETUPS["ifs2d"].drawing``).
 
     Examples
     --------
     >>> t = fit_tables()
     >>> t["model"]["kind"], t["ga"]["evaluations"], t["ga"]["polish"]["method"]
     ('ifs2d', 40000, 'cmaes')
+    >>> t["model"]["params"]["n_maps"], t["model"]["evolve"]["p_?"]
+    (4, [0.01, 1.0])
+    >>> t = fit_tables(FIT_N_MAPS)
+    >>> t["model"]["params"]["n_maps"], t["model"]["evolve"]["p_?"]
+    (6, [0.0, 1.0])
+    >>> fit_tables(13)
+    Traceback (most recent call last):
+    ...
+    growsim.errors.UserInputError: ifs2d: maps must be 1..12, got 13
     """
+    if maps is not None and not 1 <= int(maps) <= MAX_N_MAPS:
+        raise UserInputError(f"ifs2d: maps must be 1..{MAX_N_MAPS}, got {maps}")
+    n_maps = 4 if maps is None else int(maps)
+    least = 0.01 if maps is None else 0.0
     return {
         "model": {
             "kind": NAME,
-            "params": {"n_maps": 4, "iterations": 20000, "burn_in": 100, "contraction": 0.9},
+            "params": {"n_maps": n_maps, "iterations": 20000, "burn_in": 100, "contraction": 0.9},
             "evolve": {
                 "r_?": True,
                 "q_?": True,
@@ -372,7 +393,7 @@ def fit_tables() -> dict:
                 "phi_?": True,
                 "e_?": [-1.0, 1.0],
                 "f_?": [0.0, 2.0],
-                "p_?": [0.01, 1.0],
+                "p_?": [least, 1.0],
             },
         },
         "ga": {
