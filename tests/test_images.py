@@ -304,18 +304,87 @@ def test_unframe_puts_the_framed_silhouette_back_in_place(line_width):
         assert back.sum() <= 2.5 * mask.sum()
 
 
-@pytest.mark.parametrize("inner", [224, 300])
-def test_thin_framing_of_a_drawing_enlarged_by_a_fraction(inner):
-    """Strokes enlarged by 3.5 or 4.7 picture pixels a raster pixel (nearest) spill a
-    sliver into the next raster pixel; the framing drops it, back near the render."""
+def _enlarged(view, inner, margin, paper=0.85, fmt="png", tmp_path=None):
+    """A 64 px view enlarged by nearest neighbour to ``inner`` px (any factor), ink at
+    0.15 on ``paper`` with ``margin`` px around, paper noise; read back as a silhouette
+    (through a PNG or JPEG file when ``tmp_path`` is given)."""
+    im = Image.fromarray(np.where(view > 0, 255, 0).astype(np.uint8))
+    big = np.asarray(im.resize((inner, inner), Image.NEAREST)) > 127
+    g = np.pad(np.where(big, 0.15, paper), margin, constant_values=paper)
+    g = np.clip(g + np.random.default_rng(inner).normal(0, 0.015, g.shape), 0, 1)
+    if tmp_path is None:
+        return silhouette(g)
+    path = tmp_path / f"d{inner}.{fmt}"
+    Image.fromarray(np.round(255 * g).astype(np.uint8)).convert("RGB").save(path, quality=90)
+    return silhouette(path)
+
+
+def _standing_trees(n, seed=0):
+    """The Table 1 tree and random bare IFS trees standing on their base (a picture's
+    trunk base is found in its lowest rows)."""
     from growsim.models import ifs3d
+
+    rng = np.random.default_rng(seed)
+    trees = [ifs3d.develop(ifs3d.PRESETS["table1"])]
+    bare = [p for p in ifs3d.PARAMS[2:] if p not in ifs3d.LEAF_PARAMS]
+    while len(trees) < n:
+        tree = ifs3d.develop({p.name: rng.uniform(p.low, p.high) for p in bare})
+        if min(tree.start[:, 1].min(), tree.end[:, 1].min()) >= 0.0:
+            trees.append(tree)
+    return trees
+
+
+@pytest.mark.parametrize(
+    "inner, margin",
+    [(80, 0), (96, 13), (147, 0), (160, 31), (224, 20), (300, 7), (327, 40), (461, 3)],
+)
+def test_thin_framing_of_a_drawing_enlarged_by_a_fraction(inner, margin):
+    """A render enlarged by nearest neighbour by a factor that is not whole (1.25x-7.2x:
+    drawn pixels of alternating widths, a boundary rounded either way at a tie), with a
+    margin, frames back into the render pixel for pixel, as a whole factor does; the
+    fitted tree is put back onto the picture where the drawing's pixels are."""
     from growsim.objectives.silhouette import plant_views
 
-    views = plant_views(ifs3d.develop(ifs3d.PRESETS["table1"]), 64)
-    big = []
-    for v in views:
-        im = Image.fromarray(np.where(v > 0, 255, 0).astype(np.uint8))
-        big.append(np.pad(np.asarray(im.resize((inner, inner), Image.NEAREST)) > 127, 20))
-    framed = frame_silhouettes(big[0], big[1], 64, "thin")
-    for v in range(2):
-        assert np.corrcoef(framed[v].ravel(), views[v].ravel())[0, 1] >= 0.99
+    for tree in _standing_trees(3, seed=inner):
+        views = plant_views(tree, 64)
+        whole = [np.pad(np.kron(v, np.ones((4, 4))) > 0, margin) for v in views]
+        big = [_enlarged(v, inner, margin) for v in views]
+        assert np.array_equal(frame_silhouettes(*whole, 64, line_width="thin"), views)
+        framed = frame_silhouettes(*big, 64, line_width="thin")
+        assert np.array_equal(framed, views)
+        for v in range(2):
+            back = unframe(framed[v], *big, view=v, line_width="thin")
+            assert np.array_equal(back, big[v])
+        # one picture, the front alone (framed by its own extent)
+        front = plant_views(tree, 64, views=1)
+        big = _enlarged(front[0], inner, margin)
+        assert np.array_equal(frame_silhouettes(big, None, 64, "thin"), front)
+
+
+@pytest.mark.parametrize("paper, fmt", [(0.85, "png"), (1.0, "jpg"), (0.9, "jpg")])
+def test_fractional_drawing_files_frame_back(paper, fmt, tmp_path):
+    """The same through a file: grey or white paper, PNG or JPEG (3.5x, 2.3x, 5.1x)."""
+    from growsim.objectives.silhouette import plant_views
+
+    views = plant_views(_standing_trees(1)[0], 64)
+    for inner, margin in ((224, 32), (147, 0), (327, 21)):
+        big = [_enlarged(v, inner, margin, paper, fmt, tmp_path) for v in views]
+        assert np.array_equal(frame_silhouettes(*big, 64, line_width="thin"), views)
+
+
+def test_drawn_pixels_only_reads_pixel_drawings():
+    from growsim.pictures.images import drawn_pixels
+
+    raster = np.zeros((30, 30), np.uint8)
+    raster[4:, 15] = 255
+    raster[10, 5:26] = 255
+    raster[np.arange(4, 14), np.arange(15, 25)] = 255
+    for inner in (60, 69, 100, 137):
+        big = np.asarray(Image.fromarray(raster).resize((inner, inner), Image.NEAREST)) > 127
+        pixels, rows, cols = drawn_pixels(np.pad(big, 5), inner / 30)
+        assert np.array_equal(pixels, raster[4:, 5:26] > 0)
+        assert rows.shape == cols.shape == (inner + 10,)
+    # a pen drawing (strokes 3 px wide at any slope) has no pixel grid: framed as lines
+    _, fg = _tree_picture()
+    assert drawn_pixels(fg, 3.0) is None
+    assert drawn_pixels(np.pad(raster > 0, 5), 1.0) is None  # not enlarged
