@@ -429,14 +429,13 @@ def test_placeholders_are_caught():
     assert _is_mention(["compare", "--garden"]) and not _is_mention(["compare", "runs/x"])
 
 
-#: pages other helpers of issue 28 rename ("seed 002", "the seed's"): remove when done
-RENAMED_ELSEWHERE = {"docs/models/ifs2d.md"}
-
-
 def test_docs_cite_nothing_outside_the_repository():
     """Links, images and the repository paths a page names exist in the repository; the
     source papers are named by title, not by a file or a "seed NNN" users do not have
-    ("seed" means a random seed)."""
+    ("seed" means a random seed), in the pages and in the shipped configs' comments."""
+    for config in sorted((ROOT / "experiments").glob("*.toml")):
+        bad = re.search(r"seed 00\d|[Tt]he seed's", config.read_text())
+        assert not bad, f"{_name(config)}: {bad.group(0)!r}: name the paper by title"
     pages = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
     for page in pages:
         text, name = page.read_text(), _name(page)
@@ -449,9 +448,8 @@ def test_docs_cite_nothing_outside_the_repository():
             if "/my" not in path and "_my" not in path:  # docs/extending.md: a new model
                 assert (ROOT / path).exists(), f"{name}: {path} is not in the repository"
         assert not re.search(r"shared/|seeds/|research/", text), f"{name}: a file outside"
-        if name not in RENAMED_ELSEWHERE:
-            bad = re.search(r"seed 00\d|[Tt]he seed's|seed document", text)
-            assert not bad, f"{name}: {bad.group(0)!r}: name the paper by title"
+        bad = re.search(r"seed 00\d|[Tt]he seed's|seed document", text)
+        assert not bad, f"{name}: {bad.group(0)!r}: name the paper by title"
 
 
 def test_every_config_is_on_the_models_page():

@@ -244,21 +244,15 @@ FIT_SETUPS: Registry[FitSetup] = Registry(
             auto_leafy=False,
             score=PHOTO_SCORE,
         ),
-        # eight restarts, the two best at 64 px carried on: the GA at 64 px ends in crowns
-        # of different quality by its seed (the plane's photo: 0.70-0.87 at 256 px over
-        # twelve fits) and the score at 64 px foretells the final one (the fits that scored
-        # best there ended best), so more GA runs and refining only the best gives better
-        # fits for about the time of four whole fits (benchmarks/log/fitting.md; mean of
-        # eight 0.833 -> 0.853 with the sweep of the leaves). The arrangement search: the
-        # photos whose tree was not grown with the fit's seed 0.68 -> 0.76 at 256 px
-        # (ginkgo 0.39 -> 0.51), mean of eight 0.842 -> 0.861. No blur: 1 px lifts the
-        # ginkgo to 0.58 but drops the plane and the columnar tree (mean of eight 0.860,
-        # of the two extras 0.81 for 0.82).
+        # three GA seeds of each kind, the two best carried on (the GA at 64 px ends in
+        # crowns of different quality by its seed; eight seeds of 2,000 arrangement
+        # evaluations took 431 s a photo: three of 1,000 fit the minute and a half of
+        # issue 27); pipe-model radii, the photo score (benchmarks/log/fitting.md)
         "honda": FitSetup(
             _honda_tables,
             leaves={"leaves": True, "leaf_radius": [0.3, 4.0]},
             bare={"leaves": 0},
-            restarts=4,
+            restarts=3,
             carry=2,
             arrange=1000,
             kinds=("photo",),
