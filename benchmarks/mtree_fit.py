@@ -109,7 +109,7 @@ def sheet(rows: list[dict], path: Path) -> Path:
     for i, im in enumerate(tiles):
         page.paste(im, ((i % cols) * w, (i // cols) * h))
     path.parent.mkdir(parents=True, exist_ok=True)
-    page.save(path)
+    page.convert("P", palette=Image.Palette.ADAPTIVE, colors=8).save(path, optimize=True)
     return path
 
 
