@@ -11,6 +11,7 @@ from growsim.pictures.images import (
     classify_picture,
     frame_silhouettes,
     otsu_threshold,
+    picture_silhouettes,
     read_silhouettes,
     silhouette,
     silhouette_image,
@@ -388,3 +389,29 @@ def test_drawn_pixels_only_reads_pixel_drawings():
     _, fg = _tree_picture()
     assert drawn_pixels(fg, 3.0) is None
     assert drawn_pixels(np.pad(raster > 0, 5), 1.0) is None  # not enlarged
+
+
+def test_picture_silhouettes_remembers_a_file_until_it_changes(tmp_path):
+    """A picture file is segmented once (a fit compiles its objective many times), each
+    call gets its own copy, and a file changed on disk is read again."""
+    import os
+
+    from growsim.pictures import images
+
+    def save_gray(g, path):
+        Image.fromarray(np.round(255 * g).astype(np.uint8)).save(path)
+
+    g = np.ones((40, 30))
+    g[5:, 15] = 0.0
+    path = tmp_path / "tree.png"
+    save_gray(g, path)
+    images._segment_file.cache_clear()
+    a = picture_silhouettes(str(path))[0]
+    b = picture_silhouettes(path)[0]
+    assert images._segment_file.cache_info().hits == 1
+    a[:] = False  # the caller's copy: the cache is not touched
+    assert np.array_equal(b, picture_silhouettes(path)[0]) and b.sum() == 35
+    g[5:, 10] = 0.0
+    save_gray(g, path)
+    os.utime(path, ns=(1, 1))  # a new modification time, whatever the clock's resolution
+    assert picture_silhouettes(path)[0].sum() == 70

@@ -634,8 +634,6 @@ def fit_image(
          carry) = (saved[k] for k in _SAVED)  # fmt: skip
     elif front is None:
         raise UserInputError("no picture given (or --resume DIR to continue a fit)")
-    else:
-        _check_fresh(out_dir)
     here = locals()
     options = {k: here[k] for k in _SAVED}
     for k in ("front", "side", "mask_front", "mask_side"):
@@ -664,6 +662,8 @@ def fit_image(
                  evaluations=evaluations, refine=refine, arrange=arrange, blur=blur,
                  restarts=restarts, carry=carry)  # fmt: skip
     settings = {m: _settings(m, drawing, given, budget) for m in names}
+    if not resume:  # the options are sound: one directory, one fit
+        _check_fresh(out_dir)
     pictures = dict(threshold=threshold, polarity=polarity, mask_front=mask_front,
                     mask_side=mask_side, segmentation=segmentation)  # fmt: skip
     runs = [(m, mode, seed + r) for m in names for mode in settings[m]["modes"]

@@ -52,6 +52,7 @@ A user's front and side pictures (PNG, JPEG, ... any size) become binary silhoue
 
 from __future__ import annotations
 
+import functools
 import os
 from pathlib import Path
 
@@ -653,12 +654,42 @@ def picture_silhouettes(
     views = [(front, mask_front, "front")]
     if side is not None:
         views.append((side, mask_side, "side"))
+    out = []
+    for img, m, label in views:
+        pic, mask = _file_key(img), _file_key(m)
+        if pic is None or (m is not None and mask is None):  # arrays: not remembered
+            out.append(_segment(img, m, label, segmentation, threshold, polarity))
+        else:
+            out.append(_segment_file(pic, mask, label, segmentation, threshold, polarity).copy())
+    return out
+
+
+def _segment(img, mask, label, segmentation, threshold, polarity) -> np.ndarray:
+    """One picture's silhouette (:func:`picture_silhouettes`)."""
     if segmentation == "photo":
-        return [segment_photo(img, mask=m, name=label).tree for img, m, label in views]
-    return [
-        silhouette(img, threshold=threshold, polarity=polarity, mask=m, name=label)
-        for img, m, label in views
-    ]
+        return segment_photo(img, mask=mask, name=label).tree
+    return silhouette(img, threshold=threshold, polarity=polarity, mask=mask, name=label)
+
+
+def _file_key(path):
+    """``(path, modification time, size)`` of a picture file, ``None`` for an array (or a
+    missing file: read, and refused, without the cache)."""
+    if path is None or isinstance(path, np.ndarray):
+        return None
+    try:
+        st = os.stat(path)
+    except (OSError, TypeError, ValueError):
+        return None
+    return str(Path(path).absolute()), st.st_mtime_ns, st.st_size
+
+
+@functools.lru_cache(maxsize=8)
+def _segment_file(picture, mask, label, segmentation, threshold, polarity) -> np.ndarray:
+    """:func:`_segment` of a picture file (``picture``, ``mask``: :func:`_file_key`),
+    remembered: a fit compiles its objective at every size and for every candidate, and a
+    photo's segmentation costs about a second. A file changed on disk is read again."""
+    mask = None if mask is None else mask[0]
+    return _segment(picture[0], mask, label, segmentation, threshold, polarity)
 
 
 def read_silhouettes(
