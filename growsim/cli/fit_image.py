@@ -14,7 +14,8 @@ import argparse
 import math
 
 from growsim.errors import UserInputError
-from growsim.fitting.fit import fit_image, raster_sizes
+from growsim.fitting.choices import raster_sizes
+from growsim.fitting.fit import fit_image
 from growsim.fitting.setups import FIT_SETUPS, LEAF_MODES
 
 __all__ = ["register"]

@@ -2,6 +2,8 @@
 
 - :mod:`~growsim.fitting.fit`: :func:`fit_image`, the whole fit as a library call
   (returns a :class:`FitResult`; the command only parses its arguments and prints);
+- :mod:`~growsim.fitting.choices`: what the fit chooses for the user (drawing or photo,
+  the models, line width, sizes, leaves, keywords) and which candidate it keeps;
 - :mod:`~growsim.fitting.setups`: what is fitted for each model (:class:`FitSetup`), the
   fit's config, the coarse-to-fine refinement, the sweep of the discrete parameters and
   the arrangement search.
