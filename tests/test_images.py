@@ -374,7 +374,7 @@ def test_fractional_drawing_files_frame_back(paper, fmt, tmp_path):
 
 
 def test_drawn_pixels_only_reads_pixel_drawings():
-    from growsim.pictures.images import drawn_pixels
+    from growsim.pictures.pixels import drawn_pixels
 
     raster = np.zeros((30, 30), np.uint8)
     raster[4:, 15] = 255
