@@ -10,7 +10,9 @@ prints one JSON line per picture:
   (``fit_front.png`` against ``silhouette_front.png``); ``bare_fitted_bare`` for a bare tree;
 - ``ceiling``: the picture's own silhouette seen at 64 px (framed at 64 px, each pixel
   enlarged 4 x 4) scored against itself at 256 px: what a fit exact at 64 px would reach;
-- ``seconds`` of the whole call, the model and kind kept, the load average at the start;
+- ``seconds`` of the whole call (wall), ``cpu_seconds`` (its processes' CPU time, the
+  runs side by side on the cores included: a figure the machine's load does not change),
+  the model and kind kept, the load average at the start;
 
 then one ``summary`` line per split: mean NCC, mean ceiling, areas' range, how many fits are
 within 0.7x-1.4x, bare trees fitted bare, the slowest fit. ``--sheet PATH`` draws every
@@ -49,20 +51,30 @@ def ceiling(mask_path: Path) -> float:
     return float(ncc(up[None], fine[:1]))
 
 
+def _cpu() -> float:
+    """CPU seconds of this process and its finished children."""
+    import resource
+
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    kids = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
+
+
 def fit_one(picture: Path, out: Path, seed: int) -> dict:
     """Fit one picture with fit-image's defaults into ``out``; its row."""
     from growsim.fitting.fit import fit_image
 
     shutil.rmtree(out, ignore_errors=True)
     load = os.getloadavg()[0]
-    t = time.perf_counter()
+    t, cpu = time.perf_counter(), _cpu()
     r = fit_image(picture, out=out, seed=seed, progress=False)
-    seconds = time.perf_counter() - t
+    seconds, cpu = time.perf_counter() - t, _cpu() - cpu
     s = r.summary
     return {
         "ncc": round(r.ncc, 4),
         "area": round(s["area_ratio"]["front"], 3),
         "seconds": round(seconds, 1),
+        "cpu_seconds": round(cpu, 1),
         "model": r.model,
         "leaves": s["leaves"]["chosen"],
         "models": {k: round(v, 4) for k, v in s["models"].items()},
@@ -87,6 +99,8 @@ def summary(rows: list[dict], split: str) -> dict:
         "bare_fitted_bare": f"{sum(r['leaves'] == 'bare' for r in bare)}/{len(bare)}",
         "max_seconds": max(r["seconds"] for r in rows),
         "mean_seconds": round(float(np.mean([r["seconds"] for r in rows])), 1),
+        "max_cpu_seconds": max(r["cpu_seconds"] for r in rows),
+        "mean_cpu_seconds": round(float(np.mean([r["cpu_seconds"] for r in rows])), 1),
     }
 
 

@@ -489,13 +489,21 @@ def test_fit_image_resumes_an_interrupted_fit(photo, tmp_path, monkeypatch, caps
     what is there; --resume continues an interrupted fit from its runs' last finished
     stages to the same fit as an uninterrupted one, and refuses a finished fit."""
     from growsim.fitting import fit as fitting
+    from growsim.fitting import runs
 
     path, _ = photo
     kw = dict(model="honda", evaluations=200, sizes=(32, 64), refine=20, arrange=20,
-              restarts=2, progress=False)  # fmt: skip
+              restarts=2, workers=1, progress=False)  # fmt: skip
     whole = fitting.fit_image(path, out=tmp_path / "whole", **kw)
-    name, real = ("_evolve", fitting._evolve) if where == "second GA" else (
-        "_size_stages", fitting._size_stages)
+    drop = lambda stages: [{k: v for k, v in s.items() if k != "seconds"} for s in stages]  # noqa: E731
+    if where == "second GA":  # the runs side by side on two processes: the same fit
+        apart = fitting.fit_image(path, out=tmp_path / "apart", **{**kw, "workers": 2})
+        assert apart.params == whole.params and drop(apart.stages) == drop(whole.stages)
+        assert apart.summary["leaves"] == {**whole.summary["leaves"],
+                                           "run": apart.summary["leaves"]["run"],
+                                           "runs": apart.summary["leaves"]["runs"]}
+    name, real = ("evolve", runs.evolve) if where == "second GA" else (
+        "size_stages", runs.size_stages)
     calls = []
 
     def cut(*a, **k):
@@ -504,17 +512,16 @@ def test_fit_image_resumes_an_interrupted_fit(photo, tmp_path, monkeypatch, caps
             raise KeyboardInterrupt
         return real(*a, **k)
 
-    monkeypatch.setattr(fitting, name, cut)
+    monkeypatch.setattr(runs, name, cut)
     with pytest.raises(KeyboardInterrupt):
         fitting.fit_image(path, out=tmp_path / "cut", **kw)
-    monkeypatch.setattr(fitting, name, real)
+    monkeypatch.setattr(runs, name, real)
     with pytest.raises(UserInputError, match="fit-image --resume"):
         fitting.fit_image(path, out=tmp_path / "cut", **kw)
     assert main(["fit-image", "--resume", str(tmp_path / "cut"), "--model", "ifs3d"]) == 2
     assert "--resume: give the fit's directory alone (not --model)" in capsys.readouterr().err
     again = fitting.fit_image(out=tmp_path / "cut", resume=True, progress=False)
     assert again.params == whole.params and again.ncc == whole.ncc
-    drop = lambda stages: [{k: v for k, v in s.items() if k != "seconds"} for s in stages]  # noqa: E731
     assert drop(again.stages) == drop(whole.stages)
     assert again.summary["leaves"]["first_size"] == whole.summary["leaves"]["first_size"]
     with pytest.raises(UserInputError, match="finished"):

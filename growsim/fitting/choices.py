@@ -138,7 +138,16 @@ def fit_settings(name: str, drawing: bool, given: dict, budget: float) -> dict:
     """One model's settings of a fit: its setup, its choices (:func:`model_choices`) and its
     keywords, each the one given, else the setup's for the picture's kind (a drawing:
     :attr:`~growsim.fitting.setups.FitSetup.drawing`), the evaluations times ``budget``;
-    checked."""
+    checked. ``given``: the options given (a missing key or ``None``: not given).
+
+    Examples
+    --------
+    >>> st = fit_settings("honda", False, {"restarts": 2}, 1.0)
+    >>> st["restarts"], st["sizes"], st["leaves"]
+    (2, (64, 128, 256), 'auto')
+    """
+    given = {k: given.get(k) for k in ("line_width", "sizes", "size", "leaves", "evaluations",
+                                       "refine", "arrange", "blur", "restarts", "carry")}
     setup = FIT_SETUPS.get(name)
     choices = model_choices(setup, drawing, given["line_width"], given["sizes"], given["size"],
                        given["leaves"])  # fmt: skip

@@ -47,7 +47,7 @@ from __future__ import annotations
 import json
 import os
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -62,15 +62,8 @@ from growsim.fitting.choices import (
     kept_candidate,
     picture_kind,
 )
-from growsim.fitting.setups import (
-    FIT_SETUPS,
-    exact_score,
-    fit_config,
-    search_score,
-    sweep_discrete,
-)
-from growsim.fitting.setups import arrange as search_arrangement
-from growsim.fitting.setups import refine as refine_fit
+from growsim.fitting.runs import FitRun, RunJob, run_job, run_jobs
+from growsim.fitting.setups import FIT_SETUPS, search_score
 from growsim.render import save_png
 
 __all__ = ["FitResult", "fit_image"]
@@ -133,171 +126,6 @@ AUTO_ENOUGH = 0.95
 #: a fit's state in its ``--out``: the options it was started with (``--resume``)
 FIT_STATE = "fit-state.json"
 
-#: each run's state in its directory: the stages it finished, its values and draws
-RUN_STATE = "fit-stages.json"
-
-
-@dataclass
-class _Fit:
-    """One fit on its way through the sizes: its compiled plan (at the current size), the
-    evolved values ``x``, the arrangement ``draws`` (``None``: the model's own), the stages
-    so far and its run's directory."""
-
-    plan: Any
-    x: np.ndarray
-    out: Path
-    draws: np.ndarray | None = None
-    stages: list[dict[str, Any]] = field(default_factory=list)
-
-    @property
-    def ncc(self) -> float:
-        """The binary NCC at its last stage."""
-        return self.stages[-1]["ncc"]
-
-    def save(self, done: int) -> None:
-        """Write its state after the searches of size ``done`` (an index into the sizes)."""
-        state = {"done": done, "x": self.x.tolist(), "stages": self.stages,
-                 "draws": None if self.draws is None else self.draws.tolist()}  # fmt: skip
-        atomic_write(self.out / RUN_STATE, json.dumps(jsonable(state)))
-
-    @classmethod
-    def restore(cls, out: Path, config) -> tuple[_Fit, int] | None:
-        """The fit saved in ``out`` (:meth:`save`) and the index of the last size done, its
-        plan compiled by ``config(k)``; ``None`` if nothing was saved."""
-        from growsim.experiment import load_plan
-
-        path = out / RUN_STATE
-        if not path.is_file():
-            return None
-        state = json.loads(path.read_text())
-        draws = None if state["draws"] is None else np.asarray(state["draws"], dtype=np.float64)
-        fit = cls(load_plan(config(state["done"])), np.asarray(state["x"], dtype=np.float64),
-                  out, draws, state["stages"])  # fmt: skip
-        return fit, state["done"]
-
-    @property
-    def score(self) -> float:
-        """The score searched at its last stage (the shape score, blurred or not; the
-        binary NCC when the search scored that)."""
-        return self.stages[-1].get("score", self.stages[-1]["ncc"])
-
-
-def _searched_apart(plan) -> bool:
-    """Whether ``plan``'s searches score something else than the binary NCC (a blur, the
-    shape terms)."""
-    o = plan.objectives[0]
-    return o.blur > 0 or o.has_shape_terms
-
-
-class _Bar:
-    """A progress bar of one stage (tqdm on stderr, labelled; nothing when disabled)."""
-
-    def __init__(self, label: str, total: int, enabled: bool):
-        self.bar = None
-        if enabled and total > 0:
-            import sys
-
-            from tqdm.auto import tqdm
-
-            if sys.stderr.isatty():
-                self.bar = tqdm(total=total, desc=label, unit="eval", file=sys.stderr,
-                                dynamic_ncols=True, leave=False)  # fmt: skip
-
-    def __call__(self, n: int) -> None:
-        if self.bar is not None:
-            self.bar.update(n)
-
-    def close(self) -> None:
-        if self.bar is not None:
-            self.bar.close()
-
-
-def _evolve(plan, size: int, out: Path, workers, progress, resume: bool = False) -> _Fit:
-    """The first stage of one fit: the setup's GA on ``plan`` (compiled at the first size,
-    ``size``), run into ``out`` (``progress``: ``False`` or the bar's label; ``resume``:
-    continued from the run's checkpoint, or read back when it finished); its row: size,
-    evaluations, seconds, binary NCC (and the ``score`` searched, when it differs)."""
-    from growsim.experiment import read_run, run
-
-    t0 = time.perf_counter()
-    if resume and (out / "summary.json").is_file():
-        result = read_run(out, history=False)
-    elif resume and (out / "config.toml").is_file():
-        result = run(None, out=out, workers=workers, progress=progress, resume=True)
-    else:
-        result = run(plan, out=out, workers=workers, progress=progress)
-    fitness = plan.fitness()
-    x = np.array([result.best_params[n] for n in fitness.evolved], dtype=np.float64)
-    apart = _searched_apart(plan)
-    row = {
-        "size": size,
-        "stage": "ga",
-        "evaluations": int(result.summary["evaluations"]),
-        "seconds": round(time.perf_counter() - t0, 3),
-        "ncc": exact_score(plan, x) if apart else float(result.best_fitness),
-    }
-    if apart:
-        row["score"] = float(result.best_fitness)
-    return _Fit(plan, x, Path(result.out), stages=[row])
-
-
-def _size_stages(fit: _Fit, k: int, config, sizes, setup, budgets, seed: int,
-                 label: str | None = None) -> None:  # fmt: skip
-    """The searches of ``fit`` at ``sizes[k]``, in place: a refinement (at every size but
-    the first, on the fit's config at that size, ``config(size, blur)``), the sweep of the
-    discrete parameters (:func:`~growsim.fitting.setups.sweep_discrete`) and the search for
-    the branches' arrangement (:func:`~growsim.fitting.setups.arrange`, for a model with
-    the ``draws`` capability). ``budgets`` ``(refine, arrange, blur)``: the evaluations of
-    each refinement and of each arrangement search (0: none), and the blur at the first
-    size (scaled with the size; the searches at the last size are on the binary NCC). Each
-    search appends its row to ``fit.stages`` (size, evaluations, seconds, binary NCC);
-    ``label``: a progress bar per search, labelled with it and the stage."""
-    from growsim.experiment import load_plan
-
-    refine_evaluations, arrange_evaluations, blur = budgets
-    size = sizes[k]
-
-    def stage(name, evaluations, search):
-        plan, x, draws = fit.plan, fit.x, fit.draws
-        t = time.perf_counter()
-        bar = _Bar(f"{label}: {size} px {name}", evaluations, label is not None)
-        try:
-            if name == "refine":
-                x, score, start = search(plan, x, evaluations=evaluations,
-                                         sigma=setup.refine_sigma, seed=seed * 1000 + k,
-                                         draws=draws, tick=bar)  # fmt: skip
-            elif name == "discrete":
-                x, score, start, evaluations = search(plan, x, draws)
-            else:
-                draws, score, start = search(plan, x, draws, evaluations=evaluations,
-                                             seed=seed * 1000 + 500 + k, tick=bar)  # fmt: skip
-        finally:
-            bar.close()
-        fit.x, fit.draws = x, draws
-        row = {"size": size, "stage": name, "evaluations": evaluations}
-        row["seconds"] = round(time.perf_counter() - t, 3)
-        if _searched_apart(plan):
-            row["score_start"], row["score"] = start, score
-            row["ncc"] = exact_score(plan, x, draws)
-        else:
-            row["ncc_start"], row["ncc"] = start, score
-        fit.stages.append(row)
-
-    # blurred at every size but the last, whose searches are on the score reported
-    sigma = blur * size / sizes[0] if k < len(sizes) - 1 else 0.0
-    if k > 0:
-        fit.plan = load_plan(config(size, sigma))
-        stage("refine", refine_evaluations, refine_fit)
-    elif blur > 0 and sigma == 0:  # one size: the GA's score was blurred
-        fit.plan = load_plan(config(size, 0.0))
-    # the discrete parameters (leaves per branch): every value tried at every size
-    genome = fit.plan.genome
-    if np.any(genome.discrete & (genome.param_high - genome.param_low >= 1)):
-        stage("discrete", 0, sweep_discrete)
-    if arrange_evaluations > 0 and "draws" in fit.plan.model.capabilities:
-        stage("arrange", arrange_evaluations, search_arrangement)
-
-
 def _write_masks(objective, out: Path, pictures: dict) -> list[Path]:
     """The silhouettes used, at the pictures' size: ``silhouette_<view>.png`` (black tree
     on white) and ``segmentation_<view>.png`` (the picture, the tree tinted red)."""
@@ -354,15 +182,43 @@ _SAVED = ("front", "side", "model", "budget", "sizes", "size", "segmentation", "
           "refine", "arrange", "blur", "seed", "restarts", "carry")  # fmt: skip
 
 
-def _saved(out_dir: Path) -> dict:
-    """The options of the fit in ``out_dir`` to resume (:data:`FIT_STATE`); refused when
-    there is none, or it finished."""
+def _state(out_dir: Path) -> dict:
+    """The state of the fit in ``out_dir`` (:data:`FIT_STATE`): the ``options`` it was
+    started with and, once the first size's fits are judged, what they ``decided``
+    (:func:`_decide`); refused when there is none, or the fit finished."""
     path = out_dir / FIT_STATE
     if (out_dir / "fit.json").is_file():
         raise UserInputError(f"{out_dir}: this fit is finished (fit.json); nothing to resume")
     if not path.is_file():
         raise UserInputError(f"{out_dir}: no fit to resume here (no {FIT_STATE})")
-    return json.loads(path.read_text())["options"]
+    return json.loads(path.read_text())
+
+
+def _decide(fits, runs, settings, names, label_of, job) -> dict:
+    """What the fits at the first size decide: each fit's scores there (``first_size``),
+    the best of each model and kind of tree judged at its model's final size
+    (``judged``), the ``kept`` model and kind, and the runs ``carried`` to the finer sizes
+    (the restarts of the kept kind that scored best at the first size: the score there
+    foretells the final one, benchmarks/log/fitting.md)."""
+    from growsim.experiment import load_plan
+
+    first_size = {label_of(*r): {"ncc": f.ncc, "score": f.score} for r, f in fits.items()}
+    best_of: dict[tuple[str, str], tuple] = {}
+    for r, f in fits.items():
+        if r[:2] not in best_of or f.score > fits[best_of[r[:2]]].score:
+            best_of[r[:2]] = r
+    judged: dict[tuple[str, str], float] = {}
+    for key, r in best_of.items():
+        last = settings[r[0]]["sizes"][-1]
+        if len(best_of) == 1 or last == settings[r[0]]["sizes"][0]:
+            judged[key] = fits[r].score
+        else:
+            judged[key] = search_score(load_plan(job(r, 0).config(last)), fits[r].x,
+                                       fits[r].draws)  # fmt: skip
+    kept = kept_candidate(judged, names)
+    ranked = sorted((r for r in runs if r[:2] == kept), key=lambda r: -fits[r].score)
+    return {"first_size": first_size, "judged": {"/".join(k): v for k, v in judged.items()},
+            "kept": list(kept), "carried": ranked[: settings[kept[0]]["carry"] or len(ranked)]}
 
 
 def _check_fresh(out_dir: Path) -> None:
@@ -416,22 +272,23 @@ def fit_image(
     (``"auto"``: every model of :data:`~growsim.fitting.setups.FIT_SETUPS` for the
     picture's kind fitted at the first size, the best kept); ``budget``: every search's
     evaluations times this (a photo: about 90 s at 1 on 2 cores); ``segmentation``
-    (``"auto"``: by the picture, see the module docstring; ``"photo"`` or
-    ``"threshold"``, with ``threshold``, ``"otsu"`` or a grey level, and ``polarity``,
-    ``"auto"``, ``"dark"`` or ``"light"``); ``sizes``, the raster sizes coarse to fine
-    (``size``: one size only, no refinement); ``line_width`` (``"radius"`` or ``"thin"``);
-    ``leaves`` (:data:`~growsim.fitting.setups.LEAF_MODES`); ``None`` for these three:
-    chosen by the picture (:func:`~growsim.fitting.choices.model_choices`); ``mask_front``,
-    ``mask_side``: mask pictures (only their white part may be tree); ``evaluations``: of
-    the first stage (>= 100; the setup's polish share kept); ``refine``, ``arrange``:
-    evaluations of the refinement at each finer size and of each arrangement search (0:
-    none); ``blur``: sigma of the searches at the first size (pixels, scaled with the size;
-    0 at the last size); ``seed``: of the first restart; ``restarts``, ``carry``: fits of
-    each kind of tree, and how many of the kept kind go on past the first size (0: all);
-    ``workers``: local processes evaluating; ``progress``: a progress bar naming the
-    stage. ``None``: the model's own (:data:`~growsim.fitting.setups.FIT_SETUPS`, a drawing's
-    :attr:`~growsim.fitting.setups.FitSetup.drawing`). Bad options and pictures raise
-    :class:`UserInputError` before any evolution.
+    (``"auto"``: by the picture, see the module docstring; ``"photo"`` or ``"threshold"``,
+    with ``threshold``, ``"otsu"`` or a grey level, and ``polarity``, ``"auto"``, ``"dark"``
+    or ``"light"``); ``sizes``, the raster sizes coarse to fine (``size``: one size only, no
+    refinement); ``line_width`` (``"radius"`` or ``"thin"``); ``leaves``
+    (:data:`~growsim.fitting.setups.LEAF_MODES`); ``None`` for these three: chosen by the
+    picture (:func:`~growsim.fitting.choices.model_choices`); ``mask_front``, ``mask_side``:
+    mask pictures (only their white part may be tree); ``evaluations``: of the first stage
+    (>= 100; the setup's polish share kept); ``refine``, ``arrange``: evaluations of the
+    refinement at each finer size and of each arrangement search (0: none); ``blur``: sigma
+    of the searches at the first size (pixels, scaled with the size; 0 at the last size);
+    ``seed``: of the first restart; ``restarts``, ``carry``: fits of each kind of tree, and
+    how many of the kept kind go on past the first size (0: all); ``workers``: local
+    processes: a photo's runs side by side (``None``: the machine's cores; the same fit on
+    any number), or a single run's GA evaluations; ``progress``: progress bars naming the
+    stage. ``None``: the model's own (:data:`~growsim.fitting.setups.FIT_SETUPS`, a
+    drawing's :attr:`~growsim.fitting.setups.FitSetup.drawing`). Bad options and pictures
+    raise :class:`UserInputError` before any evolution.
 
     Examples
     --------
@@ -455,7 +312,7 @@ def fit_image(
                 "--resume: give the fit's directory alone; it goes on with the pictures and "
                 "options it was started with"
             )
-        saved = _saved(out_dir)
+        saved = _state(out_dir)["options"]
         (front, side, model, budget, sizes, size, segmentation, threshold, polarity, line_width,
          leaves, mask_front, mask_side, evaluations, refine, arrange, blur, seed, restarts,
          carry) = (saved[k] for k in _SAVED)  # fmt: skip
@@ -495,13 +352,8 @@ def fit_image(
                     mask_side=mask_side, segmentation=segmentation)  # fmt: skip
     runs = [(m, mode, seed + r) for m in names for mode in settings[m]["modes"]
             for r in range(settings[m]["restarts"])]  # fmt: skip
+    processes = 1 if len(runs) == 1 else workers  # a single run's GA takes the workers
     t0 = time.perf_counter()
-
-    def config(m, mode, s, size, sigma=0.0):
-        st = settings[m]
-        return fit_config(front, side, model=m, size=size, leaves=mode, seed=s, blur=sigma,
-                          line_width=st["line_width"], evaluations=st["evaluations"],
-                          score=st["score"], **pictures)  # fmt: skip
 
     def name_of(m, mode, s):
         name = KINDS[mode] if mode != "keep" else "run"
@@ -513,76 +365,53 @@ def fit_image(
         kind = "" if mode == "keep" else f" {KINDS[mode]}"
         return f"{m}{kind}" + (f" seed {s}" if settings[m]["restarts"] > 1 else "")
 
+    def job(r, last, again=resume):
+        # run r as a job up to its size index last (a single run's GA on the workers)
+        return RunJob(front, side, *r, settings[r[0]], pictures,
+                      out_dir / name_of(*r) if len(runs) > 1 else out_dir, last, again,
+                      workers if len(runs) == 1 else None,
+                      label_of(*r) if progress else None)  # fmt: skip
+
     # compiling builds the objective once: bad pictures fail here, before any evolution
-    first = {r: load_plan(config(*r, settings[r[0]]["sizes"][0], settings[r[0]]["blur"]))
+    first = {r: load_plan(job(r, 0).config(settings[r[0]]["sizes"][0], settings[r[0]]["blur"]))
              for r in runs}  # fmt: skip
-
-    def stages(r, k):
-        m, mode, s = r
-        st = settings[m]
-        budgets = (st["refine"], st["arrange"], st["blur"])
-        _size_stages(fits[r], k, lambda size, sigma: config(m, mode, s, size, sigma),
-                     st["sizes"], st["setup"], budgets, s,
-                     label_of(*r) if progress else None)  # fmt: skip
-
-    def plan_at(r, k):
-        # the plan of run r's searches at its k-th size (blurred but at the last)
-        st = settings[r[0]]
-        last = k == len(st["sizes"]) - 1
-        sigma = 0.0 if last else st["blur"] * st["sizes"][k] / st["sizes"][0]
-        return load_plan(config(*r, st["sizes"][k], sigma))
-
     if not resume:
         out_dir.mkdir(parents=True, exist_ok=True)
         atomic_write(out_dir / FIT_STATE, json.dumps({"options": jsonable(options)}, indent=1))
-    fits: dict[tuple[str, str, int], _Fit] = {}
-    done: dict[tuple[str, str, int], int] = {}
-    enough = None  # a drawing's model that matched it: the next models are not fitted
-    for r in runs:
-        if enough is not None and r[0] != enough:
-            continue
-        size0 = settings[r[0]]["sizes"][0]
-        run_out = out_dir / name_of(*r) if len(runs) > 1 else out_dir
-        restored = _Fit.restore(run_out, lambda k, r=r: plan_at(r, k)) if resume else None
-        if restored is not None:
-            fits[r], done[r] = restored
-        else:
-            label = f"{label_of(*r)}: {size0} px GA" if progress else False
-            fits[r] = _evolve(first[r], size0, run_out, workers, label, resume)
-            stages(r, 0)
-            fits[r].save(0)
-            done[r] = 0
-        if drawing and len(names) > 1 and fits[r].ncc >= AUTO_ENOUGH:
-            enough = r[0]
-    if enough is not None:
-        names = [m for m in names if any(r[0] == m for r in fits)]
-        model_choice["why"] += (f"; {enough}'s fit matched the drawing (NCC >= {AUTO_ENOUGH}), "
-                                "the next models were not fitted")  # fmt: skip
+    fits: dict[tuple[str, str, int], FitRun] = {}
+    if drawing:
+        # one after the other: a model that matched the drawing ends the search
+        enough = None
+        for r in runs:
+            if enough is not None and r[0] != enough:
+                continue
+            fits[r] = run_job(job(r, 0), first[r])
+            if len(names) > 1 and fits[r].ncc >= AUTO_ENOUGH:
+                enough = r[0]
+        if enough is not None:
+            names = [m for m in names if any(r[0] == m for r in fits)]
+            model_choice["why"] += (f"; {enough}'s fit matched the drawing (NCC >= "
+                                    f"{AUTO_ENOUGH}), the next models were not fitted")  # fmt: skip
+    else:
+        # a photo's runs side by side on the cores (the same runs on any number)
+        label = f"fits at {settings[runs[0][0]]['sizes'][0]} px" if progress else None
+        fits = dict(zip(runs, run_jobs([job(r, 0) for r in runs], processes, label)))
     # every fit at the end of the first size; the best of each model and kind of tree,
-    # judged at its model's final size (finer: a blob that passes at 64 px shows there)
-    first_size = {label_of(*r): {"ncc": f.ncc, "score": f.score} for r, f in fits.items()}
-    best_of: dict[tuple[str, str], tuple] = {}
-    for r, f in fits.items():
-        if r[:2] not in best_of or f.score > fits[best_of[r[:2]]].score:
-            best_of[r[:2]] = r
-    judged: dict[tuple[str, str], float] = {}
-    for key, r in best_of.items():
-        last = settings[r[0]]["sizes"][-1]
-        if len(best_of) == 1 or last == settings[r[0]]["sizes"][0]:
-            judged[key] = fits[r].score
-        else:
-            judged[key] = search_score(load_plan(config(*r, last)), fits[r].x, fits[r].draws)
-    kept_model, chosen = kept_candidate(judged, names)
+    # judged at its model's final size (finer: a blob that passes at 64 px shows there);
+    # kept in the fit's state, so a resumed fit carries the same runs on
+    decided = _state(out_dir).get("decided") if resume else None
+    if decided is None:
+        decided = _decide(fits, runs, settings, names, label_of, job)
+        atomic_write(out_dir / FIT_STATE, json.dumps(
+            {"options": jsonable(options), "decided": jsonable(decided)}, indent=1))  # fmt: skip
+    first_size, kept_model, chosen = decided["first_size"], *decided["kept"]
+    judged = {tuple(k.split("/")): v for k, v in decided["judged"].items()}
+    carried = [tuple(r) for r in decided["carried"]]
     st = settings[kept_model]
-    # the restarts of the kept kind that scored best at the first size go on to the finer
-    # sizes (the score there foretells the final one: benchmarks/log/fitting.md)
-    ranked = [r for r in runs if r[:2] == (kept_model, chosen)]
-    ranked.sort(key=lambda r: -fits[r].score)
-    carried = ranked[: st["carry"] or len(ranked)]
-    for r in carried:
-        for k in range(done[r] + 1, len(st["sizes"])):
-            stages(r, k)
-            fits[r].save(k)
+    if len(st["sizes"]) > 1:
+        label = f"fits at {', '.join(map(str, st['sizes'][1:]))} px" if progress else None
+        jobs = [job(r, len(st["sizes"]) - 1, True) for r in carried]
+        fits.update(zip(carried, run_jobs(jobs, 1 if drawing else processes, label)))
     kept = fits[max(carried, key=lambda r: fits[r].score)]
     setup = st["setup"]
     plan, x, draws = kept.plan, kept.x, kept.draws

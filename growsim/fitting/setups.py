@@ -250,7 +250,7 @@ FIT_SETUPS: Registry[FitSetup] = Registry(
         # issue 27); pipe-model radii, the photo score (benchmarks/log/fitting.md)
         "honda": FitSetup(
             _honda_tables,
-            leaves={"leaves": True, "leaf_radius": [0.3, 4.0]},
+            leaves={"leaves": [1, 3], "leaf_radius": [0.3, 6.0]},
             bare={"leaves": 0},
             restarts=3,
             carry=2,
