@@ -29,7 +29,7 @@ from growsim.experiment.load import load_plan
 from growsim.experiment.plan import ExperimentPlan
 from growsim.experiment.results import RunDir, RunRecord, plot_fitness
 from growsim.experiment.schema import Config
-from growsim.ga.evaluate import open_executor
+from growsim.ga.evaluate import EvaluationError, open_executor
 
 __all__ = ["Progress", "default_out", "interrupts_deferred", "run"]
 
@@ -212,6 +212,9 @@ def run(
     artefacts: meshes, renders, plots), which is finished first; then it prints
     ``growsim: to continue: growsim run --resume DIR`` on stderr and raises
     ``KeyboardInterrupt``. The directory's ``.lock`` is removed when the run ends.
+    A worker that dies (or a task the executor loses) stops the run with an
+    :class:`~growsim.ga.EvaluationError` naming the cause and the same hint; a fitness
+    that raises in a worker only fails its individuals, as in the main process.
 
     Examples
     --------
@@ -267,6 +270,10 @@ def run(
                     return _run_locked(
                         plan, rd, workers, scheduler, resume, progress, callback, ext, fitness, ga
                     )
+            except EvaluationError as exc:  # a worker died: the checkpoint resumes the run
+                raise EvaluationError(
+                    f"{exc}; to continue: growsim run --resume {rd.path}"
+                ) from exc.__cause__
             except Exception as exc:
                 if _interrupted(exc):  # a clean-up failing under Ctrl-C: still an interrupt
                     raise KeyboardInterrupt from exc

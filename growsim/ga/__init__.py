@@ -30,7 +30,7 @@ Examples
 
 from growsim.ga.crossover import CROSSOVER, Crossover
 from growsim.ga.engine import GA
-from growsim.ga.evaluate import Evaluator, evaluation_seeds
+from growsim.ga.evaluate import EvaluationError, Evaluator, evaluation_seeds
 from growsim.ga.generation import GENERATION_MODELS, GenerationModel
 from growsim.ga.genome import (
     OKUSA_WEIGHTS,
@@ -60,6 +60,7 @@ __all__ = [
     "Bits",
     "Categorical",
     "Crossover",
+    "EvaluationError",
     "Evaluator",
     "GAOptions",
     "GAState",

@@ -6,8 +6,11 @@ also receives the evaluations' seeds (``(n,)`` uint64, or one int per row), deri
 the run's seed and the evaluation's global index by :func:`evaluation_seeds`, so the result
 does not depend on how the population is split across workers.
 
-Failures never crash a run: a vectorized batch that raises is re-evaluated one row at a
-time to find the culprit(s); a row that raises or returns NaN/inf is reported as failed.
+Failures of the fitness never crash a run: a vectorized batch that raises is re-evaluated
+one row at a time to find the culprit(s); a row that raises or returns NaN/inf is reported
+as failed (in a worker as in the main process). A failure of the executor itself (a worker
+process that died, a task Dask gave up on) stops the evaluation with an
+:class:`EvaluationError` naming the cause.
 """
 
 from __future__ import annotations
@@ -21,10 +24,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from growsim.errors import UserInputError
+from growsim.errors import GrowsimError, UserInputError
 
 __all__ = [
     "EvalOutcome",
+    "EvaluationError",
     "Evaluator",
     "evaluate_batch",
     "evaluation_seeds",
@@ -179,6 +183,40 @@ def open_executor(executor) -> tuple[Executor | None, bool]:
     )
 
 
+class EvaluationError(GrowsimError):
+    """The executor failed to evaluate a batch (not the fitness, whose failures are
+    counted): a worker process died, a task was lost. The message names the cause; the
+    run stops (exit code 1), and its checkpoint resumes it.
+
+    Examples
+    --------
+    >>> raise EvaluationError("a worker process died")
+    Traceback (most recent call last):
+    ...
+    growsim.ga.evaluate.EvaluationError: a worker process died
+    """
+
+    exit_code = 1
+
+
+def _executor_failure(exc: BaseException, n: int, tasks: int) -> str:
+    """The message of an :class:`EvaluationError` for ``exc``, raised by an executor's
+    future while ``n`` individuals were evaluated in ``tasks`` tasks."""
+    from concurrent.futures.process import BrokenProcessPool
+
+    what = f"{type(exc).__name__}: {exc}".rstrip(": ")
+    if isinstance(exc, BrokenProcessPool):
+        why = (
+            "a worker process died (killed by a signal, out of memory, os._exit or a crash "
+            "in native code)"
+        )
+    elif type(exc).__name__ == "KilledWorker":  # dask.distributed, not imported here
+        why = "Dask gave up on a task: every worker that ran it died"
+    else:
+        why = "the executor failed"
+    return f"{why} while {n} individuals were evaluated in {tasks} tasks ({what})"
+
+
 @dataclass
 class EvalOutcome:
     """Fitness values of a population and its failures.
@@ -253,10 +291,17 @@ class Evaluator:
         ]
         values = np.empty(n)
         errors = []
-        for a, f in zip(starts, futs):
-            v, err = f.result()
-            values[a : a + len(v)] = v
-            errors.extend((a + i, msg) for i, msg in err)
+        try:
+            for a, f in zip(starts, futs):
+                v, err = f.result()
+                values[a : a + len(v)] = v
+                errors.extend((a + i, msg) for i, msg in err)
+        # the executor's failure (evaluate_batch never raises for the fitness's
+        # exceptions); a SystemExit here came from a worker, not from this process
+        except (Exception, SystemExit) as exc:
+            for f in futs:
+                f.cancel()
+            raise EvaluationError(_executor_failure(exc, n, len(futs))) from exc
         return EvalOutcome(values, errors)
 
     def close(self) -> None:

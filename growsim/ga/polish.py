@@ -21,6 +21,12 @@ until the budget is spent. It learns correlations
 between parameters, which is what escapes the basins where one parameter compensates for
 another (measured on the IFS silhouette fit: ``docs/models/ifs3d.md``). Its normal draws
 come from the polish's own ``numpy.random.Generator``, so it is reproducible.
+
+Both are generators whose only inputs are that ``Generator`` (seeded from the run's seed)
+and the scores sent back, so the GA's checkpoint holds the polish as its start and the
+scores told so far (``GAState.polish_*``): :func:`polish_best` resumes by sending the
+logged scores again, evaluating nothing, and the resumed polish is the uninterrupted
+one bit for bit, whatever the method (no CMA-ES object is pickled).
 """
 
 from __future__ import annotations
@@ -41,7 +47,7 @@ from pydantic import (
 )
 from pydantic import dataclasses as pydantic_dataclasses
 
-from growsim.errors import UserInputError
+from growsim.errors import GrowsimError, UserInputError
 from growsim.ga.history import history_row
 from growsim.ga.state import GAState
 from growsim.options import validation_message
@@ -255,6 +261,7 @@ def polish_best(
     maximize: bool,
     target: float | None = None,
     on_row: Callable[[dict], object] | None = None,
+    on_step: Callable[[], object] | None = None,
 ) -> None:
     """Refine the best-so-far of ``state`` in place with :func:`polish_steps`.
 
@@ -265,6 +272,13 @@ def polish_best(
     history rows (numbered on from ``state.generation``; ``diversity`` is the step size)
     and hands each to ``on_row``. It stops when the budget is spent or the best-so-far
     reaches ``target``.
+
+    ``on_step()`` is called after each step, once ``state`` holds it (the GA writes its
+    checkpoint there). ``state`` logs the polish's progress (``polish_x0``,
+    ``polish_score0``, ``polish_scores``): given a state with a polish under way (loaded
+    from a checkpoint), the same ``rng`` seed and ``options``, it re-creates the steps
+    told so far by feeding :func:`polish_steps` the logged scores, evaluating nothing,
+    then goes on, so the history and best are those of a polish never interrupted.
 
     Examples
     --------
@@ -277,11 +291,36 @@ def polish_best(
     ...        lambda x: (x**2).sum(axis=1), maximize=False)
     >>> s.evaluations, len(s.rows), bool(-s.best_score < 1e-3)
     (200, 25, True)
+
+    Stopped after 10 steps and resumed from a copy of its state, it ends the same:
+
+    >>> import copy
+    >>> t = GAState.new(islands=1, rng=np.random.default_rng(0))
+    >>> t.set_best(-0.5, np.array([0.5, 0.5]), np.array([0.5, 0.5]), 0)
+    >>> class Stop(Exception): pass
+    >>> def stop_at_10():
+    ...     if len(t.rows) == 10:
+    ...         raise Stop
+    >>> try:
+    ...     polish_best(t, g, PolishOptions(evaluations=200), np.random.default_rng(1),
+    ...                 lambda x: (x**2).sum(axis=1), maximize=False, on_step=stop_at_10)
+    ... except Stop:
+    ...     saved = copy.deepcopy(t)
+    >>> polish_best(saved, g, PolishOptions(evaluations=200), np.random.default_rng(1),
+    ...             lambda x: (x**2).sum(axis=1), maximize=False)
+    >>> def timeless(rows):
+    ...     return [{k: v for k, v in r.items() if k != "seconds"} for r in rows]
+    >>> timeless(saved.rows) == timeless(s.rows), saved.best_score == s.best_score
+    (True, True)
     """
     sign = 1.0 if maximize else -1.0
+    if state.polish_scores is None:  # a new polish, from the best-so-far
+        state.polish_x0 = np.array(state.best_params, dtype=np.float64)
+        state.polish_score0 = float(state.best_score)
+        state.polish_scores = np.empty(0)
     steps = polish_steps(
-        state.best_params,
-        state.best_score,
+        state.polish_x0,
+        state.polish_score0,
         genome.param_low,
         genome.param_high,
         genome.discrete,
@@ -291,6 +330,9 @@ def polish_best(
     gen = state.generation
     try:
         step = next(steps)
+        gen, step = _replay(state, steps, step, gen)
+        if step is None or state.reached(target, sign):
+            return
         while True:
             t = time.perf_counter()
             x = step.candidates
@@ -301,6 +343,7 @@ def polish_best(
             j = int(np.argmax(score))
             if score[j] > state.best_score:
                 state.set_best(score[j], genome.encode(x[j][None, :])[0], x[j].copy(), gen)
+            state.polish_scores = np.concatenate([state.polish_scores, score])
             seconds = time.perf_counter() - t
             state.elapsed += seconds
             row = history_row(
@@ -318,9 +361,35 @@ def polish_best(
             state.rows.append(row)
             if on_row is not None:
                 on_row(dict(row))
+            if on_step is not None:
+                on_step()
             gen += 1
             if state.reached(target, sign):
                 break
             step = steps.send(score)
     except StopIteration:
         pass
+
+
+def _replay(state: GAState, steps, step: PolishStep, gen: int):
+    """Feed ``steps`` the scores ``state.polish_scores`` logged (the steps a resumed
+    polish has done): ``(generation, next step)``, the step None if the polish had
+    ended. :class:`GrowsimError` if the log does not fit the steps (another set-up)."""
+    done = state.polish_scores
+    n_rows = sum(1 for r in state.rows if r.get("phase") == "polish")
+    a = n = 0
+    try:
+        while a < len(done):
+            k = len(step.candidates)
+            if a + k > len(done):
+                break
+            a, n, gen = a + k, n + 1, gen + 1
+            step = steps.send(done[a - k : a])
+    except StopIteration:
+        step = None
+    if a != len(done) or n != n_rows:
+        raise GrowsimError(
+            f"checkpoint: the polish's log ({len(done)} scores, {n_rows} steps) does not "
+            f"fit its steps ({a} scores in {n} steps)"
+        )
+    return gen, step

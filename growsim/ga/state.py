@@ -12,7 +12,7 @@ state with a pending generation refuses to be saved).
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field, fields
+from dataclasses import MISSING, dataclass, field, fields
 from pathlib import Path
 
 import numpy as np
@@ -60,6 +60,12 @@ class GAState:
     in the same larger-is-better orientation; ``best_raw`` ``(L,)`` and ``best_params``
     ``(p,)`` are the best genome and its decoded parameters.
 
+    The polish's progress (None before it starts): ``polish_x0`` ``(p,)`` and
+    ``polish_score0``, where it started, and ``polish_scores`` the scores of every
+    candidate it has been told so far, in order (its input log: the polish is a function
+    of these and of its own seed, so :func:`~growsim.ga.polish.polish_best` resumes it by
+    replaying them without evaluating anything).
+
     Examples
     --------
     >>> import numpy as np, tempfile, pathlib
@@ -91,6 +97,9 @@ class GAState:
     stagnant: int = 0
     rows: list[dict] = field(default_factory=list)
     elapsed: float = 0.0
+    polish_x0: np.ndarray | None = field(default=None, metadata=_store("array"))
+    polish_score0: float | None = None
+    polish_scores: np.ndarray | None = field(default=None, metadata=_store("array"))
     pending: Pending | None = field(default=None, metadata=_store(None))
 
     @classmethod
@@ -179,7 +188,9 @@ class GAState:
             for f in fields(cls):
                 kind = f.metadata.get("store", "json")
                 if kind == "json":
-                    values[f.name] = meta[f.name]
+                    if f.name in meta or f.default is MISSING:
+                        values[f.name] = meta[f.name]
+                    # else: a field newer than the file (the polish's), at its default
                 elif kind == "rng":
                     st = meta[f.name]
                     rng = np.random.Generator(getattr(np.random, st["bit_generator"])())
