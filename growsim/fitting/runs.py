@@ -100,6 +100,7 @@ class Bar:
             from tqdm.auto import tqdm
 
             if sys.stderr.isatty():
+                tqdm.monitor_interval = 0  # no monitor thread: runs fork side by side
                 self.bar = tqdm(total=total, desc=label, unit=unit, file=sys.stderr,
                                 dynamic_ncols=True, leave=False)  # fmt: skip
 
@@ -318,9 +319,10 @@ def run_jobs(jobs: list[RunJob], processes: int | None, label: str | None) -> li
         return [run_job(j) for j in jobs]
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    bar = Bar(label or "", len(jobs), label is not None, unit="run")
     with ProcessPoolExecutor(n) as pool:
+        # every worker forked at the first job, before the bar starts a thread
         futures = [pool.submit(_run_apart, replace(j, label=None, workers=None)) for j in jobs]
+        bar = Bar(label or "", len(jobs), label is not None, unit="run")
         try:
             for future in as_completed(futures):
                 future.result()
