@@ -5,6 +5,7 @@
   of segment arrays (the shadow-map light grows here);
 - :mod:`growsim.env.gravity`: :class:`Gravity` (loads, bending stress, breaking joints);
 - :mod:`growsim.env.water`: :class:`Water` (transport by negative pressure: :func:`transport`);
+- :mod:`growsim.env.ground`: :class:`Ground` (the soil surface);
 - :mod:`growsim.env.tank`: :class:`Tank` and :class:`Obstacle`.
 
 Examples
@@ -16,6 +17,7 @@ Examples
 
 from growsim.env.environment import Environment
 from growsim.env.gravity import Gravity, Loads
+from growsim.env.ground import Ground
 from growsim.env.light import Light, projected_area, view_basis
 from growsim.env.tank import Obstacle, Tank
 from growsim.env.water import Water, WaterFlow, transport
@@ -23,6 +25,7 @@ from growsim.env.water import Water, WaterFlow, transport
 __all__ = [
     "Environment",
     "Gravity",
+    "Ground",
     "Light",
     "Loads",
     "Obstacle",

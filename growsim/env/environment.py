@@ -2,8 +2,8 @@
 
 :class:`Environment` gathers the parts, each a frozen table with its own module: light
 (:mod:`growsim.env.light`), gravity (:mod:`growsim.env.gravity`), water
-(:mod:`growsim.env.water`) and an optional tank (:mod:`growsim.env.tank`). Models and
-objectives receive it as built; nothing copies it.
+(:mod:`growsim.env.water`), the ground (:mod:`growsim.env.ground`) and an optional tank
+(:mod:`growsim.env.tank`). Models and objectives receive it as built; nothing copies it.
 
 Shorthands kept from the first configs: ``light = 0.5`` is
 ``light.intensity = 0.5``, ``light_direction = [...]`` is ``light.direction``,
@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 from pydantic import Field, model_validator
 
 from growsim.env.gravity import Gravity
+from growsim.env.ground import Ground
 from growsim.env.light import Light
 from growsim.env.tank import Tank
 from growsim.env.water import Water
@@ -44,7 +45,8 @@ SEGMENT_COLUMNS = ("kind", "light", "moment", "stress_ratio", "water", "water_me
 
 
 class Environment(Options):
-    """``[environment]``: the world the phenotypes live in (light, gravity, water, tank).
+    """``[environment]``: the world the phenotypes live in (light, gravity, water, ground,
+    tank).
 
     Examples
     --------
@@ -58,6 +60,7 @@ class Environment(Options):
     light: Light = Field(default_factory=Light, description="the parallel light")
     gravity: Gravity = Field(default_factory=Gravity, description="gravity")
     water: Water = Field(default_factory=Water, description="water supply")
+    ground: Ground = Field(default_factory=Ground, description="the soil surface")
     tank: Tank | None = Field(None, description="a tank with obstacles (agents that swim)")
 
     @model_validator(mode="before")

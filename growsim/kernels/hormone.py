@@ -29,6 +29,7 @@ __all__ = [
     "STOPS",
     "Modules",
     "Surroundings",
+    "ground_kernel",
     "grow_population",
     "grow_step",
     "new_plant",
@@ -109,6 +110,7 @@ class Surroundings(NamedTuple):
     density: float  #: wood density
     leaf_mass_per_area: float
     strength: float  #: wood strength (lignified)
+    ground: float  #: height of the soil surface (:func:`ground_kernel`)
 
 
 def new_module_arrays(cap: int, walls: int, hormones: int = len(HORMONES)) -> Modules:
@@ -208,6 +210,47 @@ def place_kernel(n, parent, R, length, origin):
         if p >= 0:
             for c in range(3):
                 origin[m, c] = origin[p, c] + length[p] * R[p, c, 2]
+    return origin
+
+
+@njit
+def ground_kernel(n, parent, R, length, origin, ground):
+    """Place modules ``0..n-1`` as :func:`place_kernel` does, keeping every module's end
+    on or above the soil ``y = ground``: a module (parents first) whose end
+    ``origin + length z`` would lie below it is turned up, the least turn (about the
+    horizontal axis across it, ``z x y``; a module pointing straight down turns about its
+    first axis), until the end touches the soil: it runs along the soil, never into it.
+    The turn is kept in its pose ``R`` (walls included); its children start at the new
+    end and are checked in turn. Returns ``origin``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> R = np.array([[[1.0, 0, 0], [0, 0, -1], [0, 1, 0]]])  # growing straight down
+    >>> o = ground_kernel(1, np.array([-1]), R, np.array([2.0]), np.zeros((1, 3)), -1.0)
+    >>> np.round(R[0, :, 2], 6).tolist()     # turned up: the end 2 m along it at y = -1
+    [0.0, -0.5, -0.866025]
+    """
+    axis = np.empty(3)
+    for m in range(n):
+        p = parent[m]
+        if p >= 0:
+            for c in range(3):
+                origin[m, c] = origin[p, c] + length[p] * R[p, c, 2]
+        L = length[m]
+        zy = R[m, 1, 2]
+        if not origin[m, 1] + L * zy < ground or L <= 0.0:
+            continue
+        target = min(1.0, max(-1.0, (ground - origin[m, 1]) / L))
+        # z x y = (-z_z, 0, z_x): horizontal, across the module
+        ax, az = -R[m, 2, 2], R[m, 0, 2]
+        na = math.sqrt(ax * ax + az * az)
+        if na > 1e-12:
+            axis[0], axis[1], axis[2] = ax / na, 0.0, az / na
+        else:  # straight down: any horizontal axis across it
+            na = math.sqrt(R[m, 0, 0] ** 2 + R[m, 2, 0] ** 2)
+            axis[0], axis[1], axis[2] = R[m, 0, 0] / na, 0.0, R[m, 2, 0] / na
+        _rotate(R[m], axis, math.asin(target) - math.asin(min(1.0, max(-1.0, zy))))
     return origin
 
 
@@ -485,7 +528,8 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env):
     4. :func:`step_kernel` (``genes``, constants ``c``); a NaN or infinity in the modules
        stops the plant (``n`` modules kept);
     5. ``modules.light`` the mean wall light of the old modules (0 for new ones), ``met``
-       1 for new ones; modules placed again;
+       1 for new ones; modules placed again, none below the soil ``env.ground``
+       (:func:`ground_kernel`: a module whose end would be under it is turned up);
     6. gravity (:func:`growsim.kernels.gravity.loads_kernel`): strength
        ``strength_young + (env.strength - strength_young) x lignin``; a joint whose stress
        reaches it stops the plant.
@@ -541,11 +585,12 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env):
                           env.resistance, env.lift, np.empty(n), met[:n])  # fmt: skip
     n_new, _ = step_kernel(n, dims, modules, genes, c)
     if not _finite(n_new, R, length, radius, nutrient, hormone):
+        ground_kernel(n, parent, R, length, origin, env.ground)
         return n, STOP_NAN
     for q in range(n, n_new):
         light[q] = 0.0
         met[q] = 1.0
-    place_kernel(n_new, parent, R, length, origin)
+    ground_kernel(n_new, parent, R, length, origin, env.ground)
     end = _ends(n_new, origin, length, R, np.empty((n_new, 3)))
     kind = np.zeros(n_new, np.int8)
     r_end = radius_end_kernel(parent[:n_new], kind, radius[:n_new], np.empty(n_new))

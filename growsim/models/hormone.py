@@ -15,15 +15,21 @@ Every step, in the environment (:mod:`growsim.env`):
    apical dominance, new apical modules, lignification, greening, drought response,
    turning and leaf expansion; photosynthesis (saturating in light, limited by water and
    chlorophyll) pays for growth and upkeep (:func:`growsim.kernels.hormone.step_kernel`);
-5. gravity loads every joint (:meth:`growsim.env.Gravity.loads`, the strength rising with
+5. the modules are placed again, none below the soil (``environment.ground``: a module
+   whose end would go under it is turned up until its end touches it);
+6. gravity loads every joint (:meth:`growsim.env.Gravity.loads`, the strength rising with
    lignin from ``strength_young`` to the environment's wood strength): a joint that
    breaks stops the individual, as the seed says.
 
 :func:`grow` yields the plant after every step; :func:`develop` returns the last. The
 plant's ``data`` holds per module ``nutrient``, ``chlorophyll``, ``lignin``, ``light``
 (mean over its walls) and ``water_met``; its ``meta`` holds ``steps``, ``stopped``
-(``""``, ``"broken"``, ``"cap"`` when the module cap stopped new modules, ``"nan"``) and
-``total_nutrient`` (the seed's fitness). Every equation and constant:
+(``""``, ``"broken"``, ``"cap"`` when the module cap stopped new modules, ``"nan"``),
+``total_nutrient`` (the seed's fitness) and ``ground`` (the soil's height,
+``environment.ground.height``: no module reaches below it, see
+:func:`growsim.kernels.hormone.ground_kernel`). Renders colour each module by its
+chlorophyll and lignin and draw the green ones as leaf blades
+(:mod:`growsim.phenotypes.plant.mesh`). Every equation and constant:
 ``docs/models/hormone.md``.
 """
 
@@ -176,7 +182,7 @@ def environment_args(env) -> K.Surroundings:
     (:class:`growsim.kernels.hormone.Surroundings`): the light's passes
     (:meth:`growsim.env.Light.passes`), resolution, bias, soft shadows and transmission; the
     water's supply, resistance and lift (scaled by ``g / 9.81``); the gravity's ``g``, wood
-    density, leaf mass per area and wood strength.
+    density, leaf mass per area and wood strength; the ground's height.
 
     Raises :class:`growsim.errors.UserInputError` for the moderngl light backend (the
     model's step is one numba kernel, light included).
@@ -185,8 +191,8 @@ def environment_args(env) -> K.Surroundings:
     --------
     >>> from growsim.env import Environment
     >>> env = environment_args(Environment())
-    >>> len(env), env.resolution == Environment().light.resolution
-    (15, True)
+    >>> len(env), env.resolution == Environment().light.resolution, env.ground
+    (16, True, 0.0)
     """
     from growsim.errors import UserInputError
 
@@ -201,7 +207,7 @@ def environment_args(env) -> K.Surroundings:
         d, u, v, w, int(light.resolution), float(light.bias), light.shadows == "soft",
         float(light.transmission), float(water.supply), float(water.resistance),
         float(water.lift) * float(gravity.g) / 9.81, float(gravity.g), float(gravity.density),
-        float(gravity.leaf_mass_per_area), float(gravity.strength),
+        float(gravity.leaf_mass_per_area), float(gravity.strength), float(env.ground.height),
     )  # fmt: skip
 
 
@@ -225,7 +231,7 @@ def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Pla
         n, code = K.grow_step(n, *s.values())
         if code != K.STOP_NONE:
             stopped = K.STOPS[code]
-        yield _plant(p, n, s["modules"], step + 1, stopped)
+        yield _plant(p, n, s["modules"], step + 1, stopped, s["env"].ground)
         if code in (K.STOP_NAN, K.STOP_BROKEN):
             return
 
@@ -265,7 +271,7 @@ def seedling(p: Mapping[str, float], env) -> tuple[int, dict]:
     return n, s
 
 
-def _plant(p, n, modules, steps, stopped) -> Plant:
+def _plant(p, n, modules, steps, stopped, ground=0.0) -> Plant:
     origin, R, length, radius = modules.origin, modules.R, modules.length, modules.radius
     parent, nutrient, chlorophyll = modules.parent, modules.nutrient, modules.chlorophyll
     lignin, light, water = modules.lignin, modules.light, modules.met
@@ -292,6 +298,7 @@ def _plant(p, n, modules, steps, stopped) -> Plant:
             "steps": steps,
             "stopped": stopped,
             "total_nutrient": float(K.total(nutrient, n)),
+            "ground": float(ground),
         },
     )
 

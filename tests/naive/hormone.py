@@ -28,6 +28,34 @@ def place_kernel(n, parent, R, length, origin):
     return origin
 
 
+def ground_kernel(n, parent, R, length, origin, height):
+    """Oracle of :func:`growsim.kernels.hormone.ground_kernel`, written another way: place
+    each module (parents first); one whose end is under the soil ``y = height`` gets the
+    new axis ``sqrt(1 - s^2) h + s y`` (``h`` its axis's horizontal direction, ``s`` the
+    rise that puts the end on the soil) and its pose turns by the least rotation taking
+    the old axis there. Updates ``R`` in place; returns the origins."""
+    origin = origin.copy()
+    up = np.array([0.0, 1.0, 0.0])
+    for m in range(n):
+        p = parent[m]
+        if p >= 0:
+            origin[m] = origin[p] + length[p] * R[p][:, 2]
+        z = R[m][:, 2].copy()
+        if origin[m, 1] + length[m] * z[1] >= height:
+            continue
+        h = np.array([z[0], 0.0, z[2]])
+        if np.linalg.norm(h) < 1e-12:  # straight down: it turns about its first axis
+            h = np.cross(R[m][:, 0], -up)
+        h /= np.linalg.norm(h)
+        s = np.clip((height - origin[m, 1]) / length[m], -1.0, 1.0)
+        new = math.sqrt(1.0 - s * s) * h + s * up
+        axis = np.cross(z, new)
+        if np.linalg.norm(axis) > 0:
+            angle = math.acos(np.clip(z @ new, -1.0, 1.0))
+            R[m] = rotation(axis / np.linalg.norm(axis), angle) @ R[m]
+    return origin
+
+
 def rotation(axis, angle):
     """The rotation matrix about the unit ``axis`` by ``angle``."""
     x = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])

@@ -5,6 +5,11 @@ water demand met), their scales (:func:`color_scale`), the values per segment
 that shows the light's direction (:func:`light_arrow_mesh`).
 :mod:`growsim.phenotypes.plant.views` draws
 them (``growsim grow --color``, ``growsim show --color``).
+
+Plants whose segments carry ``chlorophyll`` and ``lignin`` (the hormone model's modules)
+are painted by what they are, by default: :func:`tissue_rgb` runs from chlorophyll green
+(young) through a paler green (chlorophyll lost) to lignified brown (wood), and the soil
+under them is :data:`GROUND_RGB`.
 """
 
 from __future__ import annotations
@@ -19,13 +24,18 @@ from growsim.phenotypes.plant.plant import LEAF, Plant
 __all__ = [
     "ARROW_RGB",
     "COLORS",
+    "GREEN_RGB",
+    "GROUND_RGB",
     "NAN_RGB",
+    "PALE_RGB",
+    "WOOD_RGB",
     "ColorScale",
     "check_color",
     "color_scale",
     "environment_or_default",
     "light_arrow_mesh",
     "segment_colors",
+    "tissue_rgb",
 ]
 
 #: the fields a view can colour a plant's segments by (``--color``): the light each
@@ -34,6 +44,33 @@ COLORS = ("light", "stress", "water")
 
 NAN_RGB = (0.78, 0.78, 0.78)  # segments a field does not judge: light grey
 ARROW_RGB = (0.93, 0.55, 0.05)  # the light arrow: orange
+
+#: tissue colours (:func:`tissue_rgb`): full chlorophyll, no lignin (young, a leaf)
+GREEN_RGB = (0.22, 0.58, 0.16)
+#: no chlorophyll, no lignin (green tissue that lost its chlorophyll): pale yellow-green
+PALE_RGB = (0.72, 0.74, 0.42)
+#: full lignin (wood): bark brown
+WOOD_RGB = (0.42, 0.28, 0.16)
+#: the soil under a plant that grows on a ground
+GROUND_RGB = (0.60, 0.50, 0.38)
+
+
+def tissue_rgb(chlorophyll, lignin) -> np.ndarray:
+    """``(n, 3)`` float64 RGB in ``[0, 1]``: the colour of tissue with ``chlorophyll`` and
+    ``lignin`` (each ``(n,)``, clipped to ``[0, 1]``): the green of young tissue mixed
+    towards :data:`PALE_RGB` as chlorophyll falls, ``PALE + c (GREEN - PALE)``, then
+    towards :data:`WOOD_RGB` by the lignin, ``(1 - g) young + g WOOD``. A young module
+    (``c = 1, g = 0``) is :data:`GREEN_RGB`, a lignified one (``g = 1``) bark brown.
+
+    Examples
+    --------
+    >>> tissue_rgb([1.0, 0.5, 0.0], [0.0, 0.5, 1.0]).round(3).tolist()
+    [[0.22, 0.58, 0.16], [0.445, 0.47, 0.225], [0.42, 0.28, 0.16]]
+    """
+    c = np.clip(np.asarray(chlorophyll, dtype=np.float64), 0.0, 1.0)[:, None]
+    g = np.clip(np.asarray(lignin, dtype=np.float64), 0.0, 1.0)[:, None]
+    young = np.array(PALE_RGB) + c * (np.array(GREEN_RGB) - np.array(PALE_RGB))
+    return (1.0 - g) * young + g * np.array(WOOD_RGB)
 
 
 @dataclass(frozen=True)

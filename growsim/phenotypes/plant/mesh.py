@@ -2,7 +2,11 @@
 
 - :func:`plant_mesh`: one triangle mesh with ``point_data["kind"]`` (0 bark, 1 leaf) and,
   on request, per-segment values carried onto its triangles as ``cell_data`` (``fields``:
-  the light, stress or water a view colours the plant by);
+  the light, stress or water a view colours the plant by); a plant of modules (segments
+  with ``chlorophyll`` and ``lignin``: the hormone model) also gets each triangle's tissue
+  colour (``cell_data["rgb"]``), a leaf blade on each module that acts as a leaf
+  (:func:`leaf_modules`) and the soil's height (``field_data["ground"]``);
+- :func:`ground_mesh`: the soil slab a view draws under such a plant;
 - :func:`triangle_segments`: the segment each triangle of a mesh belongs to;
 - :func:`lod_meshes`: one skeleton, several meshes of falling vertex count (fewer tube
   sides and pieces, leaves clustered) with the same silhouette;
@@ -23,6 +27,7 @@ import numpy as np
 from growsim.errors import UserInputError
 from growsim.files import atomic_path, atomic_write
 from growsim.kernels.mesh import LEAF_TRIS, mesh_kernel, weld_targets
+from growsim.phenotypes.plant.colors import tissue_rgb
 from growsim.phenotypes.plant.plant import LEAF, Plant
 
 __all__ = [
@@ -31,8 +36,11 @@ __all__ = [
     "LEAF_RGB",
     "cluster_leaves",
     "export",
+    "ground_mesh",
+    "leaf_modules",
     "lod_meshes",
     "mesh_arrays",
+    "module_plant",
     "plant_mesh",
     "triangle_segments",
 ]
@@ -40,6 +48,11 @@ __all__ = [
 #: vertex colours written to exports (bark brown, leaf green), uint8 RGB
 BARK_RGB = (110, 82, 58)
 LEAF_RGB = (74, 140, 58)
+
+#: a module acts as a leaf (drawn with a blade) with at least this chlorophyll and less
+#: than this lignin (:func:`leaf_modules`)
+LEAF_CHLOROPHYLL = 0.5
+LEAF_LIGNIN = 0.5
 
 #: default levels of detail, finest first
 DEFAULT_LODS: tuple[dict, ...] = (
@@ -56,11 +69,95 @@ def _check_plant(plant) -> Plant:
     return plant
 
 
+def module_plant(plant) -> bool:
+    """Whether ``plant`` is a plant of modules that carry ``chlorophyll`` and ``lignin``
+    (the hormone model's): drawn by tissue, with leaf blades and the soil.
+
+    Examples
+    --------
+    >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
+    >>> module_plant(p)
+    False
+    """
+    return isinstance(plant, Plant) and {"chlorophyll", "lignin"} <= set(plant.data)
+
+
+def leaf_modules(plant: Plant) -> np.ndarray:
+    """``(n,)`` bool: the modules of a :func:`module_plant` that act as leaves, drawn with
+    a blade. In the hormone model every module photosynthesises in proportion to its
+    chlorophyll (``docs/models/hormone.md``, step 4) and lignin turns it to wood: a module
+    with chlorophyll at least :data:`LEAF_CHLOROPHYLL` and lignin under
+    :data:`LEAF_LIGNIN` is a leaf. All ``False`` for other plants.
+
+    Examples
+    --------
+    >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0], [0, 2, 0]], [-1, 0], [-1, 0, 1],
+    ...                       data={"chlorophyll": [0.2, 0.9], "lignin": [0.8, 0.1]})
+    >>> leaf_modules(p).tolist()
+    [False, True]
+    """
+    if not module_plant(plant):
+        return np.zeros(plant.n_segments, bool)
+    c = np.asarray(plant.data["chlorophyll"], dtype=np.float64)
+    g = np.asarray(plant.data["lignin"], dtype=np.float64)
+    return (plant.kind != LEAF) & (c >= LEAF_CHLOROPHYLL) & (g < LEAF_LIGNIN)
+
+
+def _blades(plant: Plant, idx: np.ndarray):
+    """Leaf blades along modules ``idx``: a flat hexagon from the module's start to its
+    end (7 vertices, 6 triangles, as the mesh kernel's leaves), half as wide as the
+    module's wall is round (``pi r``, at most a third of its length: one side of the
+    blade about the wall's area), lying in the plant's plane for a flat (2D) plant,
+    facing up as far as the module allows in 3D. Returns ``(points, tris)``."""
+    a, b = plant.start[idx], plant.end[idx]
+    d = b - a
+    L = np.linalg.norm(d, axis=1)
+    u = d / np.maximum(L, 1e-12)[:, None]
+    flat = bool(np.all(plant.start[:, 2] == 0) and np.all(plant.end[:, 2] == 0))
+    ref = np.array([0.0, 0.0, 1.0]) if flat else np.array([0.0, 1.0, 0.0])
+    across = np.cross(u, ref)
+    norm = np.linalg.norm(across, axis=1)
+    vertical = norm < 1e-9  # (3D) a vertical module: across along x
+    across[vertical] = (1.0, 0.0, 0.0)
+    across /= np.maximum(np.linalg.norm(across, axis=1), 1e-12)[:, None]
+    w = np.minimum(np.pi * plant.radius[idx], L / 3.0)[:, None]
+    outline = [(0.0, 0.0), (0.3, 0.8), (0.7, 1.0), (1.0, 0.0), (0.7, -1.0), (0.3, -0.8)]
+    pts = [a + 0.5 * d]  # the centre, then the outline
+    pts += [a + t * d + s * w * across for t, s in outline]
+    pts = np.stack(pts, axis=1).reshape(-1, 3)
+    base = 7 * np.arange(len(idx))[:, None, None]
+    fan = np.array([[0, 1 + i, 1 + (i + 1) % 6] for i in range(6)])
+    return pts.astype(np.float32), (base + fan[None]).reshape(-1, 3).astype(np.int64)
+
+
+def ground_mesh(bounds, height: float):
+    """The soil under a plant: a flat slab (``pyvista.Box``) whose top is the plane
+    ``y = height``, a little wider than the plant's footprint ``bounds`` (xmin, xmax,
+    ymin, ymax, zmin, zmax) and square, about 3 % of the plant's height thick.
+
+    Examples
+    --------
+    >>> box = ground_mesh((-1, 1, 0, 4, 0, 0), 0.0)
+    >>> [round(v, 3) for v in box.bounds]
+    [-1.6, 1.6, -0.12, 0.0, -1.6, 1.6]
+    """
+    import pyvista as pv
+
+    b = np.asarray(bounds, float).reshape(3, 2)
+    top = max(float(b[1, 1]) - float(height), 1e-6)
+    cx, cz = b[0].mean(), b[2].mean()
+    half = max(np.ptp(b[0]), np.ptp(b[2])) / 2.0 + 0.15 * top
+    thick = 0.03 * top
+    return pv.Box((cx - half, cx + half, height - thick, height, cz - half, cz + half))
+
+
 def mesh_arrays(
     plant: Plant, sides: int = 6, segments: int = 1, leaves: bool = True, merge: bool = False
 ):
     """The raw mesh of ``plant``: ``points`` ``(N, 3)`` float32, ``tris`` ``(M, 3)``
-    int64, ``kind`` ``(N,)`` uint8 (0 bark, 1 leaf). See :func:`plant_mesh`.
+    int64, ``kind`` ``(N,)`` uint8 (0 bark, 1 leaf). See :func:`plant_mesh`; a
+    :func:`module_plant` gets a leaf blade (``kind`` 1) after its tubes for each module of
+    :func:`leaf_modules` (with ``leaves``).
 
     Examples
     --------
@@ -87,7 +184,14 @@ def mesh_arrays(
         weld = weld_targets(np.ascontiguousarray(parent), arrays[4], arrays[2])
     else:
         weld = np.full(arrays[4].shape[0], -1, np.int64)
-    return mesh_kernel(*arrays, sides, segments, weld)
+    pts, tris, kind = mesh_kernel(*arrays, sides, segments, weld)
+    blade = np.flatnonzero(leaf_modules(plant)) if leaves else np.zeros(0, np.int64)
+    if blade.size:
+        bp, bt = _blades(plant, blade)
+        tris = np.concatenate([tris, bt + pts.shape[0]])
+        pts = np.concatenate([pts, bp])
+        kind = np.concatenate([kind, np.ones(bp.shape[0], kind.dtype)])
+    return pts, tris, kind
 
 
 def triangle_segments(plant: Plant, sides: int = 6, segments: int = 1, leaves: bool = True):
@@ -95,7 +199,8 @@ def triangle_segments(plant: Plant, sides: int = 6, segments: int = 1, leaves: b
     mesh of :func:`plant_mesh` / :func:`mesh_arrays` with the same ``sides``, ``segments``
     and ``leaves``; ``merge`` changes vertices, not triangles). The mesh kernel lays out
     the stems first, in segment order, ``2 * sides * segments`` triangles each, then the
-    leaves in segment order, 6 each.
+    leaves in segment order, 6 each, then the blades of a :func:`module_plant`'s
+    :func:`leaf_modules`, 6 each.
 
     Examples
     --------
@@ -109,9 +214,11 @@ def triangle_segments(plant: Plant, sides: int = 6, segments: int = 1, leaves: b
     sides, segments = int(sides), int(segments)
     stems = np.flatnonzero(plant.kind != LEAF)
     leafs = np.flatnonzero(plant.kind == LEAF) if leaves else np.zeros(0, np.int64)
+    blades = np.flatnonzero(leaf_modules(plant)) if leaves else np.zeros(0, np.int64)
     return np.concatenate(
-        [np.repeat(stems, 2 * sides * segments), np.repeat(leafs, LEAF_TRIS)]
-    ).astype(np.int64)
+        [np.repeat(stems, 2 * sides * segments), np.repeat(leafs, LEAF_TRIS),
+         np.repeat(blades, LEAF_TRIS)]
+    ).astype(np.int64)  # fmt: skip
 
 
 def plant_mesh(
@@ -134,6 +241,13 @@ def plant_mesh(
     ``fields``: ``{name: (n,) values}``, one value per segment of ``plant``; each becomes
     ``cell_data[name]`` (float64), every triangle carrying its segment's value
     (:func:`triangle_segments`), so a view colours each segment flat by it.
+
+    A :func:`module_plant` (the hormone model's) is drawn by what its modules are: every
+    module a tube, each that acts as a leaf (:func:`leaf_modules`) also a flat leaf blade
+    along it; ``cell_data["rgb"]`` (uint8) each triangle's tissue colour
+    (:func:`growsim.phenotypes.plant.colors.tissue_rgb`: chlorophyll green to lignified
+    brown) and ``field_data["ground"]`` the soil's height (``plant.meta["ground"]``,
+    default 0), under which a view draws :func:`ground_mesh`.
 
     Examples
     --------
@@ -162,10 +276,16 @@ def plant_mesh(
     else:
         mesh = pv.PolyData.from_regular_faces(pts, tris)
     mesh.point_data["kind"] = kind
-    if values and tris.shape[0]:
+    modules = module_plant(plant)
+    if (values or modules) and tris.shape[0]:
         seg = triangle_segments(plant, sides=sides, segments=segments, leaves=leaves)
         for name, arr in values.items():
             mesh.cell_data[name] = arr[seg]
+        if modules:
+            rgb = tissue_rgb(plant.data["chlorophyll"], plant.data["lignin"])
+            mesh.cell_data["rgb"] = np.round(255.0 * rgb[seg]).astype(np.uint8)
+    if modules:
+        mesh.field_data["ground"] = np.array([float(plant.meta.get("ground", 0.0))])
     return mesh
 
 

@@ -15,6 +15,12 @@ scales, the arrow) with a labelled scalar bar, and ``light_arrow`` draws the lig
 (an arrow from the
 light's side into the plant; on by default when colouring by light). ``growsim grow
 --color`` and ``growsim show --color`` are these.
+
+A plant of modules (the hormone model's: :func:`growsim.phenotypes.plant.mesh.module_plant`)
+is drawn by tissue in every view here: each module green to brown by its chlorophyll and
+lignin, the modules that act as leaves with a leaf blade, on a soil slab at the ground's
+height (:func:`growsim.phenotypes.plant.mesh.ground_mesh`). Other plants keep bark and
+leaves, with no soil.
 """
 
 from __future__ import annotations
@@ -29,6 +35,7 @@ from growsim.errors import UserInputError
 from growsim.phenotypes.base import Phenotype
 from growsim.phenotypes.plant.colors import (
     ARROW_RGB,
+    GROUND_RGB,
     NAN_RGB,
     check_color,
     color_scale,
@@ -36,7 +43,7 @@ from growsim.phenotypes.plant.colors import (
     light_arrow_mesh,
     segment_colors,
 )
-from growsim.phenotypes.plant.mesh import plant_mesh
+from growsim.phenotypes.plant.mesh import ground_mesh, plant_mesh
 from growsim.phenotypes.plant.plant import Plant
 from growsim.render import (
     check_size,
@@ -131,6 +138,8 @@ def _scene(pl, plant_or_mesh, color=None, env=None, light_arrow=None, legend=Tru
                 if scale.nan_label is not None:
                     pl.scalar_bar.SetNanAnnotation(scale.nan_label)
     bounds = mesh.bounds if mesh.n_points else None
+    if bounds is not None and "ground" in mesh.field_data:
+        _add_ground(pl, bounds, float(mesh.field_data["ground"][0]))
     if light_arrow and bounds is not None:
         arrow = light_arrow_mesh(bounds, env.light.direction)
         pl.add_mesh(arrow, color=ARROW_RGB, ambient=0.3)
@@ -138,7 +147,19 @@ def _scene(pl, plant_or_mesh, color=None, env=None, light_arrow=None, legend=Tru
     return bounds, {"bottom": margin, "tight": color is not None or bool(light_arrow)}
 
 
+def _add_ground(pl, bounds, height) -> None:
+    """Draw the soil slab under ``bounds`` at ``height``. The view stays framed on the
+    plant alone (the soil may run out of the picture): a render lies where
+    :func:`growsim.report.figures.render_frame` says, soil or not."""
+    pl.add_mesh(ground_mesh(bounds, height), color=GROUND_RGB, ambient=0.3, diffuse=0.6,
+                specular=0.0)  # fmt: skip
+
+
 def _add(pl, mesh) -> None:
+    if mesh.n_cells and "rgb" in mesh.cell_data:  # a plant of modules: by tissue
+        pl.add_mesh(mesh, scalars="rgb", rgb=True, preference="cell", ambient=0.25,
+                    diffuse=0.75, specular=0.0)  # fmt: skip
+        return
     kind = np.asarray(mesh.point_data["kind"]) if "kind" in mesh.point_data else None
     if kind is None or mesh.n_cells == 0:
         if mesh.n_points:
@@ -306,12 +327,15 @@ def turntable(
     with offscreen_plotter(w, h) as pl:
         pl.set_background("white")
         _add(pl, mesh)
+        bounds = mesh.bounds if mesh.n_points else None
+        if bounds is not None and "ground" in mesh.field_data:
+            _add_ground(pl, bounds, float(mesh.field_data["ground"][0]))
         el = np.radians(elevation)
         for i in range(frames):
             a = 2.0 * np.pi * i / frames
             d = (-np.cos(el) * np.sin(a), -np.sin(el), -np.cos(el) * np.cos(a))
-            if mesh.n_points:
-                _camera(pl, mesh.bounds, d)
+            if bounds is not None:
+                _camera(pl, bounds, d)
             pl.render()
             out.append(np.asarray(pl.screenshot(return_img=True))[..., :3].copy())
     return write(out)
@@ -345,11 +369,16 @@ def growth_animation(
         raise UserInputError("growth_animation: every plant is empty")
     b = np.array([m.bounds for m in nonempty]).reshape(-1, 3, 2)
     bounds = np.stack([b[:, :, 0].min(0), b[:, :, 1].max(0)], axis=1).ravel()
+    ground = next((float(m.field_data["ground"][0]) for m in nonempty
+                   if "ground" in m.field_data), None)  # fmt: skip
+    soil = ground_mesh(bounds, ground) if ground is not None else None  # one for all frames
     out = []
     for m in meshes:
         with offscreen_plotter(w, h) as pl:
             pl.set_background("white")
             _add(pl, m)
+            if soil is not None:
+                pl.add_mesh(soil, color=GROUND_RGB, ambient=0.3, diffuse=0.6, specular=0.0)
             _camera(pl, bounds, view)
             out.append(np.asarray(pl.screenshot(return_img=True))[..., :3].copy())
     return write(out)
