@@ -31,7 +31,10 @@ def register(subparsers) -> None:
         "one run per seed), sort the groups into families (same model and objectives: "
         "comparable fitness), test best fitness and every measure between the groups of a "
         "family (Welch t, Mann-Whitney U, Holm-adjusted), and write compare.csv, stats.csv, "
-        "runs.csv, curves.png, renders.png and a self-contained report.html to --out.",
+        "runs.csv, curves.png, renders.png and a self-contained report.html to --out. With "
+        "[compare] primary in the config: the declared tests Holm-corrected alone "
+        "(primary.csv, with effect sizes and the seeds a replication needs), the rest "
+        "exploratory (exploratory.csv); with --confirm, which replicated (replication.csv).",
     )
     p.add_argument("dirs", nargs="+", metavar="DIR", help="run or sweep directories")
     p.add_argument(
@@ -47,6 +50,20 @@ def register(subparsers) -> None:
         help="common garden: grow every run's best genome in the environment of every group "
         "of its family; test origins within a garden (genetic) and gardens within an origin "
         "(plastic); write garden.csv, garden_stats.csv, garden_variance.csv",
+    )
+    p.add_argument(
+        "--confirm",
+        nargs="+",
+        metavar="DIR",
+        help="the same sweep on a fresh block of seeds (growsim sweep CONFIG --block 2): "
+        "make the primary tests again on these runs and write replication.csv (which "
+        "findings replicated: same direction, Holm p below alpha)",
+    )
+    p.add_argument(
+        "--primary",
+        metavar="CONFIG",
+        help="take the [compare] primary tests from this experiment TOML instead of the "
+        "runs' configs (runs made before the section was added)",
     )
     p.add_argument("--quiet", "-q", action="store_true", help="print nothing")
     p.set_defaults(func=main)
@@ -75,9 +92,10 @@ def _group_lines(rows) -> str:
     return out.to_string(index=False)
 
 
-def _test_lines(tests, groups: list[str]) -> list[str]:
+def _test_lines(tests, groups: list[str], exploratory: bool = False) -> list[str]:
     """Best-fitness tests (all, or the significant ones when there are many) and the
-    measures whose Holm-adjusted p is below 0.05; long group labels by their number."""
+    measures whose Holm-adjusted p is below 0.05; long group labels by their number.
+    ``exploratory``: the tests besides the primary ones, Holm over those alone."""
     import pandas as pd
 
     if max(map(len, groups)) > LONG_LABEL:
@@ -100,7 +118,11 @@ def _test_lines(tests, groups: list[str]) -> list[str]:
         "mann_whitney_p",
         "mann_whitney_p_holm",
     ]
-    lines = [f"  {len(tests)} tests, Holm-Bonferroni over all of them (per test):"]
+    if exploratory:
+        head = f"  exploratory: {len(tests)} other tests, Holm-Bonferroni over these alone:"
+    else:
+        head = f"  {len(tests)} tests, Holm-Bonferroni over all of them (per test):"
+    lines = [head]
     if shown.any():
         with pd.option_context(
             "display.width", 250, "display.max_columns", 20, "display.float_format", "{:.4g}".format
@@ -110,8 +132,40 @@ def _test_lines(tests, groups: list[str]) -> list[str]:
     if rest:
         n_sig = int((~shown & sig).sum())
         lines.append(
-            f"  ... {rest} more in stats.csv ({n_sig} of them with a Holm-adjusted p < 0.05)"
+            f"  ... {rest} more in {'exploratory' if exploratory else 'stats'}.csv ({n_sig} of "
+            "them with a Holm-adjusted p < 0.05)"
         )
+    return lines
+
+
+def _primary_lines(primary, replication) -> list[str]:
+    """The primary tests (and, with a confirmation block, whether each replicated)."""
+    import pandas as pd
+
+    alpha = float(primary["alpha"].iloc[0]) if len(primary) else 0.05
+    lines = [
+        f"primary tests ([compare] primary): {len(primary)}, Holm over them alone; "
+        f"finding = p_holm < {alpha:g} in the expected direction (primary.csv); every other "
+        "test is exploratory (exploratory.csv)"
+    ]
+    cols = ["measure", "expect", "n_a", "n_b", "difference", "hedges_g", "p", "p_holm",
+            "finding", "seeds_for_power"]  # fmt: skip
+    with pd.option_context(
+        "display.width", 250, "display.max_columns", 20, "display.float_format", "{:.4g}".format
+    ):
+        lines += ["  " + s for s in primary[cols].to_string(index=False).splitlines()]
+        if replication is not None:
+            n_rep, n_find = (
+                int(replication["replicated"].sum()),
+                int(replication["discovery_finding"].sum()),
+            )
+            lines.append(
+                f"replication (replication.csv): {n_rep} of {n_find} discovery finding(s) "
+                "replicated on the confirmation block"
+            )
+            cols = ["measure", "expect", "confirmation_difference", "confirmation_p_holm",
+                    "verdict"]  # fmt: skip
+            lines += ["  " + s for s in replication[cols].to_string(index=False).splitlines()]
     return lines
 
 
@@ -119,18 +173,29 @@ def main(args: argparse.Namespace) -> int:
     """Compare and print, per family, the groups and the tests; then where the report is."""
     from growsim.report import compare
 
-    c = compare(args.dirs, args.out, renders=not args.no_renders, garden=args.garden)
+    c = compare(
+        args.dirs,
+        args.out,
+        renders=not args.no_renders,
+        garden=args.garden,
+        primary=args.primary,
+        confirm=args.confirm,
+    )
     if args.quiet:
         return 0
+    if c.primary is not None:
+        print("\n".join(_primary_lines(c.primary, c.replication)))
+        print()
     for family, rows in c.table.groupby("family", sort=False):
         n = int(rows["runs"].sum())
         dup = int(rows["duplicates"].sum())
         head = f"{family}: {len(rows)} group(s), {n} run(s)"
         print(head + (f" ({dup} duplicated seed(s) not counted)" if dup else ""))
         print(_group_lines(rows.reset_index(drop=True)))
-        tests = c.stats[c.stats["family"] == family]
+        every = c.stats if c.exploratory is None else c.exploratory
+        tests = every[every["family"] == family]
         if len(tests):
-            print("\n".join(_test_lines(tests, list(rows["group"]))))
+            print("\n".join(_test_lines(tests, list(rows["group"]), c.exploratory is not None)))
         elif len(rows) > 1:
             print("  no tests: no two groups with at least 2 runs of distinct seeds")
         print()

@@ -22,7 +22,8 @@ def register(subparsers) -> None:
         "sweep",
         help="run a grid of config variants x repeats",
         description="Run every combination of the --vary values, each with --repeats seeds "
-        "(experiment.seed + 0..N-1), into OUT/<variant>/seed-<seed>/, and write one table "
+        "(experiment.seed + 0..N-1; --block K: the K-th block of N seeds), into "
+        "OUT/<variant>/seed-<seed>/, and write one table "
         "OUT/sweep.csv (and .parquet). Re-running the same sweep reuses finished runs.",
     )
     p.add_argument("config", help="experiment TOML")
@@ -35,6 +36,15 @@ def register(subparsers) -> None:
     )
     p.add_argument(
         "--repeats", type=int, metavar="N", help="seeds per variant (default experiment.repeats)"
+    )
+    p.add_argument(
+        "--block",
+        type=int,
+        default=1,
+        metavar="K",
+        help="run the K-th block of seeds: experiment.seed + (K-1)*N + 0..N-1 with N the "
+        "repeats (default 1); a fresh block confirms a first one: growsim compare DIR1 "
+        "--confirm DIR2",
     )
     p.add_argument(
         "--out", metavar="DIR", help="sweep directory (default runs/<name>-sweep-<time>)"
@@ -58,6 +68,7 @@ def main(args: argparse.Namespace) -> int:
         workers=args.workers,
         scheduler=args.scheduler,
         progress=not args.quiet,
+        block=args.block,
     )
     if not args.quiet:
         import pandas as pd
@@ -72,4 +83,12 @@ def main(args: argparse.Namespace) -> int:
         root = __import__("pathlib").Path(df["out"].iloc[0]).parent.parent
         print(f"table: {root / 'sweep.csv'}")
         print(f"compare the variants: growsim compare {root}")
+        from growsim.experiment.load import read_config
+
+        declared = read_config(args.config, args.overrides).compare
+        if args.block == 1 and declared is not None and declared.primary:
+            print(
+                f"confirm on fresh seeds: growsim sweep {args.config} --block 2 --out DIR2, "
+                f"then growsim compare {root} --confirm DIR2"
+            )
     return 0

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 from typing import Annotated, Any, Literal, Union
 
 from pydantic import Field, StrictFloat, StrictInt, field_validator, model_validator
@@ -25,12 +26,14 @@ from growsim.render import MAX_SIZE, MIN_SIZE, VIEWS
 
 __all__ = [
     "SECTIONS",
+    "CompareConfig",
     "Config",
     "ExperimentConfig",
     "GAConfig",
     "ModelConfig",
     "ObjectiveConfig",
     "OutputConfig",
+    "PrimaryMeasure",
     "SweepConfig",
     "SweepVariant",
 ]
@@ -267,6 +270,98 @@ class SweepConfig(Options):
         return v
 
 
+#: ``expect`` of a primary measure: ``"A > B"``, ``"A < B"`` or ``"A != B"`` (either way)
+EXPECT_RE = re.compile(r"^\s*([A-Za-z0-9_.+=,-]+)\s*(>|<|!=)\s*([A-Za-z0-9_.+=,-]+)\s*$")
+
+
+class PrimaryMeasure(Options):
+    """One primary test of ``[compare] primary``: a measure and the difference expected
+    between two groups (sweep variants), declared before the runs.
+
+    Examples
+    --------
+    >>> PrimaryMeasure(measure="height", expect="ample > half_water").groups()
+    ('ample', '>', 'half_water')
+    """
+
+    measure: str = Field(
+        min_length=1,
+        max_length=200,
+        description="a quantity of growsim compare: best_fitness, a measure of the best "
+        "phenotype (height, wood_volume, ...) or an objective term (nutrient.score)",
+    )
+    expect: str = Field(
+        description='the groups and the direction expected: "A > B" (A\'s mean higher), '
+        '"A < B", or "A != B" (a difference either way); A and B are sweep variant names '
+        "(or group labels of growsim compare)",
+    )
+
+    @field_validator("expect")
+    @classmethod
+    def _check_expect(cls, v):
+        m = EXPECT_RE.match(v)
+        if not m:
+            raise ValueError(f'expected "A > B", "A < B" or "A != B" (group names), got {v!r}')
+        if m.group(1) == m.group(3):
+            raise ValueError(f"{v!r}: a group against itself")
+        return f"{m.group(1)} {m.group(2)} {m.group(3)}"
+
+    def groups(self) -> tuple[str, str, str]:
+        """``(group a, direction, group b)``, direction one of ``>``, ``<``, ``!=``."""
+        m = EXPECT_RE.match(self.expect)
+        assert m is not None  # validated
+        return m.group(1), m.group(2), m.group(3)
+
+
+class CompareConfig(Options):
+    """``[compare]``: what ``growsim compare`` tests as confirmatory (docs/compare.md).
+
+    The primary tests are corrected (Holm) over themselves alone; every other test is
+    reported as exploratory. Without ``[compare]``, compare corrects over every test.
+
+    Examples
+    --------
+    >>> c = CompareConfig(primary=[{"measure": "height", "expect": "ample > half_water"}])
+    >>> c.primary[0].groups(), c.alpha, c.test
+    (('ample', '>', 'half_water'), 0.05, 'welch')
+    """
+
+    primary: list[PrimaryMeasure] = Field(
+        default_factory=list,
+        max_length=100,
+        description='primary tests, declared before the runs: [{measure = "height", '
+        'expect = "ample > half_water"}, ...]; Holm-corrected over these alone',
+    )
+    alpha: float = Field(
+        0.05,
+        gt=0.0,
+        lt=1.0,
+        description="threshold of the primary tests (Holm-adjusted p below it: a finding; "
+        "the two-sided alpha of the power calculation)",
+    )
+    test: Literal["welch", "mann_whitney"] = Field(
+        "welch", description="the test whose p decides a primary finding"
+    )
+    power: float = Field(
+        0.8,
+        gt=0.0,
+        lt=1.0,
+        description="power for which compare reports the seeds per group a replication needs",
+    )
+
+    @field_validator("primary")
+    @classmethod
+    def _unique(cls, v):
+        seen = set()
+        for i, p in enumerate(v):
+            a, _, b = p.groups()
+            key = (p.measure, frozenset((a, b)))
+            if key in seen:
+                raise ValueError(f"[{i}]: {p.measure} between {a} and {b} declared twice")
+            seen.add(key)
+        return v
+
+
 class Config(Options):
     """A whole, validated experiment config (the TOML file as objects).
 
@@ -285,6 +380,25 @@ class Config(Options):
     ga: GAConfig = Field(default_factory=GAConfig)
     output: OutputConfig = Field(default_factory=OutputConfig)
     sweep: SweepConfig = Field(default_factory=SweepConfig)
+    compare: CompareConfig | None = Field(
+        None, description="primary measures of growsim compare (docs/compare.md)"
+    )
+
+    @model_validator(mode="after")
+    def _primary_groups(self):
+        # a primary test names sweep variants: when the config has named variants, an
+        # unknown name is a typo (without variants, compare checks the group labels)
+        names = [v.name for v in self.sweep.variants]
+        if self.compare is None or not names:
+            return self
+        for i, p in enumerate(self.compare.primary):
+            for g in (p.groups()[0], p.groups()[2]):
+                if g not in names:
+                    raise ValueError(
+                        f"compare.primary[{i}].expect: unknown variant {g!r}; the sweep's "
+                        f"variants: {', '.join(names)}"
+                    )
+        return self
 
     def to_dict(self) -> dict[str, Any]:
         """The config as plain TOML-able data (``None`` values left out: TOML has no null).
@@ -326,4 +440,5 @@ SECTIONS: dict[str, Any] = {
     "ga": GAConfig,
     "output": OutputConfig,
     "sweep": SweepConfig,
+    "compare": CompareConfig,
 }

@@ -102,13 +102,17 @@ def sweep(
     workers: int | None = None,
     scheduler: str | None = None,
     progress: bool = True,
+    block: int = 1,
 ):
     """Run the grid of variants x repeats; return one row per run as a DataFrame.
 
     ``vary`` maps key paths to value lists (or ``"path=v1,v2"`` strings). Every variant
     runs ``repeats`` seeds (``experiment.seed + r``, the same seeds for every variant, so
     variants are compared on common random numbers) into
-    ``out/<variant label>/seed-<seed>/``. The config's named ``[[sweep.variants]]`` (each a
+    ``out/<variant label>/seed-<seed>/``. ``block`` k (from 1) runs the k-th block of
+    ``repeats`` seeds instead: ``experiment.seed + (k - 1) * repeats + r``, seeds no other
+    block uses (block 1 to discover, block 2 to confirm: ``growsim compare DIR1 --confirm
+    DIR2``). The config's named ``[[sweep.variants]]`` (each a
     ``name`` and the keys it sets, e.g. the environments an experiment compares) are
     crossed with ``vary``; their names lead the labels. A finished run found there is reused and a
     killed one resumed, so re-running a sweep completes it; but only when its saved
@@ -135,6 +139,9 @@ def sweep(
     n_rep = base.experiment.repeats if repeats is None else repeats
     if not isinstance(n_rep, int) or n_rep < 1:
         raise UserInputError(f"--repeats: expected an integer >= 1, got {n_rep!r}")
+    if not isinstance(block, int) or isinstance(block, bool) or block < 1:
+        raise UserInputError(f"--block: expected an integer >= 1, got {block!r}")
+    skip = (block - 1) * n_rep  # the seeds of the blocks before this one
     # validate every variant before running any, so a typo fails at once
     variants, labels = [], []
     keys = list(grid)
@@ -158,11 +165,16 @@ def sweep(
     # before running (or writing) anything
     for (_, plan), label in zip(variants, labels):
         for r in range(n_rep):
-            _check_run_dir(root / label / f"seed-{plan.seed + r}", plan.with_seed(plan.seed + r))
+            seed = plan.seed + skip + r
+            if seed > 2**63 - 1:
+                raise UserInputError(f"--block {block}: seed {seed} beyond 2**63 - 1")
+            _check_run_dir(root / label / f"seed-{seed}", plan.with_seed(seed))
     root.mkdir(parents=True, exist_ok=True)
     executor, close = make_executor(workers, scheduler)  # one pool/cluster for every run
     try:
-        rows = _sweep_runs(variants, labels, n_rep, root, executor, workers, scheduler, progress)
+        rows = _sweep_runs(
+            variants, labels, n_rep, root, executor, workers, scheduler, progress, skip
+        )
     finally:
         close()
     df = pd.DataFrame(rows)
@@ -187,12 +199,18 @@ def _check_run_dir(run_dir: Path, plan: ExperimentPlan) -> None:
         return
     want = plan.config.to_dict()
     saved = rd.read_config()
+    # [compare] says what compare tests, not how a run goes: declaring primary measures
+    # after the runs does not make them other runs
+    want.pop("compare", None)
+    saved = {k: v for k, v in saved.items() if k != "compare"}
     diff = config_difference(saved, want)
     if diff is not None:
         try:  # saved by another growsim version: compare the configs as resolved now
             resolved = validate(saved, str(rd.config_path)).to_dict()
         except GrowsimError:
             resolved = None
+        if resolved is not None:
+            resolved.pop("compare", None)
         if resolved is not None and config_difference(resolved, want) is None:
             return
         key, there, here = diff
@@ -202,14 +220,14 @@ def _check_run_dir(run_dir: Path, plan: ExperimentPlan) -> None:
         )
 
 
-def _sweep_runs(variants, labels, n_rep, root, executor, workers, scheduler, progress):
+def _sweep_runs(variants, labels, n_rep, root, executor, workers, scheduler, progress, skip):
     rows = []
     if isinstance(executor, int):  # a process-pool size: let each run make its pool
         executor = None
     total, k = len(variants) * n_rep, 0
     for (assign, plan), label in zip(variants, labels):
         for r in range(n_rep):
-            seed = plan.seed + r
+            seed = plan.seed + skip + r
             run_dir = root / label / f"seed-{seed}"
             rd = RunDir(run_dir)
             k += 1

@@ -23,10 +23,16 @@
   effect sizes (difference of means and its Welch 95 % CI, Cohen's d, Cliff's delta) and
   p-values adjusted with Holm-Bonferroni (:func:`holm`) over all the family's
   hypotheses (quantities x pairs), separately for each of the two tests;
+- with ``[compare] primary`` in the runs' config (declared before the runs): makes those
+  tests Holm-corrected over themselves alone, with Hedges' g and the seeds per group a
+  replication needs, and marks every other test exploratory (Holm over those alone);
+  with a confirmation block of fresh seeds (``confirm``), says which primary findings
+  replicated (:mod:`growsim.report.primary`);
 - writes ``compare.csv`` (groups), ``stats.csv`` (tests), ``runs.csv`` (runs),
   ``curves.png`` (best-so-far fitness against evaluations, one panel per family),
   ``renders.png`` (each group's best phenotype, one row per family) and a self-contained
-  ``report.html``, by default beside the runs (:func:`default_out`).
+  ``report.html``, by default beside the runs (:func:`default_out`); with primary tests
+  also ``primary.csv``, ``exploratory.csv`` and (with ``confirm``) ``replication.csv``.
 
 What lives where:
 
@@ -36,6 +42,7 @@ What lives where:
   (:class:`Family`), :func:`group_runs`, :func:`run_label`;
 - :mod:`growsim.report.statistics`: confidence intervals, Welch and Mann-Whitney tests,
   effect sizes, :func:`holm`, the tests table (:data:`STATS_COLUMNS`);
+- :mod:`growsim.report.primary`: primary and exploratory tests, power, replication;
 - :mod:`growsim.report.figures`: best-so-far curves and renders of the best phenotypes;
 - :mod:`growsim.report.html`: the HTML report (:func:`format_mean_ci`);
 - :mod:`growsim.report.comparison`: :func:`compare`, :class:`Comparison`,

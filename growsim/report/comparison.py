@@ -73,6 +73,11 @@ class Comparison:
     runs: Any
     files: dict[str, Path]
     notes: list[str] = dataclasses.field(default_factory=list)
+    #: with ``[compare] primary``: the primary tests, the exploratory tests and (with a
+    #: confirmation block) the replication table; ``None`` otherwise
+    primary: Any = None
+    exploratory: Any = None
+    replication: Any = None
 
 
 def compare(
@@ -82,11 +87,21 @@ def compare(
     renders: bool = True,
     html_report: bool = True,
     garden: bool = False,
+    primary: Any = None,
+    confirm: Sequence[str | Path] | None = None,
 ) -> Comparison:
     """Compare runs: write ``compare.csv``, ``stats.csv``, ``runs.csv``, ``curves.png``,
     ``renders.png`` and ``report.html`` to ``out`` (default: :func:`default_out`); with
     ``garden``, also the common garden (:mod:`growsim.report.garden`): ``garden.csv``,
     ``garden_stats.csv`` and ``garden_variance.csv``, and its section of the report.
+
+    When the runs' configs declare ``[compare] primary`` (or ``primary`` gives an
+    experiment TOML that does, :func:`growsim.report.primary.read_spec`), also
+    ``primary.csv`` (the primary tests, Holm over them alone, effect sizes and the seeds
+    a replication needs) and ``exploratory.csv`` (every other test, Holm over those
+    alone); with ``confirm`` (the directories of the same sweep on a fresh block of
+    seeds), the primary tests again on those runs and ``replication.csv``.
+    ``stats.csv`` is unchanged: every test, Holm over all of them.
 
     Examples
     --------
@@ -97,16 +112,30 @@ def compare(
     import pandas as pd
 
     from growsim.files import atomic_write
+    from growsim.report import primary as prim
 
     runs = find_runs(dirs)
     notes: list[str] = []
     families = find_families(runs, notes)
+    spec = prim.read_spec(runs, primary)
+    confirmation = None
+    if confirm:
+        if spec is None:
+            raise UserInputError(
+                "--confirm: no primary tests declared ([compare] primary in the runs' config, "
+                "or --primary CONFIG): nothing to replicate"
+            )
+        c_runs = find_runs(confirm)
+        c_spec = prim.read_spec(c_runs, primary)
+        if primary is None and c_spec is not None and c_spec != spec:
+            raise UserInputError(
+                "--confirm: the confirmation runs declare other [compare] primary tests than "
+                "the discovery runs; choose one with --primary CONFIG"
+            )
+        c_notes: list[str] = []
+        confirmation = (find_families(c_runs, c_notes), c_notes)
+        prim.check_fresh_seeds(families, confirmation[0])
     out = Path(out) if out is not None else default_out(dirs, runs)
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise UserInputError(f"--out {out}: cannot create ({exc.strerror})") from None
-
     rows, run_rows, fam_stats, fam_rows, stat_rows = [], [], [], [], []
     for fam in families:
         fs, frows = family_stats(fam, notes)
@@ -164,11 +193,41 @@ def compare(
     table = table[[c for c in table.columns if c != "best_run"] + ["best_run"]]
     stats_df = pd.DataFrame(stat_rows, columns=STATS_COLUMNS)
     runs_df = pd.DataFrame(run_rows)
+    primary_df = exploratory_df = replication_df = None
+    top = ""
+    if spec is not None:  # primary tests first: a bad name fails before anything is written
+        from growsim.report.html import primary_html, replication_html
+
+        p_rows = prim.primary_rows(families, fam_stats, spec)
+        e_rows = prim.exploratory_rows(stat_rows, p_rows)
+        primary_df = pd.DataFrame(p_rows, columns=prim.PRIMARY_COLUMNS)
+        exploratory_df = pd.DataFrame(e_rows, columns=prim.EXPLORATORY_COLUMNS)
+        fam_rows = [[r for r in e_rows if r["family"] == f.label] for f in families]
+        top = primary_html(p_rows, "Primary tests" + (" (discovery block)" if confirm else ""))
+        if confirmation is not None:
+            c_fams, c_notes = confirmation
+            c_stats = [family_stats(f, c_notes)[0] for f in c_fams]
+            c_rows = prim.primary_rows(c_fams, c_stats, spec)
+            r_rows = prim.replication_rows(p_rows, c_rows)
+            replication_df = pd.DataFrame(r_rows, columns=prim.REPLICATION_COLUMNS)
+            top += replication_html(r_rows)
+            notes += [f"confirmation block: {n}" for n in c_notes]
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise UserInputError(f"--out {out}: cannot create ({exc.strerror})") from None
     files = {
         "table": atomic_write(out / "compare.csv", table.to_csv(index=False)),
         "stats": atomic_write(out / "stats.csv", stats_df.to_csv(index=False)),
         "runs": atomic_write(out / "runs.csv", runs_df.to_csv(index=False)),
     }
+    for key, df in (
+        ("primary", primary_df),
+        ("exploratory", exploratory_df),
+        ("replication", replication_df),
+    ):
+        if df is not None:
+            files[key] = atomic_write(out / f"{key}.csv", df.to_csv(index=False))
     save_png(curves_figure(families), out / "curves.png")
     files["curves"] = out / "curves.png"
     fam_images: list[dict[str, bytes]] = [
@@ -202,8 +261,19 @@ def compare(
         extra = garden_html(g_stats, shares)
     if html_report:
         title = "growsim compare: " + "; ".join(f.label for f in families)
-        text = report_html(families, fam_stats, fam_rows, fam_images, runs_df, notes, title)
+        text = report_html(
+            families, fam_stats, fam_rows, fam_images, runs_df, notes, title, primary=top
+        )
         if extra:
             text = text.replace("<h2>Runs</h2>", extra + "\n<h2>Runs</h2>", 1)
         files["html"] = atomic_write(out / "report.html", text)
-    return Comparison(table=table, stats=stats_df, runs=runs_df, files=files, notes=notes)
+    return Comparison(
+        table=table,
+        stats=stats_df,
+        runs=runs_df,
+        files=files,
+        notes=notes,
+        primary=primary_df,
+        exploratory=exploratory_df,
+        replication=replication_df,
+    )

@@ -33,13 +33,15 @@ __all__ = [
 ]
 
 #: config keys that do not change a run's result: ignored when grouping (the seed is
-#: what tells repeats apart, and is checked for duplicates separately)
+#: what tells repeats apart, and is checked for duplicates separately; ``[compare]``
+#: only says what compare tests)
 IGNORED_KEYS = (
     "experiment.seed",
     "experiment.name",
     "experiment.description",
     "experiment.repeats",
     "output",
+    "compare",
 )
 
 Path_ = tuple[str, ...]  # a key path, one component per table level ("objective[0]", "kind")

@@ -103,6 +103,25 @@ def _variant_name(runs: Sequence[RunRecord]) -> str | None:
     return found.pop() if len(found) == 1 else None
 
 
+def _variant_order(groups: Sequence[Sequence[RunRecord]]) -> dict[str, int]:
+    """The names of ``[[sweep.variants]]`` in the order the config gives them.
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> cfg = {"sweep": {"variants": [{"name": "ample"}, {"name": "dry"}]}}
+    >>> _variant_order([[RunRecord(Path("sw/dry/seed-1"), cfg, {})]])
+    {'ample': 0, 'dry': 1}
+    """
+    order: dict[str, int] = {}
+    for runs in groups:
+        for r in runs[:1]:
+            for v in (r.config.get("sweep") or {}).get("variants") or []:
+                if isinstance(v, dict) and v.get("name"):
+                    order.setdefault(str(v["name"]), len(order))
+    return order
+
+
 def _family_key(run: RunRecord) -> str:
     """Model kind and objectives (every option): runs whose fitness is comparable."""
     return json.dumps(
@@ -209,11 +228,25 @@ def families(runs: Sequence[RunRecord], notes: list[str]) -> list[Family]:
             named = [_variant_name(m) for m in members]
             if all(named) and len(set(named)) == len(named):  # the sweep's own names
                 labels = named
+                declared = _variant_order(members)
+                rank = [
+                    declared.get(
+                        str(n),  # a variant's own name, else the variant it starts with
+                        min(
+                            (i for v, i in declared.items() if str(n).startswith(v + "_")),
+                            default=len(declared),
+                        ),
+                    )
+                    for n in named
+                ]
+            else:
+                rank = [0] * len(members)
         else:
             names = dict.fromkeys(
                 str(r.config.get("experiment", {}).get("name") or run_label(r)) for r in members[0]
             )
             labels, diff = ["/".join(names)], []
+            rank = [0]
         for i, lab in enumerate(labels):  # (a safeguard: labels name one group each)
             if labels.index(lab) != i:
                 labels[i] = f"{lab} #{i + 1}"
@@ -222,6 +255,7 @@ def families(runs: Sequence[RunRecord], notes: list[str]) -> list[Family]:
         order = sorted(
             range(len(members)),
             key=lambda i: (
+                rank[i],  # named variants in the config's order (ample first)
                 tuple(sort_value(configs[i].get(p, MISSING)) for p in shown),
                 labels[i],
             ),

@@ -21,7 +21,13 @@ from growsim.report.configs import MISSING, fmt_value, from_preset
 from growsim.report.groups import Family
 from growsim.report.statistics import FamilyStats, ci95
 
-__all__ = ["format_mean_ci", "garden_html", "report_html"]
+__all__ = [
+    "format_mean_ci",
+    "garden_html",
+    "primary_html",
+    "replication_html",
+    "report_html",
+]
 
 
 def format_mean_ci(mean: float, ci: float) -> str:
@@ -157,6 +163,7 @@ def _family_html(
     fs: FamilyStats,
     rows: list[dict[str, Any]],
     images: dict[str, bytes],
+    exploratory: bool = False,
 ) -> list[str]:
     n_runs = sum(len(g.runs) for g in fam.groups)
     objs = "; ".join(", ".join(f"{a}={fmt_value(v)}" for a, v in o.items()) for o in fam.objectives)
@@ -236,19 +243,30 @@ def _family_html(
             if floor >= 0.05
             else ""
         )
-        parts.append(
-            f"<p>{len(rows)} hypotheses tested in this family (quantities &times; pairs of "
-            "groups); every adjusted p-value is Holm-Bonferroni over all of them, separately "
-            f"for each test.{small}</p>"
-        )
+        if exploratory:
+            parts.append(
+                f"<p><b>Exploratory.</b> {len(rows)} tests besides the primary ones "
+                "(quantities &times; pairs of groups); their adjusted p-values are "
+                "Holm-Bonferroni over these exploratory tests alone, separately for each "
+                f"test: leads for a next experiment, not findings.{small}</p>"
+            )
+        else:
+            parts.append(
+                f"<p>{len(rows)} hypotheses tested in this family (quantities &times; pairs "
+                "of groups); every adjusted p-value is Holm-Bonferroni over all of them, "
+                f"separately for each test.{small}</p>"
+            )
+        what = "Exploratory: " if exploratory else ""
         if best:
-            parts.append(_tests_table(best, f"Table {k}.3. Best fitness: tests between groups."))
+            parts.append(
+                _tests_table(best, f"Table {k}.3. {what}Best fitness: tests between groups.")
+            )
         if other:
             n_sig = sum(_significant(r) for r in other)
             table = _tests_table(
                 other,
-                f"Table {k}.4. Measures of the best phenotypes and objective terms: tests "
-                "between groups.",
+                f"Table {k}.4. {what}Measures of the best phenotypes and objective terms: "
+                "tests between groups.",
             )
             parts.append(
                 f"<details{' open' if len(other) <= 40 else ''}><summary>{len(other)} tests "
@@ -279,11 +297,15 @@ def _family_html(
     return parts
 
 
-def report_html(families, fam_stats, fam_rows, fam_images, runs_df, notes, title) -> str:
+def report_html(
+    families, fam_stats, fam_rows, fam_images, runs_df, notes, title, primary: str = ""
+) -> str:
     """The whole report as one HTML page: for each family (in order) its
     :class:`~growsim.report.statistics.FamilyStats`, its tests (the rows of
     :func:`~growsim.report.statistics.family_stats`) and its PNG images (``"curves"``, and
-    ``"renders"`` when there are any); then the notes and the runs (a DataFrame).
+    ``"renders"`` when there are any); then the notes and the runs (a DataFrame). With
+    ``primary`` (the HTML of :func:`primary_html`, and :func:`replication_html`), that
+    section comes first and the families' tests are marked exploratory.
 
     Examples
     --------
@@ -306,12 +328,23 @@ def report_html(families, fam_stats, fam_rows, fam_images, runs_df, notes, title
         f"<p>Generated {_e(time.strftime('%Y-%m-%d %H:%M:%S'))} by growsim compare: "
         f"{len(runs_df)} run(s) in {sum(len(f.groups) for f in families)} group(s), "
         f"{len(families)} famil{'y' if len(families) == 1 else 'ies'}.</p>",
-        f"<h2>Methods</h2><p>{_METHODS}</p>",
+        f"<h2>Methods</h2><p>{_METHODS}"
+        + (
+            " The primary tests the experiment declared (<code>[compare] primary</code>) "
+            "were adjusted over themselves alone, and every other test, exploratory, over "
+            "the other tests of its family alone."
+            if primary
+            else ""
+        )
+        + "</p>",
     ]
     if notes:
         parts.append("<h2>Notes</h2><ul>" + "".join(f"<li>{_e(n)}</li>" for n in notes) + "</ul>")
+    parts.append(primary)
     for k, fam in enumerate(families, 1):
-        parts += _family_html(k, fam, fam_stats[k - 1], fam_rows[k - 1], fam_images[k - 1])
+        parts += _family_html(
+            k, fam, fam_stats[k - 1], fam_rows[k - 1], fam_images[k - 1], bool(primary)
+        )
     cols = [
         c
         for c in (
@@ -371,4 +404,119 @@ def _e_doc() -> str:
         "family. <i>genetic</i>: genomes from different origins grown in the same garden; "
         "<i>plastic</i>: the same genomes grown in two gardens. Welch and Mann-Whitney "
         "tests, Holm-adjusted over all of a family's garden tests."
+    )
+
+
+def _yes(v: Any) -> str:
+    return "<b>yes</b>" if bool(v) and v == v else "no"
+
+
+def primary_html(rows: Sequence[dict[str, Any]], title: str = "Primary tests") -> str:
+    """The primary tests (rows of :func:`growsim.report.primary.primary_rows`) as a section
+    of the report: the declared expectation, the effect, raw and Holm p (over the primary
+    tests alone), whether it is a finding and the seeds a replication needs.
+
+    Examples
+    --------
+    >>> r = {"family": "f", "measure": "height", "expect": "a > b", "group_a": "a",
+    ...      "group_b": "b", "n_a": 8, "n_b": 8, "difference": 1.0, "diff_ci_low": 0.5,
+    ...      "diff_ci_high": 1.5, "hedges_g": 1.2, "cliffs_delta": 0.6, "test": "welch",
+    ...      "p": 0.01, "p_holm": 0.02, "alpha": 0.05, "as_expected": True,
+    ...      "finding": True, "power": 0.8, "seeds_for_power": 12, "note": ""}
+    >>> "<td>height</td>" in primary_html([r])
+    True
+    """
+    if not rows:
+        return ""
+    body = []
+    for r in rows:
+        ci = (
+            f" [{_g(r['diff_ci_low'])}, {_g(r['diff_ci_high'])}]"
+            if math.isfinite(r["diff_ci_low"])
+            else ""
+        )
+        n_need = r["seeds_for_power"]
+        need = "&infin;" if n_need == math.inf else _g(n_need)
+        body.append(
+            [
+                _e(r["measure"]),
+                _e(r["expect"]),
+                f"{r['n_a']}, {r['n_b']}",
+                _g(r["difference"]) + ci,
+                _g(r["hedges_g"]),
+                _g(r["cliffs_delta"]),
+                _p(r["p"]),
+                f"<b>{_p(r['p_holm'])}</b>" if r["finding"] else _p(r["p_holm"]),
+                "yes" if r["as_expected"] else "no",
+                _yes(r["finding"]),
+                need,
+                _e(r["note"]),
+            ]
+        )
+    r0 = rows[0]
+    test = "Welch's t" if r0["test"] == "welch" else "Mann-Whitney U"
+    head = ["quantity", "expected", "n", "a &minus; b [95&nbsp;% CI]", "Hedges' g",
+            "Cliff's &delta;", "p", "p (Holm)", "direction as expected", "finding",
+            f"seeds per group for {r0['power']:.0%} power", "note"]  # fmt: skip
+    families = sorted({r["family"] for r in rows})
+    text = (
+        f"<h2>{_e(title)}</h2><p>Declared in the experiment's <code>[compare] primary</code> "
+        f"before the runs{' (' + _e(', '.join(families)) + ')' if families else ''}. "
+        f"Two-sided {test} test of group a against group b; p-values Holm-Bonferroni "
+        f"adjusted over these {len(rows)} primary tests alone. A <b>finding</b>: adjusted p "
+        f"&lt; {r0['alpha']:g} with the difference in the expected direction. Hedges' g: "
+        "Cohen's d with the small-sample correction; the seeds per group a replication "
+        f"needs for {r0['power']:.0%} power at that g (two-sided two-sample t-test at alpha "
+        f"= {r0['alpha']:g}, noncentral t; an observed effect that passed a threshold "
+        "overstates the true one, so treat it as a lower bound). Every other test below is "
+        "<b>exploratory</b>.</p>"
+    )
+    return text + _table(head, body, "Primary tests.")
+
+
+def replication_html(rows: Sequence[dict[str, Any]]) -> str:
+    """The replication table (rows of :func:`growsim.report.primary.replication_rows`):
+    each primary test on the discovery block beside the confirmation block.
+
+    Examples
+    --------
+    >>> r = {"measure": "height", "expect": "a > b", "discovery_n": "8, 8",
+    ...      "discovery_difference": 1.0, "discovery_hedges_g": 1.1, "discovery_p_holm": 0.01,
+    ...      "discovery_finding": True, "confirmation_n": "8, 8",
+    ...      "confirmation_difference": 0.2, "confirmation_hedges_g": 0.1,
+    ...      "confirmation_p_holm": 0.6, "replicated": False, "verdict": "not replicated"}
+    >>> "not replicated" in replication_html([r])
+    True
+    """
+    if not rows:
+        return ""
+    body = [
+        [
+            _e(r["measure"]),
+            _e(r["expect"]),
+            _e(r["discovery_n"]),
+            _g(r["discovery_difference"]),
+            _g(r["discovery_hedges_g"]),
+            _p(r["discovery_p_holm"]),
+            _yes(r["discovery_finding"]),
+            _e(r["confirmation_n"]),
+            _g(r["confirmation_difference"]),
+            _g(r["confirmation_hedges_g"]),
+            _p(r["confirmation_p_holm"]),
+            _yes(r["replicated"]),
+            _e(r["verdict"]),
+        ]
+        for r in rows
+    ]
+    head = ["quantity", "expected", "n (discovery)", "a &minus; b", "g", "p (Holm)", "finding",
+            "n (confirmation)", "a &minus; b", "g", "p (Holm)", "replicated",
+            "verdict"]  # fmt: skip
+    n_rep = sum(bool(r["replicated"]) for r in rows)
+    n_find = sum(bool(r["discovery_finding"]) for r in rows)
+    return (
+        "<h2>Replication</h2><p>The same primary tests on a fresh block of seeds (the "
+        "confirmation runs), Holm-adjusted over the primary tests of that block. A finding "
+        "<b>replicated</b> when the confirmation block shows the same direction with an "
+        f"adjusted p below the threshold: {n_rep} of {n_find} discovery finding(s).</p>"
+        + _table(head, body, "Discovery and confirmation.")
     )
