@@ -88,7 +88,7 @@ def register(subparsers) -> None:
     )
     p.add_argument("--seed", type=int, default=0, metavar="N", help="random seed (default 0)")
     p.add_argument(
-        "--workers", type=int, default=None, metavar="N", help="evaluate in N local processes"
+        "--workers", type=int, default=None, metavar="N", help="processes (default: the cores)"
     )
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     x = p.add_argument_group("expert options (default: chosen from the picture)")
