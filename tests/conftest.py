@@ -14,6 +14,9 @@ Test modules import the plain helpers (``from conftest import ROOT, growsim``: p
 - ``process_pool``: one local process pool of two workers, as ``GA.run(executor=2)``
   opens it (:func:`growsim.ga.evaluate.open_executor`).
 
+Every test leaves ``os.environ`` as it found it (an autouse fixture puts it back; a Dask
+Nanny writes its workers' variables there).
+
 Paths are taken from :data:`ROOT`, never from the working directory, so
 ``cd /tmp && python -m pytest /path/to/tests/test_x.py`` runs the same tests.
 """
@@ -48,13 +51,33 @@ def growsim(*args, cwd=None, timeout=240, env=None) -> subprocess.CompletedProce
     )
 
 
+def _restore_environ(before: dict) -> None:
+    """Put ``os.environ`` back to ``before`` (keys added since removed, changed ones reset)."""
+    if dict(os.environ) != before:
+        os.environ.clear()
+        os.environ.update(before)
+
+
+@pytest.fixture(autouse=True)
+def _no_environment_leak():
+    """Every test leaves ``os.environ`` as it found it: a Dask Nanny writes its workers'
+    variables (``OMP_NUM_THREADS``, ``PYTHONHASHSEED``, ...) into the starting process's
+    environment, where later tests and their subprocesses would inherit them. A test's own
+    settings go through ``monkeypatch.setenv``."""
+    before = dict(os.environ)
+    yield
+    _restore_environ(before)
+
+
 @pytest.fixture(scope="session")
 def dask_cluster():
-    """The session's Dask ``LocalCluster`` (two single-threaded worker processes)."""
-    pytest.importorskip("dask.distributed")
+    """The session's Dask ``LocalCluster`` (two single-threaded worker processes). Dask is
+    in the ``[test]`` extra: a missing Dask fails the tests that ask, never skips them."""
     from growsim.experiment.executors import local_cluster
 
+    before = dict(os.environ)
     with local_cluster(2) as cluster:
+        _restore_environ(before)  # the workers have started: the Nanny's variables go
         yield cluster
 
 

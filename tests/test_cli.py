@@ -12,6 +12,7 @@ from contextlib import redirect_stderr, redirect_stdout
 from io import StringIO
 from pathlib import Path
 
+import numpy as np
 import pandas as pd
 import pytest
 from conftest import ROOT, growsim
@@ -90,23 +91,36 @@ def test_bad_toml_file_exits_2(tmp_path):
     assert_clean_error(growsim("run", bad), "invalid TOML")
 
 
-def _wait_for(path: Path, proc, timeout=120.0):
-    t0 = time.time()
-    while not path.exists():
+def checkpoint_generation(run_dir: Path) -> int:
+    """The generation a run directory's checkpoint reports; -1 before the first one (the
+    file is replaced atomically, so it is read whole or not at all)."""
+    try:
+        with np.load(run_dir / "checkpoint.npz", allow_pickle=False) as z:
+            return int(json.loads(str(z["meta"]))["generation"])
+    except (OSError, ValueError, KeyError):
+        return -1
+
+
+def wait_until(ready, proc, what: str, timeout=120.0) -> None:
+    """Poll ``ready()`` until it holds; fail if ``proc`` ends first or after ``timeout`` s
+    (a bound for a stuck run, never the trigger: the run's own progress is)."""
+    t0 = time.monotonic()
+    while not ready():
         if proc.poll() is not None:
-            raise AssertionError(proc.stderr.read() if proc.stderr else "exited")
-        if time.time() - t0 > timeout:
-            raise AssertionError(f"{path} did not appear")
-        time.sleep(0.02)
+            raise AssertionError(f"the run ended before {what}: {proc.stderr.read()}")
+        if time.monotonic() - t0 > timeout:
+            raise AssertionError(f"{what}: not reached in {timeout} s")
+        time.sleep(0.01)
 
 
 def test_kill_and_resume_equals_uninterrupted(tmp_path):
-    # ~1.5 s of GA (30 generations of 16), so the kills below land mid-run
+    # 60 generations of 16 (~10 ms each): each kill waits for the generation the run's
+    # checkpoint reports, so it lands where it means to on a loaded machine or a fast one
     args = [
         "--set",
         "ga.population=16",
         "--set",
-        "ga.generations=30",
+        "ga.generations=60",
         "--set",
         "output.screenshots=[]",
         "--set",
@@ -119,15 +133,27 @@ def test_kill_and_resume_equals_uninterrupted(tmp_path):
     ref = tmp_path / "ref"
     assert growsim("run", QUICK, "--out", ref, "--quiet", *args).returncode == 0
     out = tmp_path / "killed"
-    # SIGKILL at three points: before the first checkpoint, early, and later in the run
-    for wait_for, delay in (("config.toml", 0.0), ("checkpoint.npz", 0.1), ("checkpoint.npz", 0.6)):
+    # SIGKILL at three points: as soon as the run directory exists (before the first
+    # checkpoint, unless generation 0 beats the poll), once generation 3 is checkpointed,
+    # and once generation 20 is (40 generations before the end)
+    for stage, at in (("started", None), ("early", 3), ("later", 20)):
+        before = checkpoint_generation(out)
+        assert at is None or before < at, (stage, before)
         cmd = [sys.executable, "-m", "growsim", "run", "--quiet"]
         cmd += ["--resume", str(out)] if out.exists() else [QUICK, "--out", str(out), *args]
         proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        _wait_for(out / wait_for, proc)
-        time.sleep(delay)
-        proc.send_signal(signal.SIGKILL)
-        proc.wait()
+        try:
+            if at is None:
+                wait_until((out / "config.toml").exists, proc, "config.toml")
+            else:
+                wait_until(lambda at=at: checkpoint_generation(out) >= at, proc, f"generation {at}")
+            proc.send_signal(signal.SIGKILL)
+            assert proc.wait(30) == -signal.SIGKILL
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
+    assert 20 <= checkpoint_generation(out) < 59
     assert not (out / "summary.json").exists(), "the run ended before the last kill"
     p = growsim("run", "--resume", out, "--quiet")
     assert p.returncode == 0, p.stderr
@@ -193,7 +219,7 @@ def test_a_second_run_on_the_same_out_refuses(tmp_path):
         text=True,
     )
     try:
-        _wait_for(out / "checkpoint.npz", proc)  # running, lock held
+        wait_until(lambda: checkpoint_generation(out) >= 0, proc, "generation 0")  # lock held
         p = growsim("run", QUICK, "--out", out)
         assert_clean_error(p, f"{out} is in use by another growsim run (pid {proc.pid})")
         p = growsim("run", "--resume", out)

@@ -10,11 +10,12 @@ import types
 
 import pandas as pd
 import pytest
+from conftest import ROOT
+from test_report import fake_run
 
 from growsim.cli import main
 from growsim.errors import ConfigError, UserInputError
 from growsim.experiment.results import RunDir
-from tests.test_report import fake_run
 
 
 def test_the_end_of_a_run_says_what_show_opens(monkeypatch, tmp_path, capsys):
@@ -25,7 +26,8 @@ def test_the_end_of_a_run_says_what_show_opens(monkeypatch, tmp_path, capsys):
     for kind, said in (("trajectory", "fish's swim"), ("plant", "best plant")):
         result = types.SimpleNamespace(summary=summary, out=tmp_path, best={"phenotype": kind})
         monkeypatch.setattr(growsim.experiment, "run", lambda *a, r=result, **k: r)
-        assert main(["run", "experiments/fish_tank.toml", "--out", str(tmp_path)]) == 0
+        fish = ROOT / "experiments" / "fish_tank.toml"
+        assert main(["run", str(fish), "--out", str(tmp_path)]) == 0
         out = capsys.readouterr().out
         assert said in out and "tree" not in out, out
 
@@ -126,9 +128,10 @@ def test_the_garden_table_prints_zero_and_no_empty_table():
 
 
 def test_groups_are_named_by_the_sweeps_variant_names(tmp_path):
+    from test_report import BASE
+
     from growsim.experiment.results import find_runs
     from growsim.report.groups import families
-    from tests.test_report import BASE
 
     base = {**BASE, "sweep": {"variants": [
         {"name": "ample"}, {"name": "half_water", "set": {"environment.water.supply": 0.5}},

@@ -163,14 +163,68 @@ def _mixed_bit_genome():
     )
 
 
+#: one individual of :func:`_mixed_bit_genome`, field by field, and its values worked by
+#: hand from the Bits docstring's formulas (v the integer the bits spell, MSB first)
+HAND_BITS = [
+    (1, 0, 0, 1, 1),  # a[0] binary 5 bits in [-1, 1]: v = 19 -> -1 + 19/31 * 2
+    (0, 0, 0, 0, 1),  # a[1]: v = 1 -> -1 + 1/31 * 2
+    (0, 1, 1, 0),  # b Gray 4 bits in [0, 10]: binary 0100, v = 4 -> 4/15 * 10
+    (1, 0, 0, 1, 0, 0, 0, 1),  # c Okusa weights in [2, 17]: 1 + 26 + 2 = 29 of 100
+    (1, 0, 0, 0, 0, 0, 0),  # d fraction 7 bits in [0.1, 0.7]: 64/128
+    (1, 1, 0),  # e weights (0.5, 0, 2) in [0, 1]: 0.5 of 2.5
+    (1, 0, 0),  # n Integer 3..9, 7 values in 3 bits: v = 4 -> 3 + (4 * 7) // 8
+    (1, 1),  # k Categorical of 3 in 2 bits: v = 3 -> (3 * 3) // 4
+    (1,), (0,), (1,),  # f[0..2] one bit each in [0, 1]
+]  # fmt: skip
+HAND_VALUES = [7 / 31, -29 / 31, 8 / 3, 6.35, 0.4, 0.2, 6, 2, 1, 0, 1]
+#: the first bit of each decoded column, counted by hand from the widths above
+HAND_OFFSETS = [0, 5, 10, 14, 22, 29, 32, 35, 37, 38, 39]
+
+
+def test_bit_layout_worked_by_hand():
+    g = _mixed_bit_genome()
+    assert g.names == ["a[0]", "a[1]", "b", "c", "d", "e", "n", "k", "f[0]", "f[1]", "f[2]"]
+    assert g.length == g.n_bits == 40
+    row = np.array([[b for gene in HAND_BITS for b in gene]], np.uint8)
+    assert row.shape == (1, 40)
+    np.testing.assert_allclose(g.decode(row)[0], HAND_VALUES, rtol=0, atol=1e-12)
+    assert g.named(g.decode(row)[0])["k"] == "z"
+    # every bit set: each column at its top (Integer 3 + (7 * 7) // 8 = 9, Gray 1111 = 10)
+    ones = np.ones((1, 40), np.uint8)
+    top = [1, 1, 10 * 10 / 15, 17, 0.1 + 0.6 * 127 / 128, 1, 9, 2, 1, 1, 1]
+    np.testing.assert_allclose(g.decode(ones)[0], top, rtol=0, atol=1e-12)
+    # one bit flipped at a time moves exactly the column that owns it
+    base = g.decode(row)[0]
+    for col, (first, gene) in enumerate(zip(HAND_OFFSETS, HAND_BITS)):
+        for i in range(len(gene)):
+            flip = row.copy()
+            flip[0, first + i] ^= 1
+            moved = np.flatnonzero(g.decode(flip)[0] != base)
+            assert moved.tolist() in ([col], []), (col, i, moved)  # [] : a zero weight
+    # the oracle's layout, from the fields alone, is the one counted by hand
+    offset, nbits, *_ = naive_ga.layout(g.fields)
+    assert offset.tolist() == HAND_OFFSETS
+    assert nbits.tolist() == [len(gene) for gene in HAND_BITS]
+    # and encode spells the same values back
+    np.testing.assert_allclose(g.decode(g.encode(g.decode(row)))[0], HAND_VALUES, atol=1e-12)
+
+
+def test_diploid_layout_worked_by_hand():
+    # two chromosomes of x (4 bits) + n (0..2: 2 bits) side by side; expressed: the OR
+    g = Genome([Bits("x", 0, 15, bits=4), Integer("n", 0, 2)], diploid=True)
+    assert (g.n_bits, g.length) == (6, 12)
+    raw = np.array([[1, 0, 0, 0, 0, 1, 0, 0, 1, 0, 1, 0]], np.uint8)
+    # 1000 01 | 0010 10 = 1010 11: x = 10, n = (3 * 3) // 4 = 2
+    assert g.decode(raw)[0].tolist() == [10, 2]
+    assert g.phenotype_bits(raw)[0].tolist() == [1, 0, 1, 0, 1, 1]
+
+
 @settings(max_examples=25, deadline=None)
 @given(seed=st.integers(0, 2**32 - 1), n=st.integers(0, 12))
 def test_decode_kernel_matches_oracle(seed, n):
     g = _mixed_bit_genome()
     raw = g.random(n, np.random.default_rng(seed))
-    want = naive_ga.decode_bits(
-        raw, g._offset, g._nbits, g._code, g._dlow, g._dhigh, g._k, g._weights
-    )
+    want = naive_ga.decode_bits(raw, *naive_ga.layout(g.fields))
     assert np.allclose(g.decode(raw), want, rtol=0, atol=1e-12)
 
 
@@ -178,16 +232,12 @@ def test_decode_edge_cases_all_zeros_all_ones_and_unit_fast_path():
     g = _mixed_bit_genome()
     for v in (0, 1):
         raw = np.full((2, g.length), v, np.uint8)
-        want = naive_ga.decode_bits(
-            raw, g._offset, g._nbits, g._code, g._dlow, g._dhigh, g._k, g._weights
-        )
+        want = naive_ga.decode_bits(raw, *naive_ga.layout(g.fields))
         assert np.allclose(g.decode(raw), want)
     u = Genome([Bits("b", 2, 4, bits=1, size=5), Bits("f", 0, 1, bits=1, coding="fraction")])
-    assert u._unit
+    assert u._unit  # the one-bit fast path is the one checked here
     raw = _all_patterns(6)
-    want = naive_ga.decode_bits(
-        raw, u._offset, u._nbits, u._code, u._dlow, u._dhigh, u._k, u._weights
-    )
+    want = naive_ga.decode_bits(raw, *naive_ga.layout(u.fields))
     assert np.allclose(u.decode(raw), want)
 
 

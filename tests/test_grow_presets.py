@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 
 import pytest
+from conftest import ROOT
 
 from growsim.cli import main
 from growsim.models import MODELS
@@ -75,8 +76,9 @@ def test_presets_do_not_change_experiments():
 
 
 def test_config_and_environment_files(capsys, tmp_path):
-    a = _grow(capsys, "hormone", "--preset", "demo_2d", "--config", "experiments/hormone_2d.toml")
-    assert a["environment"] == "--config experiments/hormone_2d.toml"
+    config = ROOT / "experiments" / "hormone_2d.toml"  # from the test file, not the cwd
+    a = _grow(capsys, "hormone", "--preset", "demo_2d", "--config", str(config))
+    assert a["environment"] == f"--config {config}"
     assert a["counts"]["segments"] > 1
     env = tmp_path / "env.toml"
     env.write_text("[light]\ndirection = [0.3, -1.0, 0.2]\ndiffuse = 0.5\n")
@@ -135,9 +137,10 @@ def test_grow_help_is_short_and_per_model(capsys):
 
 
 def test_show_colours_by_another_environment(capsys, tmp_path):
+    from test_report import fake_run
+
     from growsim.experiment.results import RunDir
     from growsim.models import honda
-    from tests.test_report import fake_run
 
     run_dir = tmp_path / "run"
     fake_run(run_dir, 0, 5.0)
@@ -153,4 +156,5 @@ def test_show_colours_by_another_environment(capsys, tmp_path):
     assert main([*argv, "--environment", str(env)]) != 0
     assert "environment.light.colour: unknown key" in capsys.readouterr().err
     assert not png.exists()
-    assert main([*argv, "--config", "experiments/hormone_3d.toml"]) == 0 and png.is_file()
+    config = ROOT / "experiments" / "hormone_3d.toml"
+    assert main([*argv, "--config", str(config)]) == 0 and png.is_file()

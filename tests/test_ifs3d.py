@@ -215,7 +215,8 @@ def test_compare_maps_symmetries():
     fit[0, 3] = 180.0
     r = ifs3d.compare_maps(fit, ref, azimuth_period=90)
     assert r["within"] and r["order"].tolist() == [0, 2, 4, 1, 3]
-    assert not ifs3d.compare_maps(fit, ref)["within"] or fit[0, 3] % 360 == 0
+    # without the period, the leader turned by 180 degrees makes another tree
+    assert not ifs3d.compare_maps(fit, ref)["within"]
     far = ref.copy()
     far[1, 2] = 52.0
     r = ifs3d.compare_maps(far, ref, azimuth_period=90)

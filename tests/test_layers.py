@@ -15,7 +15,6 @@ import subprocess
 import sys
 from pathlib import Path
 
-import pytest
 from conftest import ROOT
 
 from growsim.models.base import CAPABILITIES as MODEL_CAPABILITIES
@@ -162,10 +161,8 @@ def test_no_capability_is_probed_with_getattr():
 def test_import_linter_contracts_are_kept():
     """``lint-imports`` (the layers of ``[tool.importlinter]`` in pyproject.toml), as
     ``.ci/run`` runs it; about a quarter of a second."""
-    pytest.importorskip("importlinter")
-    exe = Path(sys.executable).with_name("lint-imports")
-    if not exe.exists():
-        pytest.skip("lint-imports is not installed next to this Python")
+    exe = Path(sys.executable).with_name("lint-imports")  # import-linter is in [test]
+    assert exe.exists(), "lint-imports is not installed next to this Python: pip install .[test]"
     p = subprocess.run([str(exe), "--no-cache"], cwd=ROOT, capture_output=True, text=True,
                        timeout=120)  # fmt: skip
     assert p.returncode == 0, p.stdout + p.stderr

@@ -4,13 +4,13 @@ one-module stick must not stand as tall as a branched tree beside it."""
 from __future__ import annotations
 
 import numpy as np
+from test_report import fake_run
 
 from growsim.experiment.results import RunDir, find_runs
 from growsim.models import honda
 from growsim.phenotypes.plant import Plant
 from growsim.report.figures import render_cells, renders_figure, save_png
 from growsim.report.groups import families as find_families
-from tests.test_report import fake_run
 
 
 def _runs(tmp_path):

@@ -38,6 +38,53 @@ def decode_bits(bits, offset, nbits, code, low, high, k, weights):
     return out
 
 
+#: the kernels' coding numbers by the names a :class:`~growsim.ga.Bits` field takes
+CODES = {
+    "binary": K.CODE_BINARY,
+    "gray": K.CODE_GRAY,
+    "weighted": K.CODE_WEIGHTED,
+    "fraction": K.CODE_FRACTION,
+}
+
+
+def layout(fields):
+    """A bit genome's layout from its fields' public description alone, by the rules the
+    :class:`~growsim.ga.Genome` docs state (never its private arrays): the arguments of
+    :func:`decode_bits` after ``bits``. Fields follow one another, a field's ``size``
+    elements one after the other; a :class:`~growsim.ga.Bits` element takes ``bits`` bits,
+    an ``Integer`` ``low..high`` or a ``Categorical`` of ``k`` choices the fewest bits that
+    count ``k`` values (at least one), decoded as ``low + (v * k) // 2**nbits``."""
+    from growsim.ga import Bits, Categorical, Integer
+
+    offset, nbits, code, low, high, k, weights = [], [], [], [], [], [], []
+    pos = 0
+    for f in fields:
+        for _ in range(f.size):
+            if isinstance(f, Bits):
+                nb = f.bits
+                c = CODES[f.coding]
+                lo, hi, kv = f.low, f.high, 0
+                w = list(f.weights) if f.coding == "weighted" else [0.0] * nb
+            else:
+                assert isinstance(f, (Integer, Categorical)), f
+                kv = f.high - f.low + 1 if isinstance(f, Integer) else len(f.choices)
+                lo = f.low if isinstance(f, Integer) else 0
+                nb = 1
+                while 2**nb < kv:
+                    nb += 1
+                c, hi, w = K.CODE_INDEX, lo + kv - 1, [0.0] * nb
+            offset.append(pos)
+            nbits.append(nb)
+            code.append(c)
+            low.append(float(lo))
+            high.append(float(hi))
+            k.append(kv)
+            weights += w
+            pos += nb
+    ints = [np.array(a, dtype=np.int64) for a in (offset, nbits, code)]
+    return (*ints, np.array(low), np.array(high), np.array(k, dtype=np.int64), np.array(weights))
+
+
 def cut_crossover(a, b, ptr, cuts):
     """Walk each pair's genome, toggling the source parent at every cut."""
     m, L = a.shape
