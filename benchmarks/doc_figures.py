@@ -1,6 +1,6 @@
 """The figures docs/quickstart.md prints, regenerated from real runs.
 
-    python benchmarks/doc_figures.py [--sweep]
+    python benchmarks/doc_figures.py [--sweep] [--json PATH]
 
 Runs the quickstart (``experiments/quickstart.toml``, its own seed) and prints its best
 fitness, generation, evaluations, evolved parameters and the best plant's objective terms
@@ -10,6 +10,9 @@ each) with each variant's mean +/- 95 % CI, Welch's and Mann-Whitney's p, and th
 over the runs of the best fitness's rise from generation 0 to the end (per cent). The
 quickstart figures are deterministic (same config + seed, same result), and
 ``tests/test_doc_figures.py`` checks the page against a fresh run, so they cannot drift.
+The sweep's figures are pinned instead: ``--json PATH`` also writes the JSON to ``PATH``
+(``benchmarks/results/light_sweep.json``, with every run's best fitness and rise), which
+``tests/test_reproduction_claims.py`` checks ``docs/reproduction.md`` against.
 """
 
 from __future__ import annotations
@@ -75,18 +78,25 @@ def light_sweep(out: Path) -> dict:
         first = float(h.loc[h["generation"] == 0, "best"].max())
         rises.append(100.0 * (float(h["best_so_far"].iloc[-1]) / first - 1.0))
     out_rows["rise_percent"] = [round(min(rises), 1), round(max(rises), 1)]
+    out_rows["runs"] = [
+        {"variant": v, "seed": int(s), "best_fitness": float(f), "rise_percent": r}
+        for v, s, f, r in zip(df["variant"], df["seed"], df["best_fitness"], rises)
+    ]
     return out_rows
 
 
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--sweep", action="store_true", help="also run the light sweep (6 runs)")
+    ap.add_argument("--json", default=None, metavar="PATH", help="also write the JSON here")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
         result = {"quickstart": quickstart(Path(tmp) / "q")}
         if args.sweep:
             result["light_sweep"] = light_sweep(Path(tmp) / "sweep")
     print(json.dumps(result, indent=1))
+    if args.json:
+        Path(args.json).write_text(json.dumps(result, indent=1) + "\n")
 
 
 if __name__ == "__main__":

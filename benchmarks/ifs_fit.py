@@ -28,7 +28,7 @@ import time
 import numba
 import numpy as np
 
-from growsim.models import ifs3d
+from growsim.models import get_model, ifs3d
 from growsim.objectives.silhouette import SilhouetteObjective
 
 
@@ -39,12 +39,12 @@ def kernel(n: int = 1000, repeats: int = 5) -> dict:
     names = [p.name for p in spec]
     pop = np.array([[rng.uniform(p.low, p.high) for p in spec] for _ in range(n)])
     pop[:, 0], pop[:, 1] = 5, 5
-    obj.batch(ifs3d, pop[:4], names)  # compile / load the cache
+    obj.batch(get_model("ifs3d"), pop[:4], names)  # compile / load the cache
     best = np.inf
     cpu = np.inf
     for _ in range(repeats):
         t, c = time.perf_counter(), time.process_time()
-        obj.batch(ifs3d, pop, names)
+        obj.batch(get_model("ifs3d"), pop, names)
         best = min(best, time.perf_counter() - t)
         cpu = min(cpu, time.process_time() - c)
     return {
@@ -113,7 +113,8 @@ def random_trees(n: int, evaluations: int = 50_000) -> list[dict]:
 
     def fitness_of(obj):
         def f(x):
-            return obj.batch(ifs3d, np.concatenate([np.full((len(x), 2), 5.0), x], 1), names)
+            full = np.concatenate([np.full((len(x), 2), 5.0), x], 1)
+            return obj.batch(get_model("ifs3d"), full, names)
 
         return f
 

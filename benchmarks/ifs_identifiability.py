@@ -192,7 +192,7 @@ def twin(seed: int = 0, size: int = 64, ga_evals: int = 15_000, total: int = 50_
     from growsim.ga import GA, genome_from_params
 
     target = SilhouetteObjective(target_model="ifs3d", target_preset="table1", size=size).target
-    spec = ifs3d.PARAMS[2:]
+    spec = ifs3d.PARAMS[2 : 2 + 4 * N]  # the maps (not the leaves that follow)
     low, high = np.array([p.low for p in spec]), np.array([p.high for p in spec])
     span = high - low
 
@@ -208,7 +208,7 @@ def twin(seed: int = 0, size: int = 64, ga_evals: int = 15_000, total: int = 50_
         genome_from_params(spec, coding="real"), ncc, population=100, islands=4, seed=seed, **old_ga
     )
     r = ga.run(evaluations=ga_evals)
-    used = ga.evaluations
+    used = ga.state.evaluations
     best_u, best_s = (np.asarray(r.best.params) - low) / span, float(r.best.fitness)
     # s, theta_z in their ranges, y in [0.2, 1] for every map, azimuths unbounded
     free_lo = np.tile([0.1, 0.2, 0.0, -np.inf], N)
