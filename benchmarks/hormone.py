@@ -9,10 +9,14 @@
   over plants and steps of the modules alive, over the wall time), best of
   ``--repeats``, for populations of the demo genomes (2D, 3D) and of genomes drawn at
   random (what a first generation grows); also ``step_wise``, the same plants grown one
-  :func:`growsim.models.hormone.grow` at a time (a Plant built after every step).
+  :func:`growsim.models.hormone.grow` at a time (a Plant built after every step); and
+  ``walls_module``: the same populations with ``environment.light.walls = "module"`` (one
+  shadow-map point per module and light, shared by its walls; the two timed in turn,
+  their ``speedup`` measured under one load).
 - ``breakdown``: where a module-step's time goes (:func:`breakdown`): per module of a
   grown 2D and 3D demo plant, a whole step, the light (all its passes; the sun's; one sky
-  direction's) and the hormone step alone.
+  direction's; with the walls sharing their module's exposure) and the hormone step
+  alone.
 - ``generation``: one generation of ``--population`` individuals in 3D at the model's
   default number of steps (40), scored by the ``nutrient`` objective through the
   experiment's fitness, serially and on a process pool of 2: random genomes (generation
@@ -69,28 +73,44 @@ def module_steps(env, repeats: int) -> dict:
         "demo_3d": [hormone.PRESETS["demo_3d"]] * 10,
         "random_3d": _random_genes(rng, 200, {"dims": 3, "steps": 30}),
     }
+    shared = _module_walls(env)
     for name, params in cases.items():
         rows, names = _rows(params)
         hormone.population(rows[:1], names, env)  # compile
-        best = None
-        for _ in range(repeats):
-            t0 = time.perf_counter()
-            table = hormone.population(rows, names, env)
-            wall = time.perf_counter() - t0
-            best = wall if best is None else min(best, wall)
-        ms = int(table["module_steps"].sum())
+        hormone.population(rows[:1], names, shared)
+        best = {"exact": np.inf, "module": np.inf}
+        tables = {}
+        for _ in range(repeats):  # the two wall lights in turn: their ratio under one load
+            for walls, e in (("exact", env), ("module", shared)):
+                t0 = time.perf_counter()
+                tables[walls] = hormone.population(rows, names, e)
+                best[walls] = min(best[walls], time.perf_counter() - t0)
+        ms = int(tables["exact"]["module_steps"].sum())
+        ms_shared = int(tables["module"]["module_steps"].sum())
         t0 = time.perf_counter()
         stepwise = sum(sum(p.n_segments for p in hormone.grow(q, env=env)) for q in params[:5])
         t_step = time.perf_counter() - t0
         out[name] = {
             "plants": len(rows),
-            "mean_modules": round(float(table["modules"].mean()), 1),
+            "mean_modules": round(float(tables["exact"]["modules"].mean()), 1),
             "module_steps": ms,
-            "seconds": round(best, 4),
-            "module_steps_per_s": round(ms / best),
+            "seconds": round(best["exact"], 4),
+            "module_steps_per_s": round(ms / best["exact"]),
             "step_wise_module_steps_per_s": round(stepwise / t_step),
+            # environment.light.walls = "module": one exposure per module and light
+            "walls_module": {
+                "module_steps": ms_shared,
+                "seconds": round(best["module"], 4),
+                "module_steps_per_s": round(ms_shared / best["module"]),
+                "speedup": round(ms_shared / best["module"] / (ms / best["exact"]), 3),
+            },
         }
     return out
+
+
+def _module_walls(env):
+    """``env`` with ``light.walls = "module"`` (each module's walls share its exposure)."""
+    return env.model_copy(update={"light": env.light.model_copy(update={"walls": "module"})})
 
 
 def breakdown(env, repeats: int, dims: int = 3) -> dict:
@@ -136,7 +156,12 @@ def breakdown(env, repeats: int, dims: int = 3) -> dict:
     def hormone_step(x):
         K.step_kernel(n, x["dims"], x["modules"], x["genes"], x["c"])
 
+    def shared_step(x):  # environment.light.walls = "module"
+        x["env"] = x["env"]._replace(shared=True)
+        K.grow_step(n, *x.values())
+
     t = {"full": timed(step(w)), "no_light": timed(step(np.zeros_like(w)))}
+    t["full_walls_module"] = timed(shared_step)
     for j in np.flatnonzero(w):
         t[f"pass_{j}"] = timed(step(np.where(np.arange(len(w)) == j, w, 0.0)))
     t["hormone_step"] = timed(hormone_step)
@@ -147,6 +172,7 @@ def breakdown(env, repeats: int, dims: int = 3) -> dict:
         "light_passes": int(np.count_nonzero(w)),
         "us_per_module": {k: round(v, 3) for k, v in us.items()},
         "light_us_per_module": round(us["full"] - us["no_light"], 3),
+        "light_us_per_module_walls_module": round(us["full_walls_module"] - us["no_light"], 3),
         "pass_us_per_module": [  # the sun's, then each sky direction's
             round(us[f"pass_{j}"] - us["no_light"], 3) for j in np.flatnonzero(w)
         ],

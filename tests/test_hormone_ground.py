@@ -184,3 +184,23 @@ def test_grow_renders_a_hormone_plant_through_the_cli(tmp_path, capsys, preset):
     assert _share(img, colors.GREEN_RGB, tol=60) > 0.005  # green modules and blades
     saved = Plant.load(npz)
     assert saved.meta["ground"] == 0.0 and module_plant(saved)
+
+
+@pytest.mark.parametrize("dims", [2, 3])
+def test_a_module_lying_on_the_soil_gets_no_light(dims):
+    # a module whose end the soil holds (turned up to it) catches nothing at the next
+    # step: a mat along the soil does not pay, the plant must stand up to catch light
+    genomes = _genomes(dims, np.random.default_rng(10 + dims))
+    on_soil = lit_above = 0
+    for p in genomes:
+        prev = None
+        for plant in hormone.grow(p, env=_env(0.0)):
+            if prev is not None and plant.n_segments >= prev.n_segments:
+                k = prev.n_segments
+                lying = np.abs(prev.end[:, 1]) < 1e-9
+                light = plant.data["light"][:k]
+                assert np.all(light[lying] == 0.0)
+                on_soil += int(lying.sum())
+                lit_above += int((light[~lying] > 0).sum())
+            prev = plant
+    assert on_soil > 0 and lit_above > 0

@@ -118,6 +118,12 @@ class Light(Options):
     backend: Literal["numba", "moderngl"] = Field(
         "numba", description="shadow map on the CPU (numba) or through OpenGL (moderngl)"
     )
+    walls: Literal["exact", "module"] = Field(
+        "exact",
+        description="hormone model: each wall's light at its own point (exact), or one "
+        "shadow-map point per module and light shared by its walls, each its own cosine "
+        "(module: faster in 3D)",
+    )
 
     def captured(self, start, end, radius, resolution: int = 256) -> float:
         """Light intercepted by the segments: ``intensity * projected_area`` along

@@ -144,8 +144,10 @@ def walk_capsule(k, ends, rr, res, scratch, queries, bias, soft, trans_k):
     qown, expo)``: per query the next one in its pixel (-1: no more), its depth, its own
     segment (-1: none) and its exposure (soft shadows: multiplied by ``trans_k`` for each
     segment more than ``bias`` in front). A small capsule tests the pixels of its bounding
-    box that hold queries; a larger one is walked line by line along its shorter extent
-    over exactly the columns of each line's chord (closed form, :func:`_span`).
+    box that hold queries (row by row, or column by column when the box is taller than
+    wide: fewer lines, the same pixels); a larger one is walked line by line along its
+    shorter extent over exactly the columns of each line's chord (closed form,
+    :func:`_span`).
 
     Examples
     --------
@@ -178,6 +180,25 @@ def walk_capsule(k, ends, rr, res, scratch, queries, bias, soft, trans_k):
     box = (i1 - i0 + 1) * (j1 - j0 + 1)
     if box <= _BOX_PIXELS or box <= _BOX_RATIO * (2.0 * r * math.sqrt(L2) + math.pi * r * r):
         r2 = r * r
+        if i1 - i0 > j1 - j0:  # taller than wide: by columns (fewer lines, same pixels)
+            for j in range(j0, j1 + 1):
+                xc = j + 0.5
+                for w in range(i0 >> 6, (i1 >> 6) + 1):
+                    bits = occ[(res + j) * W + w] & _bits(
+                        max(i0, w * 64) - w * 64, min(i1, w * 64 + 63) - w * 64
+                    )
+                    while bits != 0:
+                        i = w * 64 + trailing_zeros(bits)
+                        bits &= bits - np.uint64(1)
+                        yc = i + 0.5
+                        t = ((xc - ax) * dx + (yc - ay) * dy) * inv_L2
+                        t = min(1.0, max(0.0, t))
+                        px = ax + t * dx - xc
+                        py = ay + t * dy - yc
+                        if px * px + py * py <= r2:
+                            _meet(i * res + j, k, za + t * (zb - za), scratch, queries, bias,
+                                  soft, trans_k)  # fmt: skip
+            return
         for i in range(i0, i1 + 1):
             yc = i + 0.5
             e = (yc - ay) * dy

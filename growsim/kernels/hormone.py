@@ -19,7 +19,7 @@ import numpy as np
 
 from growsim.kernels.config import njit
 from growsim.kernels.gravity import loads_kernel, radius_end_kernel
-from growsim.kernels.light import point_light_into, shadow_scratch
+from growsim.kernels.light import module_light_into, point_light_into, shadow_scratch
 from growsim.kernels.water import transport_into_kernel
 
 __all__ = [
@@ -111,6 +111,7 @@ class Surroundings(NamedTuple):
     leaf_mass_per_area: float
     strength: float  #: wood strength (lignified)
     ground: float  #: height of the soil surface (:func:`ground_kernel`)
+    shared: bool = False  #: walls share their module's exposure (``light.walls = "module"``)
 
 
 def new_module_arrays(cap: int, walls: int, hormones: int = len(HORMONES)) -> Modules:
@@ -509,6 +510,19 @@ def _ends(n, origin, length, R, end):
 
 
 @njit
+def _on_soil_unlit(n, end, length, ground, wall_light, light, demand):
+    """A module lying on the soil (its end on it: :func:`ground_kernel` turned it up to
+    the soil) gets no light and asks no water for photosynthesis: a stem on the ground
+    is covered (litter, neighbours' shade); the plant must stand up to catch light."""
+    for q in range(n):
+        if end[q, 1] <= ground + 1e-9 * (1.0 + length[q]):
+            light[q] = 0.0
+            demand[q] = 0.0
+            for i in range(wall_light.shape[1]):
+                wall_light[q, i] = 0.0
+
+
+@njit
 def grow_step(n, dims, modules, scratch, genes, c, strength_young, env):
     """One step of a plant in its environment ``env`` (:class:`Surroundings`), all in one
     call; returns ``(n_new, stop)``, ``stop`` an index into :data:`STOPS` (``STOP_CAP``
@@ -521,10 +535,13 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env):
        with image planes ``env.us, env.vs`` and intensities ``env.weights``
        (:func:`growsim.kernels.light.point_light_into`; ``env.resolution``, ``env.bias``
        in pixels, ``env.soft`` shadows with one ``env.transmission``) into
-       ``modules.wall_light``;
+       ``modules.wall_light``; with ``env.shared`` (``light.walls = "module"``) one point
+       per module and light, its exposure shared by its walls, each its own cosine
+       (:func:`growsim.kernels.light.module_light_into`);
     3. water (:func:`growsim.kernels.water.transport_into_kernel`): demand = mean wall
        light x side area; ``env.supply``, ``env.resistance``, ``env.lift`` (already scaled
-       by g) give ``modules.met``;
+       by g) give ``modules.met``; a module lying on the soil gets no light
+       (:func:`_on_soil_unlit`);
     4. :func:`step_kernel` (``genes``, constants ``c``); a NaN or infinity in the modules
        stops the plant (``n`` modules kept);
     5. ``modules.light`` the mean wall light of the old modules (0 for new ones), ``met``
@@ -553,26 +570,31 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env):
     place_kernel(n, parent, R, length, origin)
     start = origin[:n]
     end = _ends(n, origin, length, R, np.empty((n, 3)))
-    m = n * walls
-    normals = wall_normals(n, R, walls, dims, np.empty((n, walls, 3)))
-    points = np.empty((m, 3))
-    unit = np.empty((m, 3))
-    for q in range(n):
-        for i in range(walls):
-            nx, ny, nz = normals[q, i, 0], normals[q, i, 1], normals[q, i, 2]
-            norm = math.sqrt(nx * nx + ny * ny + nz * nz)
-            for k in range(3):
-                mid = start[q, k] + 0.5 * (end[q, k] - start[q, k])
-                points[q * walls + i, k] = mid + radius[q] * normals[q, i, k]
-                unit[q * walls + i, k] = normals[q, i, k] / norm
     offsets = np.array([0, n], np.int64)
-    point_offsets = np.array([0, m], np.int64)
     trans = np.full(n, env.transmission) if env.soft else np.empty(0)
-    lit = point_light_into(
-        (start, end, radius[:n], offsets), (points, point_offsets, unit),
-        (env.dirs, env.us, env.vs, env.weights), (env.resolution, env.bias, env.soft, trans),
-        scratch, np.empty(m),
-    )  # fmt: skip
+    lights = (env.dirs, env.us, env.vs, env.weights)
+    shadow = (env.resolution, env.bias, env.soft, trans)
+    if env.shared:  # one exposure per module and light, a cosine per wall
+        lit = module_light_into((start, end, radius[:n], offsets),
+                                (R, wall_angles(walls, dims)), lights, shadow, scratch,
+                                wall_light[:n]).reshape(n * walls)  # fmt: skip
+    else:  # each wall's own point
+        m = n * walls
+        normals = wall_normals(n, R, walls, dims, np.empty((n, walls, 3)))
+        points = np.empty((m, 3))
+        unit = np.empty((m, 3))
+        for q in range(n):
+            for i in range(walls):
+                nx, ny, nz = normals[q, i, 0], normals[q, i, 1], normals[q, i, 2]
+                norm = math.sqrt(nx * nx + ny * ny + nz * nz)
+                for k in range(3):
+                    mid = start[q, k] + 0.5 * (end[q, k] - start[q, k])
+                    points[q * walls + i, k] = mid + radius[q] * normals[q, i, k]
+                    unit[q * walls + i, k] = normals[q, i, k] / norm
+        lit = point_light_into(
+            (start, end, radius[:n], offsets), (points, np.array([0, m], np.int64), unit),
+            lights, shadow, scratch, np.empty(m),
+        )  # fmt: skip
     demand = np.empty(n)
     for q in range(n):
         acc = 0.0
@@ -581,6 +603,7 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env):
             acc += lit[q * walls + i]
         light[q] = acc / walls
         demand[q] = light[q] * 2.0 * math.pi * radius[q] * length[q]
+    _on_soil_unlit(n, end, length, env.ground, wall_light, light, demand)
     transport_into_kernel(start, end, radius[:n], parent[:n], demand, env.supply,
                           env.resistance, env.lift, np.empty(n), met[:n])  # fmt: skip
     n_new, _ = step_kernel(n, dims, modules, genes, c)

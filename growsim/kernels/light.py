@@ -26,7 +26,8 @@ given points) are listed per pixel first, and a bit is set for each such pixel i
 occupancy words by rows and by columns (:func:`shadow_scratch`). A capsule then visits
 only the pixels that hold queries (:func:`growsim.kernels.capsule.walk_capsule`): a
 small one (its bounding box at most 64 pixels or 3 times its area) tests the occupied pixels of
-its bounding box against its radius; a larger one is walked line by line along its
+its bounding box against its radius (by rows, or by columns when the box is taller than
+wide); a larger one is walked line by line along its
 shorter extent (rows, or columns for a segment taller than wide) over exactly the
 pixels of each line's chord of the capsule, computed in closed form, masked by the
 line's occupancy. So a plant costs its segments' walks and its queries, not a whole
@@ -34,10 +35,12 @@ map's writes. The answers are those of the whole map at the pixels read (tested 
 a pixel-by-pixel z-buffer, ``tests/naive/light.py``'s ``render_depth``,
 :func:`map_depth_kernel` read at every pixel centre).
 
-Two entries, both what production calls: :func:`segment_exposure_into` (each segment's
-samples, :func:`growsim.env.light.segment_light`) and :func:`point_light_into` (given
+Three entries, all what production calls: :func:`segment_exposure_into` (each segment's
+samples, :func:`growsim.env.light.segment_light`), :func:`point_light_into` (given
 points with normals under several lights: :meth:`growsim.env.Light.point_light` and the
-hormone model's step). State is passed as tuples: ``segments`` ``(start, end, radius,
+hormone model's step) and :func:`module_light_into` (the walls of cylinders, one point
+per cylinder and light shared by its walls: the hormone model's step with
+``light.walls = "module"``). State is passed as tuples: ``segments`` ``(start, end, radius,
 offsets)``, ``plane`` ``(u, v, d)``, ``shadow`` ``(res, bias_pixels, soft, trans)``,
 ``lights`` ``(dirs, us, vs, weights)``, ``targets`` ``(points, point_offsets, normals)``.
 
@@ -72,6 +75,7 @@ from growsim.kernels.config import njit
 __all__ = [
     "apply_cosines",
     "map_depth_kernel",
+    "module_light_into",
     "plant_frames",
     "point_light_into",
     "project_segment",
@@ -367,6 +371,95 @@ def point_light_into(segments, targets, lights, shadow, scratch, out):
                expo[:c], (np.empty(0), own[:0]), scratch)  # fmt: skip
         for i in range(c):
             out[which[i]] += expo[i] * cosine[i] * w
+    return out
+
+
+@njit
+def module_light_into(segments, walls, lights, shadow, scratch, out):
+    """Light on the walls of modules (cylinders with ``walls`` sides): each module's
+    exposure to each light judged once, at one point, and shared by its walls, each wall
+    its own cosine: ``out[s, i] = sum_k weights[k] x E_k[s] x max(0, cos_ik)``, ``cos_ik =
+    -n_si . dirs[k]``. The faster, shared alternative to one :func:`point_light_into`
+    point per wall (``environment.light.walls = "module"`` of the hormone model,
+    :func:`growsim.kernels.hormone.grow_step`).
+
+    Segment ``s``'s walls face ``n_si = cs[i, 0] x_s + cs[i, 1] y_s`` (``x_s, y_s`` the
+    first two columns of its pose ``R[s]``, the axes across it); ``walls`` is ``(R, cs)``,
+    ``R`` ``(n, 3, 3)`` (or longer) and ``cs`` ``(walls, 2)``. Along light ``k`` the point
+    judged is on the surface halfway along the segment, facing the lit walls: ``mid +
+    radius n*``, ``n*`` the unit sum of the walls' normals weighted by their clipped
+    cosines (in 2D, two walls ``+-x``, this is the lit wall's own point: the per-wall
+    light to rounding). A segment none of whose walls faces a light gets none of it and
+    is not judged. ``E_k`` is that point's exposure in its plant's shadow map along the
+    light (hard or soft, as :func:`point_light_into`). ``segments``, ``lights`` and
+    ``shadow`` as :func:`point_light_into`; ``scratch`` a :func:`shadow_scratch` of
+    ``res``, left as it was given; ``out`` ``(n, walls)`` is overwritten and returned.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = np.array([[0.0, 1, 0], [0.0, 0, 0]]); e = s + np.array([0.0, 0, 1])  # two rods
+    >>> R = np.zeros((2, 3, 3)); R[:, 0, 0] = 1; R[:, 1, 1] = 1; R[:, 2, 2] = 1
+    >>> cs = np.array([[0.0, 1], [0.0, -1]])  # walls facing up and down
+    >>> d = np.array([[0.0, -1, 0]]); u = np.array([[1.0, 0, 0]]); v = np.array([[0.0, 0, -1]])
+    >>> module_light_into((s, e, np.full(2, 0.1), np.array([0, 2])), (R, cs),
+    ...     (d, u, v, np.ones(1)), (64, 0.1, False, np.empty(0)), shadow_scratch(64),
+    ...     np.empty((2, 2))).tolist()  # the upper rod shades the lower
+    [[1.0, 0.0], [0.0, 0.0]]
+    """
+    start, end, radius, offsets = segments
+    R, cs = walls
+    dirs, us, vs, weights = lights
+    res = shadow[0]
+    n = start.shape[0]
+    W = cs.shape[0]
+    P = offsets.shape[0] - 1
+    out[:] = 0.0
+    real = np.empty(4 * n + n * W)
+    points = real[: 3 * n].reshape((n, 3))
+    expo = real[3 * n : 4 * n]
+    cosine = real[4 * n :].reshape((n, W))
+    ints = np.empty(2 * n + P + 1, np.int64)
+    own, which, point_offsets = ints[:n], ints[n : 2 * n], ints[2 * n :]
+    own[:] = -1
+    for k in range(dirs.shape[0]):
+        w = weights[k]
+        if w == 0.0:
+            continue
+        d, u, v = dirs[k], us[k], vs[k]
+        c = 0
+        for p in range(P):
+            point_offsets[p] = c
+            for s in range(offsets[p], offsets[p + 1]):
+                a = -(R[s, 0, 0] * d[0] + R[s, 1, 0] * d[1] + R[s, 2, 0] * d[2])
+                b = -(R[s, 0, 1] * d[0] + R[s, 1, 1] * d[1] + R[s, 2, 1] * d[2])
+                sa = 0.0
+                sb = 0.0
+                for i in range(W):
+                    cos = cs[i, 0] * a + cs[i, 1] * b
+                    cos = cos if cos > 0.0 else 0.0
+                    cosine[c, i] = cos
+                    sa += cs[i, 0] * cos
+                    sb += cs[i, 1] * cos
+                norm = math.sqrt(sa * sa + sb * sb)
+                if norm == 0.0:  # no wall faces the light
+                    continue
+                f = radius[s] / norm
+                for j in range(3):
+                    mid = start[s, j] + 0.5 * (end[s, j] - start[s, j])
+                    points[c, j] = mid + f * (sa * R[s, j, 0] + sb * R[s, j, 1])
+                which[c] = s
+                c += 1
+        point_offsets[P] = c
+        frames = plant_frames(start, end, radius, offsets, u, v, res)
+        _judge(segments, frames, (u, v, d), shadow, (0, points[:c], point_offsets, own[:c]),
+               expo[:c], (np.empty(0), own[:0]), scratch)  # fmt: skip
+        for q in range(c):
+            e = expo[q] * w
+            if e != 0.0:
+                s = which[q]
+                for i in range(W):
+                    out[s, i] += e * cosine[q, i]
     return out
 
 

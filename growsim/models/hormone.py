@@ -182,7 +182,8 @@ def environment_args(env) -> K.Surroundings:
     (:class:`growsim.kernels.hormone.Surroundings`): the light's passes
     (:meth:`growsim.env.Light.passes`), resolution, bias, soft shadows and transmission; the
     water's supply, resistance and lift (scaled by ``g / 9.81``); the gravity's ``g``, wood
-    density, leaf mass per area and wood strength; the ground's height.
+    density, leaf mass per area and wood strength; the ground's height; whether the walls
+    share their module's exposure (``light.walls = "module"``).
 
     Raises :class:`growsim.errors.UserInputError` for the moderngl light backend (the
     model's step is one numba kernel, light included).
@@ -192,7 +193,7 @@ def environment_args(env) -> K.Surroundings:
     >>> from growsim.env import Environment
     >>> env = environment_args(Environment())
     >>> len(env), env.resolution == Environment().light.resolution, env.ground
-    (16, True, 0.0)
+    (17, True, 0.0)
     """
     from growsim.errors import UserInputError
 
@@ -208,6 +209,7 @@ def environment_args(env) -> K.Surroundings:
         float(light.transmission), float(water.supply), float(water.resistance),
         float(water.lift) * float(gravity.g) / 9.81, float(gravity.g), float(gravity.density),
         float(gravity.leaf_mass_per_area), float(gravity.strength), float(env.ground.height),
+        light.walls == "module",
     )  # fmt: skip
 
 

@@ -241,3 +241,53 @@ def point_light_into(segments, targets, lights, shadow, tol_pixels=0.0):
         if tol_pixels > 0:
             edge |= point_exposure(*args, tol_pixels=tol_pixels) & (cos > 0)
     return edge if tol_pixels > 0 else out
+
+
+def module_light_into(segments, walls, lights, shadow, tol_pixels=0.0):
+    """Mirror of :func:`growsim.kernels.light.module_light_into` (without ``scratch`` and
+    ``out``): ``(n, W)`` light on each segment's walls, ``walls`` ``(R, cs)``: wall ``i``
+    of segment ``s`` faces ``n_si = cs[i, 0] R[s][:, 0] + cs[i, 1] R[s][:, 1]``; along
+    each light, the segment's one point ``mid + radius n*`` (``n*`` the unit sum of its
+    walls' normals weighted by their clipped cosines ``max(0, -n_si . d)``) judged as
+    :func:`point_exposure` does, its exposure times each wall's clipped cosine times the
+    weight; a segment none of whose walls faces the light gets none of it. With
+    ``tol_pixels > 0``, the boolean ``(n,)`` of segments whose point lies near an edge
+    along some light.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = np.array([[0.0, 1, 0], [0.0, 0, 0]]); e = s + np.array([0.0, 0, 1])
+    >>> R = np.tile(np.eye(3), (2, 1, 1)); cs = np.array([[0.0, 1], [0.0, -1]])
+    >>> lights = (np.array([[0.0, -1, 0]]), np.array([[1.0, 0, 0]]),
+    ...           np.array([[0.0, 0, -1]]), np.array([1.0]))
+    >>> module_light_into((s, e, np.full(2, 0.1), [0, 2]), (R, cs), lights,
+    ...                   (64, 0.1, False, None)).tolist()
+    [[1.0, 0.0], [0.0, 0.0]]
+    """
+    start, end, radius, offsets = segments
+    R, cs = walls
+    res, bias_pixels, soft, trans = shadow
+    n = len(start)
+    out = np.zeros((n, len(cs)))
+    edge = np.zeros(n, bool)
+    for d, u, v, w in zip(*lights):
+        if w == 0.0:
+            continue
+        x, y = R[:n, None, :, 0], R[:n, None, :, 1]  # the axes across each segment
+        normals = cs[None, :, 0, None] * x + cs[None, :, 1, None] * y  # (n, W, 3)
+        cos = np.maximum(0.0, -(normals @ d))  # (n, W)
+        toward = (cos[:, :, None] * normals).sum(axis=1)
+        norm = np.linalg.norm(toward, axis=1)
+        lit = norm > 0
+        mid = start + 0.5 * (end - start)
+        pts = mid + radius[:, None] * toward / np.where(lit, norm, 1.0)[:, None]
+        pick = np.flatnonzero(lit)
+        # the facing segments' points, plant by plant
+        point_offsets = np.searchsorted(pick, np.asarray(offsets))
+        args = (segments, pts[pick], point_offsets, (u, v, d), res, bias_pixels,
+                trans if soft else None)  # fmt: skip
+        out[pick] += point_exposure(*args)[:, None] * cos[pick] * w
+        if tol_pixels > 0:
+            edge[pick] |= point_exposure(*args, tol_pixels=tol_pixels)
+    return edge if tol_pixels > 0 else out
