@@ -1,0 +1,83 @@
+"""Discovery and confirmation of the hormone sweeps, as one JSON file (issue 29).
+
+Reads the directories ``growsim compare`` wrote for a discovery block (with
+``--confirm`` and ``--garden``) and for the confirmation block alone (with ``--garden``),
+and writes what ``docs/reproduction.md`` reports of them:
+
+- ``primary``: each block's primary tests (``primary.csv``: means, Hedges' g, p, Holm p
+  over the primary tests, finding, seeds a replication needs for 80 % power);
+- ``replication``: ``replication.csv`` (same direction, replicated, verdict);
+- ``garden``: each block's genetic contrasts (origins within a garden) that pass Holm,
+  by garden and measure, light per area apart;
+- ``spread``: each block's coefficient of variation of the best fitness (and of each
+  primary measure) within each environment, from ``runs.csv``.
+
+    growsim compare runs/h3d --confirm runs/h3d-b2 --garden --out runs/h3d-cmp
+    growsim compare runs/h3d-b2 --garden --out runs/h3d-b2-cmp
+    python benchmarks/hormone_replication.py runs/h3d-cmp runs/h3d-b2-cmp \\
+        --json benchmarks/results/hormone_3d_replication.json
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+
+def _records(df: pd.DataFrame) -> list[dict]:
+    return json.loads(df.to_json(orient="records"))
+
+
+def _cv(v) -> float:
+    v = np.asarray(v, dtype=float)
+    return float(v.std(ddof=1) / abs(v.mean())) if len(v) > 1 and v.mean() != 0 else float("nan")
+
+
+def spread(compare_dir: Path, measures: list[str]) -> dict:
+    """CV of the best fitness and of ``measures`` within each group of ``runs.csv``."""
+    runs = pd.read_csv(compare_dir / "runs.csv")
+    out = {}
+    for group, rows in runs.groupby("group", sort=False):
+        cols = ["best_fitness", *[m for m in measures if m in rows.columns]]
+        out[str(group)] = {c: round(_cv(rows[c]), 3) for c in cols}
+        out[str(group)]["best_mean"] = round(float(rows["best_fitness"].mean()), 1)
+    return out
+
+
+def garden(compare_dir: Path, alpha: float = 0.05) -> list[dict]:
+    """The genetic contrasts of the common garden that pass Holm (light per area apart)."""
+    g = pd.read_csv(compare_dir / "garden_stats.csv")
+    keep = (g.contrast == "genetic") & (g.welch_t_p_holm < alpha)
+    hit = g[keep & (g.measure != "light_per_area")]
+    cols = ["within", "measure", "group_a", "group_b", "mean_a", "mean_b", "welch_t_p_holm"]
+    return _records(hit[cols])
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("discovery", help="compare's directory of the discovery block (--confirm)")
+    ap.add_argument("confirmation", help="compare's directory of the confirmation block")
+    ap.add_argument("--json", default=None, help="write the figures here")
+    a = ap.parse_args(argv)
+    d, c = Path(a.discovery), Path(a.confirmation)
+    prim = {k: pd.read_csv(p / "primary.csv") for k, p in (("discovery", d), ("confirmation", c))}
+    measures = sorted(set(prim["discovery"].measure))
+    out = {
+        "primary": {k: _records(v) for k, v in prim.items()},
+        "replication": _records(pd.read_csv(d / "replication.csv")),
+        "garden": {"discovery": garden(d), "confirmation": garden(c)},
+        "spread": {"discovery": spread(d, measures), "confirmation": spread(c, measures)},
+    }
+    text = json.dumps(out, indent=1)
+    if a.json:
+        Path(a.json).write_text(text + "\n")
+    print(text)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
