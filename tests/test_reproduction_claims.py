@@ -106,10 +106,7 @@ TESTED = {
 }
 
 #: rows another issue is rewriting; each must gain a pin file (then leave this set)
-PENDING = {
-    "Uehara: the three environments give different 2D plants",
-    "Uehara: ... and 3D plants",
-}
+PENDING: set[str] = set()
 
 #: a number as a reader reads it: not part of a word (2D, 64x64, 40x, p_1), nor the name of
 #: a table, figure or issue ("Table 1's")
