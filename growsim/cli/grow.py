@@ -235,6 +235,75 @@ class _ModelsHelp(argparse.Action):
         parser.exit()
 
 
+def _stand_env(args: argparse.Namespace, model, env):
+    """``env`` with the explicit stand of ``--stand``/``--spacing`` (``None`` without
+    ``--stand``); bad values raise :class:`growsim.errors.UserInputError` naming the option.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> from growsim.env import Environment
+    >>> from growsim.models import get_model
+    >>> a = argparse.Namespace(stand="2x3", spacing=0.5)
+    >>> _stand_env(a, get_model("hormone"), Environment()).stand.n_plants
+    6
+    """
+    from growsim.env.stand import Stand
+    from growsim.errors import ConfigError
+
+    spacing = getattr(args, "spacing", None)
+    if getattr(args, "stand", None) is None:
+        if spacing is not None:
+            raise UserInputError("--spacing: only with --stand")
+        return None
+    if model.phenotype != "plant":
+        raise UserInputError(f"--stand: {model.name} grows no plants")
+    text = args.stand.lower()
+    try:
+        parts = [int(v) for v in text.split("x")]
+    except ValueError:
+        parts = []
+    if len(parts) not in (1, 2) or min(parts) < 1:
+        raise UserInputError(f"--stand {args.stand}: give RxC (e.g. 5x5) or a count N")
+    table = {"mode": "explicit", "spacing": 1.0 if spacing is None else spacing}
+    if len(parts) == 2:
+        table.update(layout="grid", rows=parts[0], cols=parts[1])
+    else:
+        table.update(layout="row", count=parts[0])
+    try:
+        stand = Stand.parse(table)
+    except ConfigError as exc:
+        raise UserInputError(f"--stand/--spacing: {exc}") from None
+    return env.model_copy(update={"stand": stand})
+
+
+def _placed_copies(plant, stand):
+    """A stand of copies of ``plant`` at ``stand.xz()`` (a model that does not grow
+    plants together: each grew alone; the light on them, ``--color light``, is the
+    stand's).
+
+    Examples
+    --------
+    >>> from growsim.env.stand import Stand
+    >>> from growsim.phenotypes.plant import Plant
+    >>> one = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
+    >>> s = _placed_copies(one, Stand.parse({"mode": "explicit", "layout": "row", "count": 2}))
+    >>> s.data["plant"].tolist(), s.meta["stand"]
+    ([0, 1], [[-0.5, 0.0], [0.5, 0.0]])
+    """
+    import numpy as np
+
+    from growsim.phenotypes.plant import Plant
+
+    xz = stand.xz()
+    offsets = np.stack([xz[:, 0], np.zeros(len(xz)), xz[:, 1]], axis=1)
+    copies = Plant.concat([plant] * len(xz), offsets=offsets)
+    which = np.repeat(np.arange(len(xz)), plant.n_segments)
+    meta = {**plant.meta, "stand": xz.tolist()}
+    return Plant(copies.start, copies.end, copies.radius, copies.parent, copies.order,
+                 copies.kind, {**copies.data, "plant": which}, meta)  # fmt: skip
+
+
 def run_grow(args: argparse.Namespace) -> int:
     """Body of ``growsim grow`` (see ``growsim grow --help``)."""
     from growsim.models import get_model
@@ -271,7 +340,17 @@ def run_grow(args: argparse.Namespace) -> int:
     ):
         raise UserInputError(f"--export {args.export}: use .vtp, .ply, .obj or .glb")
     # models default their own seed (honda: its ``seed`` parameter); pass one only if given
-    plant = model.develop(params, seed=args.seed, env=env)
+    stand = _stand_env(args, model, env)
+    if stand is not None and args.model == "hormone":  # grown together, shading each other
+        from growsim.models.hormone import grow_stand
+
+        env = stand
+        *_, plant = grow_stand(params, env=env)
+    elif stand is not None:  # other models: copies of one plant placed (grown alone)
+        env = stand
+        plant = _placed_copies(model.develop(params, seed=args.seed, env=env), env.stand)
+    else:
+        plant = model.develop(params, seed=args.seed, env=env)
     args.environment_label = base[1] if base is not None else "default"
     if model.phenotype != "plant":
         return _report_other(args, plant, params)
@@ -313,6 +392,11 @@ def run_grow(args: argparse.Namespace) -> int:
         },
         "measures": plant.measures(),
     }
+    if stand is not None:
+        from growsim.phenotypes.stand import plant_table, stand_measures
+
+        info["stand"] = stand_measures(plant, env.stand.ground_area())
+        info["plants"] = plant_table(plant).to_dict(orient="records")
     if args.json:
         json.dump(info, sys.stdout, indent=2)
         sys.stdout.write("\n")
@@ -425,5 +509,13 @@ def register(subparsers) -> None:
     )
     p.add_argument("--sides", type=int, default=6, help="tube polygon sides")
     p.add_argument("--segments", type=int, default=1, help="tube pieces per segment")
+    p.add_argument(
+        "--stand",
+        metavar="RxC|N",
+        help="a stand of copies: a grid RxC (e.g. 5x5) or a row of N; hormone plants grow "
+        "together sharing one light, other models' copies are placed; measures per plant "
+        "in --json",
+    )
+    p.add_argument("--spacing", type=float, metavar="S", help="--stand: distance (m, default 1)")
     p.add_argument("--json", action="store_true", help="print counts and measures as JSON")
     p.set_defaults(func=run_grow)

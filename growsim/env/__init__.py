@@ -6,6 +6,7 @@
 - :mod:`growsim.env.gravity`: :class:`Gravity` (loads, bending stress, breaking joints);
 - :mod:`growsim.env.water`: :class:`Water` (transport by negative pressure: :func:`transport`);
 - :mod:`growsim.env.ground`: :class:`Ground` (the soil surface);
+- :mod:`growsim.env.stand`: :class:`Stand` (the neighbours: alone or an explicit stand);
 - :mod:`growsim.env.tank`: :class:`Tank` and :class:`Obstacle`.
 
 Examples
@@ -19,6 +20,7 @@ from growsim.env.environment import Environment
 from growsim.env.gravity import Gravity, Loads
 from growsim.env.ground import Ground
 from growsim.env.light import Light, projected_area, view_basis
+from growsim.env.stand import Stand
 from growsim.env.tank import Obstacle, Tank
 from growsim.env.water import Water, WaterFlow, transport
 
@@ -29,6 +31,7 @@ __all__ = [
     "Light",
     "Loads",
     "Obstacle",
+    "Stand",
     "Tank",
     "Water",
     "WaterFlow",

@@ -2,7 +2,8 @@
 
 :class:`Environment` gathers the parts, each a frozen table with its own module: light
 (:mod:`growsim.env.light`), gravity (:mod:`growsim.env.gravity`), water
-(:mod:`growsim.env.water`), the ground (:mod:`growsim.env.ground`) and an optional tank
+(:mod:`growsim.env.water`), the ground (:mod:`growsim.env.ground`), the stand
+(:mod:`growsim.env.stand`) and an optional tank
 (:mod:`growsim.env.tank`). Models and objectives receive it as built; nothing copies it.
 
 Shorthands kept from the first configs: ``light = 0.5`` is
@@ -23,6 +24,7 @@ from pydantic import Field, model_validator
 from growsim.env.gravity import Gravity
 from growsim.env.ground import Ground
 from growsim.env.light import Light
+from growsim.env.stand import Stand
 from growsim.env.tank import Tank
 from growsim.env.water import Water
 from growsim.options import Options
@@ -61,6 +63,7 @@ class Environment(Options):
     gravity: Gravity = Field(default_factory=Gravity, description="gravity")
     water: Water = Field(default_factory=Water, description="water supply")
     ground: Ground = Field(default_factory=Ground, description="the soil surface")
+    stand: Stand = Field(default_factory=Stand, description="the neighbours (default: alone)")
     tank: Tank | None = Field(None, description="a tank with obstacles (agents that swim)")
 
     @model_validator(mode="before")

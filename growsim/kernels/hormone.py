@@ -33,6 +33,9 @@ __all__ = [
     "grow_population",
     "grow_step",
     "new_plant",
+    "new_stand",
+    "periodic_light",
+    "periodic_shifts",
     "place_kernel",
     "step_kernel",
     "total",
@@ -501,6 +504,39 @@ def new_plant(modules, c):
 
 
 @njit
+def new_stand(modules, c, xz, ground):
+    """Reset :class:`Modules` ``modules`` to a stand of seedlings, one per row of ``xz``
+    ``(N, 2)``: module ``i`` is plant ``i``'s root, a :func:`new_plant` seedling standing
+    at ``(x, ground, z)``. Every module after them descends from one root (parents
+    first), so one module array holds the whole stand and one :func:`grow_step` grows
+    it: one shadow map for all plants, each root its own water. Returns ``N``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> modules = new_module_arrays(4, 2)
+    >>> xz = np.array([[-1.0, 0.0], [1.0, 0.5]])
+    >>> new_stand(modules, np.full(N_CONSTANTS, 0.1), xz, 0.0), modules.parent[:2].tolist()
+    (2, [-1, -1])
+    >>> modules.origin[1].tolist(), modules.R[1, :, 2].tolist()
+    ([1.0, 0.0, 0.5], [0.0, 1.0, 0.0])
+    """
+    new_plant(modules, c)
+    N = xz.shape[0]
+    for i in range(N):
+        modules.R[i] = modules.R[0]
+        modules.length[i] = modules.length[0]
+        modules.radius[i] = modules.radius[0]
+        modules.nutrient[i] = modules.nutrient[0]
+        modules.chlorophyll[i] = 1.0
+        modules.apex[i] = True
+        modules.origin[i, 0] = xz[i, 0]
+        modules.origin[i, 1] = ground
+        modules.origin[i, 2] = xz[i, 1]
+    return N
+
+
+@njit
 def _ends(n, origin, length, R, end):
     """``end[m] = origin[m] + length[m] R[m][:, 2]`` for modules ``0..n-1``."""
     for m in range(n):
@@ -523,7 +559,7 @@ def _on_soil_unlit(n, end, length, ground, wall_light, light, demand):
 
 
 @njit
-def grow_step(n, dims, modules, scratch, genes, c, strength_young, env):
+def grow_step(n, dims, modules, scratch, genes, c, strength_young, env, shifts):
     """One step of a plant in its environment ``env`` (:class:`Surroundings`), all in one
     call; returns ``(n_new, stop)``, ``stop`` an index into :data:`STOPS` (``STOP_CAP``
     when the cap held back new modules, which does not stop the plant; ``STOP_NAN``,
@@ -552,7 +588,9 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env):
        reaches it stops the plant.
 
     ``modules`` (:class:`Modules`) are updated in place; ``scratch`` is the shadow maps'
-    scratch (:func:`growsim.kernels.light.shadow_scratch` of ``env.resolution``).
+    scratch (:func:`growsim.kernels.light.shadow_scratch` of ``env.resolution``);
+    ``shifts`` ``(k, 3)``: a periodic stand, the plant among copies of it moved by each
+    row (:func:`periodic_shifts`, :func:`periodic_light`; ``(0, 3)``: alone).
     :func:`growsim.models.hormone.grow` calls this once per step; :func:`grow_population`
     runs whole populations through it.
 
@@ -574,7 +612,9 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env):
     trans = np.full(n, env.transmission) if env.soft else np.empty(0)
     lights = (env.dirs, env.us, env.vs, env.weights)
     shadow = (env.resolution, env.bias, env.soft, trans)
-    if env.shared:  # one exposure per module and light, a cosine per wall
+    if shifts.shape[0] > 0:  # a periodic stand: the plant among its copies
+        lit = periodic_light(n, dims, modules, env, shifts, scratch)
+    elif env.shared:  # one exposure per module and light, a cosine per wall
         lit = module_light_into((start, end, radius[:n], offsets),
                                 (R, wall_angles(walls, dims)), lights, shadow, scratch,
                                 wall_light[:n]).reshape(n * walls)  # fmt: skip
@@ -627,6 +667,79 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env):
         if loads[3, q] >= 1.0:
             return n_new, STOP_BROKEN
     return n_new, STOP_CAP if n_new >= cap else STOP_NONE
+
+
+def periodic_shifts(spacing, rings, dims):
+    """``(k, 3)`` the offsets of a periodic stand's copies around the focal plant: a
+    square lattice of ``spacing`` on the x-z plane (3D) or on x (2D), every cell within
+    ``rings`` cells of the focal one but itself (8 for one ring in 3D, 2 in 2D).
+
+    Examples
+    --------
+    >>> periodic_shifts(2.0, 1, 2).tolist()
+    [[-2.0, 0.0, 0.0], [2.0, 0.0, 0.0]]
+    >>> periodic_shifts(1.0, 1, 3).shape
+    (8, 3)
+    """
+    out = []
+    zs = range(-rings, rings + 1) if dims == 3 else (0,)
+    for j in zs:
+        for i in range(-rings, rings + 1):
+            if i or j:
+                out.append([i * spacing, 0.0, j * spacing])
+    return np.array(out, dtype=np.float64).reshape(-1, 3)
+
+
+@njit
+def periodic_light(n, dims, modules, env, shifts, scratch):
+    """``(n * walls,)`` the light on each wall of modules ``0..n-1`` (placed: ``origin``
+    up to date) among copies of them moved by ``shifts`` ``(k, 3)``: one shadow map per
+    light of all ``(k + 1) n`` segments, only the focal walls' points judged (each wall's
+    point and normal as :func:`grow_step`'s per-wall light): :func:`grow_step`'s light
+    when given ``shifts``.
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> from growsim.models.hormone import PARAMS, environment_args, resolve_params, seedling
+    >>> n, s = seedling(resolve_params(PARAMS, {"dims": 2}), Environment())
+    >>> env, m = environment_args(Environment()), s["modules"]
+    >>> periodic_light(n, 2, m, env, np.zeros((0, 3)), s["scratch"]).tolist()  # from above
+    [0.0, 0.0]
+    """
+    R, origin, length, radius = modules.R, modules.origin, modules.length, modules.radius
+    walls = modules.hormone.shape[1]
+    start = origin[:n]
+    end = _ends(n, origin, length, R, np.empty((n, 3)))
+    k = shifts.shape[0]
+    all_start = np.empty(((k + 1) * n, 3))
+    all_end = np.empty(((k + 1) * n, 3))
+    all_radius = np.empty((k + 1) * n)
+    for j in range(k + 1):
+        for q in range(n):
+            for a in range(3):
+                d = shifts[j - 1, a] if j > 0 else 0.0
+                all_start[j * n + q, a] = start[q, a] + d
+                all_end[j * n + q, a] = end[q, a] + d
+            all_radius[j * n + q] = radius[q]
+    trans = np.full((k + 1) * n, env.transmission) if env.soft else np.empty(0)
+    m = n * walls
+    normals = wall_normals(n, R, walls, dims, np.empty((n, walls, 3)))
+    points = np.empty((m, 3))
+    unit = np.empty((m, 3))
+    for q in range(n):
+        for i in range(walls):
+            nx, ny, nz = normals[q, i, 0], normals[q, i, 1], normals[q, i, 2]
+            norm = math.sqrt(nx * nx + ny * ny + nz * nz)
+            for a in range(3):
+                mid = start[q, a] + 0.5 * (end[q, a] - start[q, a])
+                points[q * walls + i, a] = mid + radius[q] * normals[q, i, a]
+                unit[q * walls + i, a] = normals[q, i, a] / norm
+    return point_light_into(
+        (all_start, all_end, all_radius, np.array([0, (k + 1) * n], np.int64)),
+        (points, np.array([0, m], np.int64), unit), (env.dirs, env.us, env.vs, env.weights),
+        (env.resolution, env.bias, env.soft, trans), scratch, np.empty(m),
+    )  # fmt: skip
 
 
 @njit
@@ -704,6 +817,7 @@ def grow_population(genes, c, strength_young, dims, walls, steps, cap, env):
     modules = Modules(parent, R, origin, length, radius, nutrient, chlorophyll, lignin, apex,
                       laterals, hormone, wall_light, met, light)  # fmt: skip
     scratch = shadow_scratch(env.resolution)
+    alone = np.zeros((0, 3))  # no copies: every plant alone
     out_total = np.empty(P)
     out_modules = np.empty(P, np.int64)
     out_stop = np.zeros(P, np.int64)
@@ -713,7 +827,8 @@ def grow_population(genes, c, strength_young, dims, walls, steps, cap, env):
         n = new_plant(modules, cp)
         stop = STOP_NONE
         for _ in range(steps):
-            n, code = grow_step(n, dims, modules, scratch, genes[p], cp, strength_young[p], env)
+            n, code = grow_step(n, dims, modules, scratch, genes[p], cp, strength_young[p], env,
+                                alone)
             out_steps[p] += n
             if code != STOP_NONE:
                 stop = code

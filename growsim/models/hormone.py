@@ -59,6 +59,8 @@ __all__ = [
     "environment_args",
     "genes",
     "grow",
+    "grow_periodic",
+    "grow_stand",
     "population",
     "seedling",
 ]
@@ -215,7 +217,11 @@ def environment_args(env) -> K.Surroundings:
 
 def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Plant]:
     """Grow a plant step by step, yielding it after every step (see the module): one
-    :func:`growsim.kernels.hormone.grow_step` per step.
+    :func:`growsim.kernels.hormone.grow_step` per step. In a stand
+    (``environment.stand.mode``): ``"periodic"`` grows it among its own copies
+    (:func:`grow_periodic`), ``"explicit"`` grows the stand of copies and yields it
+    (:func:`grow_stand`; its ``total_nutrient`` is the stand's), so :func:`develop` and
+    the ``nutrient`` objective score the plant in its stand.
 
     Examples
     --------
@@ -227,6 +233,12 @@ def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Pla
 
     p = resolve_params(PARAMS, params, where="hormone.")
     env = env if env is not None else Environment()
+    if env.stand.mode == "periodic":  # the plant among its own copies
+        yield from grow_periodic(p, env=env)
+        return
+    if env.stand.mode == "explicit":  # a stand of copies: the stand is the phenotype
+        yield from grow_stand(p, env=env)
+        return
     n, s = seedling(p, env)
     stopped = ""
     for step in range(int(p["steps"])):
@@ -236,6 +248,109 @@ def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Pla
         yield _plant(p, n, s["modules"], step + 1, stopped, s["env"].ground)
         if code in (K.STOP_NAN, K.STOP_BROKEN):
             return
+
+
+def grow_stand(params: Mapping[str, float] | None = None, *, env=None, xz=None) -> Iterator[Plant]:
+    """Grow an explicit stand of copies of one genome step by step, yielding the stand
+    (one :class:`Plant`, every plant's modules) after every step.
+
+    The plants stand at ``xz`` ``(N, 2)`` (default: ``env.stand.xz()``, the
+    ``[environment.stand]`` positions; ``[x, z]`` on the ground, ``z`` must be 0 in 2D).
+    One module array holds them all (:func:`growsim.kernels.hormone.new_stand`): every
+    step they share one shadow map per light (each plant shades the others) and each root
+    draws its own water; the module cap is ``max_modules`` per plant, shared by the
+    stand. The stand's ``data["plant"]`` gives each module's plant; ``meta["stand"]``
+    the positions, ``meta["total_nutrient"]`` the stand's nutrient and
+    ``meta["plant_nutrient"]`` each plant's. With one plant at the origin this is
+    :func:`grow`, step for step.
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> env = Environment.model_validate({"light": {"diffuse": 0.5}})
+    >>> xz = np.array([[-0.5, 0.0], [0.5, 0.0]])
+    >>> stand = list(grow_stand({**PRESETS["demo_2d"], "steps": 5}, env=env, xz=xz))[-1]
+    >>> sorted(set(stand.data["plant"].tolist())), stand.meta["stand"]
+    ([0, 1], [[-0.5, 0.0], [0.5, 0.0]])
+    """
+    from growsim.env import Environment
+    from growsim.errors import UserInputError
+
+    p = resolve_params(PARAMS, params, where="hormone.")
+    env = env if env is not None else Environment()
+    xz = env.stand.xz() if xz is None else np.asarray(xz, dtype=np.float64).reshape(-1, 2)
+    if int(p["dims"]) == 2 and np.any(xz[:, 1] != 0.0):
+        raise UserInputError(
+            "environment.stand.positions: a 2D plant grows in the x-y plane: every z must "
+            "be 0 (use layout = 'row' or positions [[x, 0], ...])"
+        )
+    N = len(xz)
+    n, s = seedling({**p, "max_modules": int(p["max_modules"]) * N}, env)
+    n = K.new_stand(s["modules"], s["c"], np.ascontiguousarray(xz), 0.0)
+    stopped = ""
+    for step in range(int(p["steps"])):
+        n, code = K.grow_step(n, *s.values())
+        if code != K.STOP_NONE:
+            stopped = K.STOPS[code]
+        yield _stand_plant(p, n, s["modules"], step + 1, stopped, s["env"].ground, xz)
+        if code in (K.STOP_NAN, K.STOP_BROKEN):
+            return
+
+
+def grow_periodic(
+    params: Mapping[str, float] | None = None, *, env=None, spacing=None, rings=None
+) -> Iterator[Plant]:
+    """Grow a plant in an endless monoculture of its own copies (periodic boundaries),
+    yielding it after every step: each step the focal plant is shaded by its copies on a
+    square lattice of ``spacing`` (default ``env.stand.spacing``; x-z plane in 3D, x in
+    2D) within ``rings`` cells (default ``env.stand.rings``; 8 copies for one ring in
+    3D), one shadow map per light (:func:`growsim.kernels.hormone.grow_step` with the
+    copies' ``shifts``; each wall its own point). A plant
+    wider than about ``2 rings + 1`` spacings misses the shade of copies further out.
+    ``meta["spacing"]`` and ``meta["rings"]`` say how it was grown.
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> env = Environment.model_validate(PRESET_ENVIRONMENTS["demo_3d"])
+    >>> p = {**PRESETS["demo_3d"], "steps": 12}
+    >>> dense = list(grow_periodic(p, env=env, spacing=0.5))[-1]
+    >>> dense.meta["total_nutrient"] < develop(p, env=env).meta["total_nutrient"]
+    True
+    """
+    from growsim.env import Environment
+
+    p = resolve_params(PARAMS, params, where="hormone.")
+    env = env if env is not None else Environment()
+    spacing = float(env.stand.spacing if spacing is None else spacing)
+    rings = int(env.stand.rings if rings is None else rings)
+    shifts = K.periodic_shifts(spacing, int(rings), int(p["dims"]))
+    n, s = seedling(p, env)
+    s["shifts"] = shifts
+    stopped = ""
+    for step in range(int(p["steps"])):
+        n, code = K.grow_step(n, *s.values())
+        if code != K.STOP_NONE:
+            stopped = K.STOPS[code]
+        plant = _plant(p, n, s["modules"], step + 1, stopped, s["env"].ground)
+        plant.meta.update(spacing=spacing, rings=int(rings))
+        yield plant
+        if code in (K.STOP_NAN, K.STOP_BROKEN):
+            return
+
+
+def _stand_plant(p, n, modules, steps, stopped, ground, xz) -> Plant:
+    plant = _plant(p, n, modules, steps, stopped, ground)
+    N = len(xz)
+    which = np.empty(n, np.int64)
+    parent = modules.parent
+    for m in range(n):  # parents first: a module belongs to its parent's plant
+        which[m] = m if m < N else which[parent[m]]
+    nutrient = np.bincount(which, weights=plant.data["nutrient"], minlength=N)
+    data = {**plant.data, "plant": which}
+    meta = {**plant.meta, "stand": xz.tolist(), "plant_nutrient": nutrient.tolist()}
+    return Plant(plant.start, plant.end, plant.radius, plant.parent, plant.order, plant.kind,
+                 data, meta)  # fmt: skip
 
 
 def seedling(p: Mapping[str, float], env) -> tuple[int, dict]:
@@ -268,6 +383,7 @@ def seedling(p: Mapping[str, float], env) -> tuple[int, dict]:
         "c": c,
         "strength_young": float(p["strength_young"]),
         "env": environment_args(env),
+        "shifts": np.zeros((0, 3)),  # alone: no copies (a periodic stand's offsets)
     }
     n = K.new_plant(s["modules"], c)
     return n, s
@@ -313,7 +429,9 @@ def population(params, names: Sequence[str], env=None) -> pd.DataFrame | None:
     ``total_nutrient`` (as :func:`develop`'s ``meta``; NaN for a plant stopped by a NaN),
     ``modules``, ``stopped`` (``""``, ``"cap"``, ``"nan"``, ``"broken"``) and
     ``module_steps`` (modules alive summed over the steps), or ``None`` when the rows'
-    settings (``dims``, ``walls``, ``steps``, ``max_modules``) differ.
+    settings (``dims``, ``walls``, ``steps``, ``max_modules``) differ or ``env`` has a
+    stand (``environment.stand.mode`` not ``"alone"``: then each plant grows by
+    :func:`grow`).
 
     Raises :class:`growsim.errors.UserInputError` for a missing column or a value out of
     its range (naming the parameter and row).
@@ -335,6 +453,8 @@ def population(params, names: Sequence[str], env=None) -> pd.DataFrame | None:
     from growsim.errors import UserInputError
 
     env = env if env is not None else Environment()
+    if env.stand.mode != "alone":  # a stand: plant by plant (grow)
+        return None
     x = np.atleast_2d(np.asarray(params, dtype=np.float64))
     col = {n: i for i, n in enumerate(names)}
     for q in PARAMS:

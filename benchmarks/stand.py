@@ -1,0 +1,82 @@
+"""Speed of stands of hormone plants (JSON).
+
+    NUMBA_NUM_THREADS=1 python benchmarks/stand.py [--repeats 3]
+
+- ``periodic_vs_alone``: the 3D demo genome (40 steps, the configs' light: sun a little
+  off the vertical, half the light from the sky) grown alone
+  (:func:`growsim.models.hormone.develop`) and in a periodic stand
+  (:func:`growsim.models.hormone.grow_periodic`, spacing 1 m, one and two rings of
+  copies), timed in turn under one load; ``ratio`` is periodic over alone (issue 30's bar:
+  at most 1.5). The plants differ (the periodic one is shaded), so the ratio per
+  module-step is given too.
+- ``stand_9x200x40``: an explicit stand of 9 copies (3 x 3 at 1 m) of the 3D demo genome,
+  200 modules each at most, 40 steps (:func:`growsim.models.hormone.grow_stand`), wall
+  time (issue 30's bar for a mixture of 9 plants: at most 1 s).
+
+Best of ``--repeats`` after a warm-up call (numba compiled and cached first).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import time
+
+import numpy as np
+
+
+def _best(fn, repeats):
+    fn()  # warm-up (compile)
+    best = np.inf
+    for _ in range(repeats):
+        t = time.perf_counter()
+        out = fn()
+        best = min(best, time.perf_counter() - t)
+    return best, out
+
+
+def main(argv=None) -> dict:
+    """Run the benchmarks and return their JSON-able results."""
+    from growsim.env import Environment
+    from growsim.models import hormone as H
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=3)
+    args = ap.parse_args(argv)
+    env = Environment.parse(H.PRESET_ENVIRONMENTS["demo_3d"])
+    p = {**H.PRESETS["demo_3d"], "steps": 40}
+
+    def steps_of(plants):
+        return sum(x.n_segments for x in plants)
+
+    out = {"load": os.getloadavg()[0]}
+    t_alone, alone = _best(lambda: list(H.grow(p, env=env)), args.repeats)
+    res = {"alone_s": t_alone, "alone_module_steps": steps_of(alone)}
+    for rings in (1, 2):
+        t, plants = _best(
+            lambda rings=rings: list(H.grow_periodic(p, env=env, spacing=1.0, rings=rings)),
+            args.repeats,
+        )
+        ms = steps_of(plants)
+        res[f"rings{rings}"] = {
+            "s": t,
+            "module_steps": ms,
+            "ratio": t / t_alone,
+            "ratio_per_module_step": (t / ms) / (t_alone / res["alone_module_steps"]),
+        }
+    out["periodic_vs_alone"] = res
+    stand_env = Environment.parse(
+        {**H.PRESET_ENVIRONMENTS["demo_3d"],
+         "stand": {"mode": "explicit", "rows": 3, "cols": 3, "spacing": 1.0}}
+    )  # fmt: skip
+    q = {**p, "max_modules": 200}
+    t, stand = _best(lambda: list(H.grow_stand(q, env=stand_env))[-1], args.repeats)
+    out["stand_9x200x40"] = {"s": t, "modules": stand.n_segments}
+    out["load_after"] = os.getloadavg()[0]
+    print(json.dumps(out, indent=2))
+    return out
+
+
+if __name__ == "__main__":
+    main()
