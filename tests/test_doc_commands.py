@@ -80,10 +80,6 @@ INSTEAD = {
         "DIR is a placeholder",
         "growsim fit-image picture.png --model ifs2d --out runs/fit-ifs2d",
     ),
-    "growsim compare DIR --garden": (
-        "DIR is a placeholder for the sweep directories written above it",
-        "growsim compare runs/*-sweep-* --garden",
-    ),
 }
 
 #: commands checked by the parser only, and why they cannot run in a test
