@@ -14,6 +14,7 @@ import pytest
 from growsim.env import Environment, Stand
 from growsim.errors import ConfigError
 from growsim.kernels import hormone as K
+from growsim.kernels import stand as KS
 from growsim.models import hormone as H
 from growsim.phenotypes.plant import Plant
 from growsim.phenotypes.stand import PLANT_COLUMNS, plant_table, stand_measures
@@ -145,8 +146,8 @@ def test_periodic_light_agrees_with_an_explicit_7x7_stand_of_copies(preset, step
     (benchmarks/log/stand.md)."""
     n, s, dims = _grown(preset, steps, 2048)
     m, env, scratch = s["modules"], s["env"], s["scratch"]
-    explicit = K.periodic_light(n, dims, m, env, K.periodic_shifts(spacing, 3, dims), scratch)
-    periodic = K.periodic_light(n, dims, m, env, K.periodic_shifts(spacing, 2, dims), scratch)
+    explicit = K.walls_light(n, dims, m, env, KS.periodic_shifts(spacing, 3, dims), scratch)
+    periodic = K.walls_light(n, dims, m, env, KS.periodic_shifts(spacing, 2, dims), scratch)
     a, b = periodic.reshape(n, -1).mean(1), explicit.reshape(n, -1).mean(1)
     assert abs(a.sum() / b.sum() - 1.0) < 0.03
     assert np.abs(a - b).mean() / b.mean() < 0.10

@@ -33,15 +33,13 @@ __all__ = [
     "grow_population",
     "grow_step",
     "new_plant",
-    "new_stand",
-    "periodic_light",
-    "periodic_shifts",
     "place_kernel",
     "step_kernel",
     "total",
     "wall_angles",
     "wall_frame",
     "wall_normals",
+    "walls_light",
 ]
 
 #: the hormones and their roles (index: role)
@@ -504,39 +502,6 @@ def new_plant(modules, c):
 
 
 @njit
-def new_stand(modules, c, xz, ground):
-    """Reset :class:`Modules` ``modules`` to a stand of seedlings, one per row of ``xz``
-    ``(N, 2)``: module ``i`` is plant ``i``'s root, a :func:`new_plant` seedling standing
-    at ``(x, ground, z)``. Every module after them descends from one root (parents
-    first), so one module array holds the whole stand and one :func:`grow_step` grows
-    it: one shadow map for all plants, each root its own water. Returns ``N``.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> modules = new_module_arrays(4, 2)
-    >>> xz = np.array([[-1.0, 0.0], [1.0, 0.5]])
-    >>> new_stand(modules, np.full(N_CONSTANTS, 0.1), xz, 0.0), modules.parent[:2].tolist()
-    (2, [-1, -1])
-    >>> modules.origin[1].tolist(), modules.R[1, :, 2].tolist()
-    ([1.0, 0.0, 0.5], [0.0, 1.0, 0.0])
-    """
-    new_plant(modules, c)
-    N = xz.shape[0]
-    for i in range(N):
-        modules.R[i] = modules.R[0]
-        modules.length[i] = modules.length[0]
-        modules.radius[i] = modules.radius[0]
-        modules.nutrient[i] = modules.nutrient[0]
-        modules.chlorophyll[i] = 1.0
-        modules.apex[i] = True
-        modules.origin[i, 0] = xz[i, 0]
-        modules.origin[i, 1] = ground
-        modules.origin[i, 2] = xz[i, 1]
-    return N
-
-
-@njit
 def _ends(n, origin, length, R, end):
     """``end[m] = origin[m] + length[m] R[m][:, 2]`` for modules ``0..n-1``."""
     for m in range(n):
@@ -590,7 +555,8 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env, shifts):
     ``modules`` (:class:`Modules`) are updated in place; ``scratch`` is the shadow maps'
     scratch (:func:`growsim.kernels.light.shadow_scratch` of ``env.resolution``);
     ``shifts`` ``(k, 3)``: a periodic stand, the plant among copies of it moved by each
-    row (:func:`periodic_shifts`, :func:`periodic_light`; ``(0, 3)``: alone).
+    row (:func:`growsim.kernels.stand.periodic_shifts`, :func:`walls_light`; ``(0, 3)``:
+    alone).
     :func:`growsim.models.hormone.grow` calls this once per step; :func:`grow_population`
     runs whole populations through it.
 
@@ -612,29 +578,12 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env, shifts):
     trans = np.full(n, env.transmission) if env.soft else np.empty(0)
     lights = (env.dirs, env.us, env.vs, env.weights)
     shadow = (env.resolution, env.bias, env.soft, trans)
-    if shifts.shape[0] > 0:  # a periodic stand: the plant among its copies
-        lit = periodic_light(n, dims, modules, env, shifts, scratch)
-    elif env.shared:  # one exposure per module and light, a cosine per wall
+    if env.shared and shifts.shape[0] == 0:  # one exposure per module and light
         lit = module_light_into((start, end, radius[:n], offsets),
                                 (R, wall_angles(walls, dims)), lights, shadow, scratch,
                                 wall_light[:n]).reshape(n * walls)  # fmt: skip
-    else:  # each wall's own point
-        m = n * walls
-        normals = wall_normals(n, R, walls, dims, np.empty((n, walls, 3)))
-        points = np.empty((m, 3))
-        unit = np.empty((m, 3))
-        for q in range(n):
-            for i in range(walls):
-                nx, ny, nz = normals[q, i, 0], normals[q, i, 1], normals[q, i, 2]
-                norm = math.sqrt(nx * nx + ny * ny + nz * nz)
-                for k in range(3):
-                    mid = start[q, k] + 0.5 * (end[q, k] - start[q, k])
-                    points[q * walls + i, k] = mid + radius[q] * normals[q, i, k]
-                    unit[q * walls + i, k] = normals[q, i, k] / norm
-        lit = point_light_into(
-            (start, end, radius[:n], offsets), (points, np.array([0, m], np.int64), unit),
-            lights, shadow, scratch, np.empty(m),
-        )  # fmt: skip
+    else:  # each wall's own point (in a periodic stand, among the plant's copies)
+        lit = walls_light(n, dims, modules, env, shifts, scratch)
     demand = np.empty(n)
     for q in range(n):
         acc = 0.0
@@ -669,34 +618,13 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env, shifts):
     return n_new, STOP_CAP if n_new >= cap else STOP_NONE
 
 
-def periodic_shifts(spacing, rings, dims):
-    """``(k, 3)`` the offsets of a periodic stand's copies around the focal plant: a
-    square lattice of ``spacing`` on the x-z plane (3D) or on x (2D), every cell within
-    ``rings`` cells of the focal one but itself (8 for one ring in 3D, 2 in 2D).
-
-    Examples
-    --------
-    >>> periodic_shifts(2.0, 1, 2).tolist()
-    [[-2.0, 0.0, 0.0], [2.0, 0.0, 0.0]]
-    >>> periodic_shifts(1.0, 1, 3).shape
-    (8, 3)
-    """
-    out = []
-    zs = range(-rings, rings + 1) if dims == 3 else (0,)
-    for j in zs:
-        for i in range(-rings, rings + 1):
-            if i or j:
-                out.append([i * spacing, 0.0, j * spacing])
-    return np.array(out, dtype=np.float64).reshape(-1, 3)
-
-
 @njit
-def periodic_light(n, dims, modules, env, shifts, scratch):
+def walls_light(n, dims, modules, env, shifts, scratch):
     """``(n * walls,)`` the light on each wall of modules ``0..n-1`` (placed: ``origin``
-    up to date) among copies of them moved by ``shifts`` ``(k, 3)``: one shadow map per
-    light of all ``(k + 1) n`` segments, only the focal walls' points judged (each wall's
-    point and normal as :func:`grow_step`'s per-wall light): :func:`grow_step`'s light
-    when given ``shifts``.
+    up to date) at its own point (on the surface, halfway along the module) with its
+    outward normal, through one shadow map per light of the modules and of their copies
+    moved by ``shifts`` ``(k, 3)`` (a periodic stand; ``(0, 3)``: the plant alone): only
+    the plant's own wall points are judged. :func:`grow_step`'s exact light.
 
     Examples
     --------
@@ -704,7 +632,7 @@ def periodic_light(n, dims, modules, env, shifts, scratch):
     >>> from growsim.models.hormone import PARAMS, environment_args, resolve_params, seedling
     >>> n, s = seedling(resolve_params(PARAMS, {"dims": 2}), Environment())
     >>> env, m = environment_args(Environment()), s["modules"]
-    >>> periodic_light(n, 2, m, env, np.zeros((0, 3)), s["scratch"]).tolist()  # from above
+    >>> walls_light(n, 2, m, env, np.zeros((0, 3)), s["scratch"]).tolist()  # from above
     [0.0, 0.0]
     """
     R, origin, length, radius = modules.R, modules.origin, modules.length, modules.radius

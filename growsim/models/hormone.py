@@ -42,6 +42,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from growsim.kernels import hormone as K
+from growsim.kernels import stand as KS
 from growsim.kernels.light import shadow_scratch
 from growsim.models.base import Model, Param, resolve_params
 from growsim.phenotypes.plant import Plant
@@ -256,7 +257,7 @@ def grow_stand(params: Mapping[str, float] | None = None, *, env=None, xz=None) 
 
     The plants stand at ``xz`` ``(N, 2)`` (default: ``env.stand.xz()``, the
     ``[environment.stand]`` positions; ``[x, z]`` on the ground, ``z`` must be 0 in 2D).
-    One module array holds them all (:func:`growsim.kernels.hormone.new_stand`): every
+    One module array holds them all (:func:`growsim.kernels.stand.new_stand`): every
     step they share one shadow map per light (each plant shades the others) and each root
     draws its own water; the module cap is ``max_modules`` per plant, shared by the
     stand. The stand's ``data["plant"]`` gives each module's plant; ``meta["stand"]``
@@ -286,7 +287,7 @@ def grow_stand(params: Mapping[str, float] | None = None, *, env=None, xz=None) 
         )
     N = len(xz)
     n, s = seedling({**p, "max_modules": int(p["max_modules"]) * N}, env)
-    n = K.new_stand(s["modules"], s["c"], np.ascontiguousarray(xz), 0.0)
+    n = KS.new_stand(s["modules"], s["c"], np.ascontiguousarray(xz), 0.0)
     stopped = ""
     for step in range(int(p["steps"])):
         n, code = K.grow_step(n, *s.values())
@@ -324,7 +325,7 @@ def grow_periodic(
     env = env if env is not None else Environment()
     spacing = float(env.stand.spacing if spacing is None else spacing)
     rings = int(env.stand.rings if rings is None else rings)
-    shifts = K.periodic_shifts(spacing, int(rings), int(p["dims"]))
+    shifts = KS.periodic_shifts(spacing, int(rings), int(p["dims"]))
     n, s = seedling(p, env)
     s["shifts"] = shifts
     stopped = ""

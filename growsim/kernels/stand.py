@@ -1,0 +1,69 @@
+"""Kernels of a stand of hormone plants (``[environment.stand]``): an explicit stand as
+one module array with a root per plant (:func:`new_stand`), and the offsets of a
+periodic stand's copies (:func:`periodic_shifts`) that
+:func:`growsim.kernels.hormone.grow_step` shades the plant with.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from growsim.kernels.config import njit
+from growsim.kernels.hormone import new_plant
+
+__all__ = ["new_stand", "periodic_shifts"]
+
+
+@njit
+def new_stand(modules, c, xz, ground):
+    """Reset :class:`Modules` ``modules`` to a stand of seedlings, one per row of ``xz``
+    ``(N, 2)``: module ``i`` is plant ``i``'s root, a :func:`new_plant` seedling standing
+    at ``(x, ground, z)``. Every module after them descends from one root (parents
+    first), so one module array holds the whole stand and one :func:`grow_step` grows
+    it: one shadow map for all plants, each root its own water. Returns ``N``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from growsim.kernels.hormone import N_CONSTANTS, new_module_arrays
+    >>> modules = new_module_arrays(4, 2)
+    >>> xz = np.array([[-1.0, 0.0], [1.0, 0.5]])
+    >>> new_stand(modules, np.full(N_CONSTANTS, 0.1), xz, 0.0), modules.parent[:2].tolist()
+    (2, [-1, -1])
+    >>> modules.origin[1].tolist(), modules.R[1, :, 2].tolist()
+    ([1.0, 0.0, 0.5], [0.0, 1.0, 0.0])
+    """
+    new_plant(modules, c)
+    N = xz.shape[0]
+    for i in range(N):
+        modules.R[i] = modules.R[0]
+        modules.length[i] = modules.length[0]
+        modules.radius[i] = modules.radius[0]
+        modules.nutrient[i] = modules.nutrient[0]
+        modules.chlorophyll[i] = 1.0
+        modules.apex[i] = True
+        modules.origin[i, 0] = xz[i, 0]
+        modules.origin[i, 1] = ground
+        modules.origin[i, 2] = xz[i, 1]
+    return N
+
+
+def periodic_shifts(spacing, rings, dims):
+    """``(k, 3)`` the offsets of a periodic stand's copies around the focal plant: a
+    square lattice of ``spacing`` on the x-z plane (3D) or on x (2D), every cell within
+    ``rings`` cells of the focal one but itself (8 for one ring in 3D, 2 in 2D).
+
+    Examples
+    --------
+    >>> periodic_shifts(2.0, 1, 2).tolist()
+    [[-2.0, 0.0, 0.0], [2.0, 0.0, 0.0]]
+    >>> periodic_shifts(1.0, 1, 3).shape
+    (8, 3)
+    """
+    out = []
+    zs = range(-rings, rings + 1) if dims == 3 else (0,)
+    for j in zs:
+        for i in range(-rings, rings + 1):
+            if i or j:
+                out.append([i * spacing, 0.0, j * spacing])
+    return np.array(out, dtype=np.float64).reshape(-1, 3)
