@@ -256,3 +256,19 @@ def test_grow_stand_bad_input_writes_nothing(tmp_path, args, says):
     png = tmp_path / "x.png"
     code, _, err = _grow([*args, "--screenshot", str(png)])
     assert code != 0 and says in err and not png.exists()
+
+
+def test_new_stand_matches_its_oracle():
+    from naive import stand as naive_stand
+
+    rng = np.random.default_rng(3)
+    xz = rng.uniform(-2, 2, (5, 2))
+    c = np.full(K.N_CONSTANTS, 0.1)
+    a, b = K.new_module_arrays(8, 6), K.new_module_arrays(8, 6)
+    for m in (a, b):  # a used array: the stand overwrites what it sets
+        for f in m._fields:
+            getattr(m, f)[...] = 7
+    assert KS.new_stand(a, c, xz, -0.2) == naive_stand.new_stand(b, c, xz, -0.2) == 5
+    for f in ("parent", "R", "origin", "length", "radius", "nutrient", "chlorophyll", "apex"):
+        np.testing.assert_array_equal(getattr(a, f)[:5], getattr(b, f)[:5], err_msg=f)
+    assert (a.parent[:5] == -1).all() and np.allclose(a.origin[:5, 1], -0.2)

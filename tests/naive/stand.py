@@ -1,0 +1,23 @@
+"""Oracle of the stand kernels (:mod:`growsim.kernels.stand`): an explicit stand's
+seedlings written plainly with NumPy, from one seedling copied to every position."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from growsim.kernels import hormone as K
+
+
+def new_stand(modules, c, xz, ground):
+    """Mirror of :func:`growsim.kernels.stand.new_stand` (fills ``modules``; returns N):
+    the seedling :func:`growsim.kernels.hormone.new_plant` makes, copied to each row of
+    ``xz`` standing on the ground at ``(x, ground, z)``, every copy a root."""
+    K.new_plant(modules, c)
+    n = len(xz)
+    seed = {f: np.array(getattr(modules, f)[0], copy=True) for f in modules._fields}
+    for f in ("R", "length", "radius", "nutrient", "chlorophyll", "apex"):
+        getattr(modules, f)[:n] = seed[f]
+    modules.chlorophyll[:n] = 1.0
+    modules.apex[:n] = True
+    modules.origin[:n] = np.column_stack([xz[:, 0], np.full(n, ground), xz[:, 1]])
+    return n
