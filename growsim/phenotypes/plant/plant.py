@@ -358,6 +358,19 @@ class Plant(Phenotype):
         b = self.bbox()
         return float(b[1, 2] - b[0, 2])
 
+    def height_to_width(self) -> float:
+        """:meth:`height` over the wider of :meth:`crown_width` and :meth:`crown_depth`
+        (slenderness: plants in dense stands grow tall and narrow); NaN for a plant of no
+        width.
+
+        Examples
+        --------
+        >>> Plant.from_points([[0, 0, 0], [0, 2, 0], [1, 3, 0]], [-1, 0], [-1, 0, 1]).height_to_width()
+        3.0
+        """
+        width = max(self.crown_width(), self.crown_depth())
+        return self.height() / width if width > 0 else float("nan")
+
     def total_length(self, kinds: Iterable[int] | None = (STEM,)) -> float:
         """Sum of segment lengths of the given kinds (default stems only; ``None`` = all).
 
@@ -454,6 +467,7 @@ class Plant(Phenotype):
             "height": self.height(),
             "crown_width": self.crown_width(),
             "crown_depth": self.crown_depth(),
+            "height_to_width": self.height_to_width(),
             "total_length": self.total_length(),
             "wood_volume": self.wood_volume(),
             "projected_area_top": projected_area(
