@@ -21,10 +21,19 @@ from growsim.objectives.nutrient import NutrientObjective
 SKY = Environment.model_validate({"light": {"diffuse": 0.5, "direction": [0.3, -1.0, 0.2]}})
 
 
-def random_state(rng, n, cap, walls, dims):
-    """A random population of modules, parents first, and random inputs of a step."""
+def random_state(rng, n, cap, walls, dims, plants=1):
+    """A random population of modules, parents first, and random inputs of a step:
+    ``plants`` plants (some modules are roots; a module belongs to its parent's plant), each
+    its own genes and constants (``inputs["genes"]`` ``(plants, H, 3 + J)``, ``c``
+    ``(plants, C)``)."""
     H, J = len(K.HORMONES), len(K.STIMULI)
     parent = np.array([-1] + [int(rng.integers(0, m)) for m in range(1, n)] + [-1] * (cap - n))
+    plant = np.zeros(cap, np.int64)
+    for m in range(1, n):
+        if plants > 1 and rng.random() < 0.15:  # a root of a random plant
+            parent[m], plant[m] = -1, rng.integers(0, plants)
+        else:
+            plant[m] = plant[parent[m]]
     R = np.zeros((cap, 3, 3))
     for m in range(cap):
         q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
@@ -38,13 +47,18 @@ def random_state(rng, n, cap, walls, dims):
         nutrient=rng.uniform(-0.1, 1.0, cap), chlorophyll=rng.uniform(0, 1, cap),
         lignin=rng.uniform(0, 1, cap), apex=rng.random(cap) < 0.5,
         laterals=rng.integers(0, 2, cap).astype(np.int64),
-        hormone=rng.uniform(0, 1, (cap, walls, H)),
+        hormone=rng.uniform(0, 1, (cap, walls, H)), plant=plant,
     )  # fmt: skip
-    inputs = dict(
-        wall_light=rng.uniform(0, 1, (cap, walls)), met=rng.uniform(0, 1, cap),
-        genes=np.column_stack([rng.uniform(-2, 2, H), rng.uniform(0, 1, H), rng.uniform(0, 1, H),
-                               rng.uniform(-3, 3, (H, J))]), c=c,
-    )  # fmt: skip
+
+    def random_genes():
+        return np.column_stack([rng.uniform(-2, 2, H), rng.uniform(0, 1, H),
+                                rng.uniform(0, 1, H), rng.uniform(-3, 3, (H, J))])  # fmt: skip
+
+    inputs = dict(wall_light=rng.uniform(0, 1, (cap, walls)), met=rng.uniform(0, 1, cap))
+    genes = [random_genes() for _ in range(plants)]
+    inputs["genes"] = np.stack(genes)
+    # the other plants' constants: the defaults scaled by up to 20 %
+    inputs["c"] = np.stack([c] + [c * rng.uniform(0.8, 1.2, len(c)) for _ in range(plants - 1)])
     return state, inputs
 
 
@@ -56,16 +70,22 @@ def modules(state, inputs):
         state["parent"], state["R"], np.zeros((cap, 3)), state["length"], state["radius"],
         state["nutrient"], state["chlorophyll"], state["lignin"], state["apex"],
         state["laterals"], state["hormone"], inputs["wall_light"], inputs["met"], np.zeros(cap),
+        state["plant"],
     )  # fmt: skip
 
 
-@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("seed", range(8))
 def test_step_kernel_matches_oracle(seed):
+    # seeds 6 and 7: three plants, each its own genes and constants (a mixed stand)
     rng = np.random.default_rng(seed)
     dims = 2 if seed % 2 else 3
     walls = 2 if dims == 2 else int(rng.integers(3, 8))
     n, cap = int(rng.integers(1, 30)), 60
-    state, inputs = random_state(rng, n, cap, walls, dims)
+    plants = 3 if seed >= 6 else 1
+    state, inputs = random_state(rng, n if plants == 1 else 30, cap, walls, dims, plants)
+    n = n if plants == 1 else 30
+    if plants > 1:
+        assert len(set(state["plant"][:n].tolist())) > 1
     a = {k: v.copy() for k, v in state.items()}
     b = {k: v.copy() for k, v in state.items()}
     got = K.step_kernel(n, dims, modules(a, inputs), inputs["genes"], inputs["c"])
@@ -115,7 +135,7 @@ def test_one_module_step_worked_by_hand_from_the_doc():
     m.hormone[0] = 0.2
     light, w = np.array([0.6, 0.2]), 0.9
     m.wall_light[0], m.met[0] = light, w
-    n_new, gained = K.step_kernel(1, 2, m, genes, c)
+    n_new, gained = K.step_kernel(1, 2, m, genes[None], c[None])
     # 3. hormones: h = (1 - decay) h + gain sigma(bias + a . x); only h0 reads the light
     h = 0.5 * 0.2 + gamma[None, :] * sig(beta[None, :] + np.outer(light, genes[:, 3]))
     H = h.mean(axis=0)
@@ -153,7 +173,7 @@ def test_one_module_step_worked_by_hand_from_the_doc():
     K.new_plant(o, c)
     o.length[0], o.radius[0], o.nutrient[0], o.chlorophyll[0], o.lignin[0] = L, r, n0, chl, lig
     o.hormone[0], o.wall_light[0], o.met[0] = 0.2, light, w
-    assert naive.step_kernel(1, 2, o, genes, c)[1] == pytest.approx(P, rel=1e-13)
+    assert naive.step_kernel(1, 2, o, genes[None], c[None])[1] == pytest.approx(P, rel=1e-13)
     assert o.nutrient[0] == pytest.approx(n3, rel=1e-12)
 
 
@@ -206,14 +226,14 @@ def test_several_steps_match_the_oracle(seed):
     walls = 2 if dims == 2 else 5
     n, cap = 3, 80
     state, inputs = random_state(rng, n, cap, walls, dims)
-    inputs["c"][K.C_MAXLEN] = 0.3  # modules finish growing: apical children come
+    inputs["c"][:, K.C_MAXLEN] = 0.3  # modules finish growing: apical children come
     if seed >= 2:  # the demo genome (it branches), else random genes
-        inputs["genes"] = hormone.genes(
+        inputs["genes"][0] = hormone.genes(
             hormone.resolve_params(hormone.PARAMS, hormone.PRESETS["demo_3d"])
         )
     else:  # random genes with elongation and a meristem always on
-        inputs["genes"][[0, 4], :3] = (4.0, 1.0, 0.5)
-        inputs["genes"][4, 3:] = 0.0
+        inputs["genes"][0, [0, 4], :3] = (4.0, 1.0, 0.5)
+        inputs["genes"][0, 4, 3:] = 0.0
     state["nutrient"][:] = 0.5
     state["apex"][:] = True
     a = {k: v.copy() for k, v in state.items()}

@@ -263,12 +263,15 @@ def test_new_stand_matches_its_oracle():
 
     rng = np.random.default_rng(3)
     xz = rng.uniform(-2, 2, (5, 2))
-    c = np.full(K.N_CONSTANTS, 0.1)
+    c = rng.uniform(0.05, 0.2, (5, K.N_CONSTANTS))  # each plant its own constants
     a, b = K.new_module_arrays(8, 6), K.new_module_arrays(8, 6)
     for m in (a, b):  # a used array: the stand overwrites what it sets
         for f in m._fields:
             getattr(m, f)[...] = 7
     assert KS.new_stand(a, c, xz, -0.2) == naive_stand.new_stand(b, c, xz, -0.2) == 5
-    for f in ("parent", "R", "origin", "length", "radius", "nutrient", "chlorophyll", "apex"):
+    fields = ("parent", "R", "origin", "length", "radius", "nutrient", "chlorophyll", "apex",
+              "plant")  # fmt: skip
+    for f in fields:
         np.testing.assert_array_equal(getattr(a, f)[:5], getattr(b, f)[:5], err_msg=f)
     assert (a.parent[:5] == -1).all() and np.allclose(a.origin[:5, 1], -0.2)
+    assert a.plant[:5].tolist() == [0, 1, 2, 3, 4] and a.length[3] == c[3, K.C_NEWLEN]

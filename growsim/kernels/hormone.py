@@ -6,8 +6,11 @@ child -> parent (the inhibitor's transport to the base, in :func:`step_kernel`).
 equations are written out in ``docs/models/hormone.md``; the oracle is
 ``tests/naive/hormone.py``.
 
-Constants ``c`` (float64 array, indices :data:`C_*`) and genes ``g`` ``(H, 3 + J)`` (per
-hormone: bias, gain, decay, then one weight per stimulus) are passed in, never global.
+Constants ``c`` ``(P, N_CONSTANTS)`` (indices :data:`C_*`) and genes ``genes`` ``(P, H, 3
++ J)`` (per hormone: bias, gain, decay, then one weight per stimulus) are passed in, never
+global: one row per plant (``P = 1`` for a plant alone). Module ``m`` belongs to plant
+``modules.plant[m]`` (a child to its parent's plant) and reads that plant's row, so one
+module array can hold a stand of different genomes.
 """
 
 from __future__ import annotations
@@ -91,6 +94,7 @@ class Modules(NamedTuple):
     wall_light: np.ndarray  #: ``(cap, walls)`` the light each wall receives
     met: np.ndarray  #: ``(cap,)`` the share of each module's water demand met
     light: np.ndarray  #: ``(cap,)`` the mean wall light
+    plant: np.ndarray  #: ``(cap,)`` int64: the module's plant (a row of the genes; 0 alone)
 
 
 class Surroundings(NamedTuple):
@@ -128,6 +132,7 @@ def new_module_arrays(cap: int, walls: int, hormones: int = len(HORMONES)) -> Mo
         np.empty(cap, np.int64), np.empty((cap, 3, 3)), np.empty((cap, 3)),
         *(np.empty(cap) for _ in range(5)), np.empty(cap, np.bool_), np.empty(cap, np.int64),
         np.empty((cap, walls, hormones)), np.zeros((cap, walls)), np.zeros(cap), np.zeros(cap),
+        np.zeros(cap, np.int64),
     )  # fmt: skip
 
 
@@ -281,6 +286,8 @@ def step_kernel(n, dims, modules, genes, c):
     """One growth step of modules ``0..n-1`` of :class:`Modules` ``modules`` (``cap`` rows,
     ``walls`` walls: the shape of ``modules.hormone``) in ``dims`` dimensions; returns the
     new module count (at most ``cap``) and the nutrient gained by photosynthesis this step.
+    Module ``m`` reads its plant's genes ``genes[plant[m]]`` ``(H, 3 + J)`` and constants
+    ``c[plant[m]]`` (``plant`` = ``modules.plant``).
 
     Reads ``wall_light`` ``(cap, walls)`` the light each wall receives and ``met``
     ``(cap,)`` the share of each module's water demand met; ``hormone`` ``(cap, walls,
@@ -302,8 +309,9 @@ def step_kernel(n, dims, modules, genes, c):
     apex, laterals, hormone = modules[8:11]
     wall_light, met = modules.wall_light, modules.met
     cap, walls = hormone.shape[0], hormone.shape[1]
-    H = genes.shape[0]
-    J = genes.shape[1] - 3
+    plant = modules.plant
+    H = genes.shape[1]
+    J = genes.shape[2] - 3
     x = np.empty(J)
     v = np.empty((walls, 3))
     inh = np.zeros(n)
@@ -314,6 +322,7 @@ def step_kernel(n, dims, modules, genes, c):
     gained = 0.0
     # synthesis per wall: s = gain sigmoid(bias + w . x); h = (1 - decay) h + s
     for m in range(n):
+        g = genes[plant[m]]
         _frame(R[m], cs, v)
         for i in range(walls):
             x[0] = wall_light[m, i]
@@ -323,10 +332,10 @@ def step_kernel(n, dims, modules, genes, c):
             x[4] = v[i, 1]
             x[5] = hormone[m, i, 3]
             for k in range(H):
-                a = genes[k, 0]
+                a = g[k, 0]
                 for j in range(J):
-                    a += genes[k, 3 + j] * x[j]
-                h = (1.0 - genes[k, 2]) * hormone[m, i, k] + genes[k, 1] * _sigmoid(a)
+                    a += g[k, 3 + j] * x[j]
+                h = (1.0 - g[k, 2]) * hormone[m, i, k] + g[k, 1] * _sigmoid(a)
                 hormone[m, i, k] = h
                 mean_h[m, k] += h / walls
     # the inhibitor goes to the base: each module adds a share of its children's
@@ -334,37 +343,38 @@ def step_kernel(n, dims, modules, genes, c):
         inh[m] += mean_h[m, 3]
         p = parent[m]
         if p >= 0:
-            inh[p] += c[C_INH_TRANSPORT] * inh[m]
+            inh[p] += c[plant[m], C_INH_TRANSPORT] * inh[m]
     n_new = n
     for m in range(n):
+        cm = c[plant[m]]
         _frame(R[m], cs, v)
         L = length[m]
         r = radius[m]
         area = 2.0 * math.pi * r * L / walls if dims == 3 else 2.0 * r * L / 2.0
-        area *= 1.0 + c[C_EXPAND] * mean_h[m, 9]
+        area *= 1.0 + cm[C_EXPAND] * mean_h[m, 9]
         # photosynthesis: saturating in the wall's light, limited by water and chlorophyll
         photo = 0.0
         for i in range(walls):
             li = wall_light[m, i]
-            photo += area * li * (1.0 + c[C_HALF_SAT]) / (li + c[C_HALF_SAT])
-        drought = 1.0 - c[C_DROUGHT] * min(1.0, mean_h[m, 7])
-        photo *= c[C_PHOTO] * chlorophyll[m] * met[m] * drought
+            photo += area * li * (1.0 + cm[C_HALF_SAT]) / (li + cm[C_HALF_SAT])
+        drought = 1.0 - cm[C_DROUGHT] * min(1.0, mean_h[m, 7])
+        photo *= cm[C_PHOTO] * chlorophyll[m] * met[m] * drought
         gained += photo
         vol = math.pi * r * r * L
-        nutrient[m] += photo - c[C_UPKEEP] * vol * (0.2 + 0.8 * chlorophyll[m])
+        nutrient[m] += photo - cm[C_UPKEEP] * vol * (0.2 + 0.8 * chlorophyll[m])
         # elongation per wall (turgor: water met), the module by the mean of its walls
         e_mean = 0.0
         for i in range(walls):
-            e[i] = c[C_ELONG] * hormone[m, i, 0] * met[m] * drought
+            e[i] = cm[C_ELONG] * hormone[m, i, 0] * met[m] * drought
             e_mean += e[i] / walls
-        e_mean = min(e_mean, max(0.0, c[C_MAXLEN] - L))
-        cost = c[C_BUILD] * math.pi * r * r * e_mean
+        e_mean = min(e_mean, max(0.0, cm[C_MAXLEN] - L))
+        cost = cm[C_BUILD] * math.pi * r * r * e_mean
         if e_mean > 0.0 and nutrient[m] >= cost:
             nutrient[m] -= cost
             length[m] = L + e_mean
             # turning: wall i's excess elongation turns the axis away from it, about the
             # normal of the triangle (origin, end, wall point): z x v_i
-            gain = c[C_TURN] * min(1.0, mean_h[m, 8]) / max(L, 1e-9)
+            gain = cm[C_TURN] * min(1.0, mean_h[m, 8]) / max(L, 1e-9)
             for i in range(walls):
                 zx, zy, zz = R[m, 0, 2], R[m, 1, 2], R[m, 2, 2]
                 nx = zy * v[i, 2] - zz * v[i, 1]
@@ -375,41 +385,42 @@ def step_kernel(n, dims, modules, genes, c):
                     axis[0], axis[1], axis[2] = nx / nn, ny / nn, nz / nn
                     _rotate(R[m], axis, -gain * (e[i] - e_mean))
         # thickening (walls move out)
-        dr = c[C_THICK] * min(1.0, mean_h[m, 1])
-        cost = c[C_BUILD] * 2.0 * math.pi * r * length[m] * dr
+        dr = cm[C_THICK] * min(1.0, mean_h[m, 1])
+        cost = cm[C_BUILD] * 2.0 * math.pi * r * length[m] * dr
         if dr > 0.0 and nutrient[m] >= cost:
             nutrient[m] -= cost
             radius[m] = r + dr
         # lignification: chlorophyll down, strength up; greening: chlorophyll up
-        lg = c[C_LIGNIFY] * min(1.0, mean_h[m, 5])
+        lg = cm[C_LIGNIFY] * min(1.0, mean_h[m, 5])
         lignin[m] = min(1.0, lignin[m] + lg)
-        chl = chlorophyll[m] - c[C_CHL_LOSS] * lg + c[C_GREEN] * min(1.0, mean_h[m, 6])
+        chl = chlorophyll[m] - cm[C_CHL_LOSS] * lg + cm[C_GREEN] * min(1.0, mean_h[m, 6])
         chlorophyll[m] = min(1.0, max(0.0, chl))
     # nutrient sharing between parent and child (a share of the difference each step)
     for m in range(n - 1, 0, -1):
         p = parent[m]
         if p >= 0:
-            flow = c[C_SHARE] * 0.5 * (nutrient[m] - nutrient[p])
+            flow = c[plant[m], C_SHARE] * 0.5 * (nutrient[m] - nutrient[p])
             nutrient[m] -= flow
             nutrient[p] += flow
     # new modules: an apical child from a meristem, laterals from the branching hormone
     for m in range(n):
         if n_new >= cap:
             break
-        grown = length[m] >= 0.999 * c[C_MAXLEN]
-        if apex[m] and grown and mean_h[m, 4] > c[C_THRESHOLD] and nutrient[m] > c[C_NEW_COST]:
+        cm = c[plant[m]]
+        grown = length[m] >= 0.999 * cm[C_MAXLEN]
+        if apex[m] and grown and mean_h[m, 4] > cm[C_THRESHOLD] and nutrient[m] > cm[C_NEW_COST]:
             q = n_new
             n_new += 1
-            _new(q, m, R[m], modules, c)
+            _new(q, m, R[m], modules, cm)
             apex[m] = False
         if n_new >= cap:
             break
         if (
-            mean_h[m, 2] > c[C_THRESHOLD]
-            and inh[m] < c[C_THRESHOLD]
-            and laterals[m] < c[C_LATERALS]
-            and length[m] >= 0.5 * c[C_MAXLEN]
-            and nutrient[m] > c[C_NEW_COST]
+            mean_h[m, 2] > cm[C_THRESHOLD]
+            and inh[m] < cm[C_THRESHOLD]
+            and laterals[m] < cm[C_LATERALS]
+            and length[m] >= 0.5 * cm[C_MAXLEN]
+            and nutrient[m] > cm[C_NEW_COST]
         ):
             # lateral direction B = sum_i v_i H_i, tilted from the axis by the branch angle
             _frame(R[m], cs, v)
@@ -436,10 +447,10 @@ def step_kernel(n, dims, modules, genes, c):
             axis = np.array([
                 z[1] * bz - z[2] * by, z[2] * bx - z[0] * bz, z[0] * by - z[1] * bx
             ]) / nb  # fmt: skip
-            _rotate(Rl, axis, c[C_BRANCH_ANGLE])
+            _rotate(Rl, axis, cm[C_BRANCH_ANGLE])
             q = n_new
             n_new += 1
-            _new(q, m, Rl, modules, c)
+            _new(q, m, Rl, modules, cm)
             laterals[m] += 1
     return n_new, gained
 
@@ -447,7 +458,8 @@ def step_kernel(n, dims, modules, genes, c):
 @njit
 def _new(q, m, Rq, modules, c):
     """Module ``q``: a child of ``m`` with pose ``Rq``, new length and radius, full
-    chlorophyll, no lignin, its parent's cost of a new module as its nutrient."""
+    chlorophyll, no lignin, its parent's cost of a new module as its nutrient, its parent's
+    plant; ``c`` the constants of that plant."""
     parent, R, _, length, radius, nutrient, chlorophyll, lignin = modules[:8]
     apex, laterals, hormone = modules[8:11]
     parent[q] = m
@@ -461,6 +473,7 @@ def _new(q, m, Rq, modules, c):
     apex[q] = True
     laterals[q] = 0
     hormone[q] = 0.0
+    modules.plant[q] = modules.plant[m]
 
 
 @njit
@@ -493,6 +506,7 @@ def new_plant(modules, c):
     apex[:] = False
     laterals[:] = 0
     hormone[:] = 0.0
+    modules.plant[:] = 0
     length[0] = c[C_NEWLEN]
     radius[0] = c[C_NEWRAD]
     nutrient[0] = 0.1
@@ -543,13 +557,15 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env, shifts):
        light x side area; ``env.supply``, ``env.resistance``, ``env.lift`` (already scaled
        by g) give ``modules.met``; a module lying on the soil gets no light
        (:func:`_on_soil_unlit`);
-    4. :func:`step_kernel` (``genes``, constants ``c``); a NaN or infinity in the modules
+    4. :func:`step_kernel` (``genes`` ``(P, H, 3 + J)``, constants ``c`` ``(P,
+       N_CONSTANTS)``, a row per plant); a NaN or infinity in the modules
        stops the plant (``n`` modules kept);
     5. ``modules.light`` the mean wall light of the old modules (0 for new ones), ``met``
        1 for new ones; modules placed again, none below the soil ``env.ground``
        (:func:`ground_kernel`: a module whose end would be under it is turned up);
     6. gravity (:func:`growsim.kernels.gravity.loads_kernel`): strength
-       ``strength_young + (env.strength - strength_young) x lignin``; a joint whose stress
+       ``young + (env.strength - young) x lignin`` (``young`` the module's plant's
+       ``strength_young`` ``(P,)``); a joint whose stress
        reaches it stops the plant.
 
     ``modules`` (:class:`Modules`) are updated in place; ``scratch`` is the shadow maps'
@@ -569,7 +585,11 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env, shifts):
     [1, 1, 1]
     """
     parent, R, origin, length, radius, nutrient = modules[:6]
-    lignin, hormone, wall_light, met, light = modules[7], *modules[10:]
+    lignin, hormone, wall_light, met, light = modules[7], *modules[10:14]
+    plant = modules.plant
+    for q in range(n):  # every module's plant has its row of genes, constants, strength
+        if plant[q] < 0 or plant[q] >= min(genes.shape[0], c.shape[0], strength_young.shape[0]):
+            raise ValueError("grow_step: a module's plant has no row of genes or constants")
     cap, walls = hormone.shape[0], hormone.shape[1]
     place_kernel(n, parent, R, length, origin)
     start = origin[:n]
@@ -608,7 +628,8 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env, shifts):
     r_end = radius_end_kernel(parent[:n_new], kind, radius[:n_new], np.empty(n_new))
     wood = np.empty(n_new)
     for q in range(n_new):
-        wood[q] = strength_young + (env.strength - strength_young) * lignin[q]
+        young = strength_young[plant[q]]
+        wood[q] = young + (env.strength - young) * lignin[q]
     loads = loads_kernel(origin[:n_new], end, radius[:n_new], r_end, parent[:n_new], kind, wood,
                          (env.density, env.leaf_mass_per_area, env.g),
                          np.empty((4, n_new)))  # fmt: skip
@@ -742,8 +763,9 @@ def grow_population(genes, c, strength_young, dims, walls, steps, cap, env):
     wall_light = np.zeros((cap, walls))
     met = np.zeros(cap)
     light = np.zeros(cap)
+    plant = np.zeros(cap, np.int64)  # one plant at a time: row 0 of its own genes
     modules = Modules(parent, R, origin, length, radius, nutrient, chlorophyll, lignin, apex,
-                      laterals, hormone, wall_light, met, light)  # fmt: skip
+                      laterals, hormone, wall_light, met, light, plant)  # fmt: skip
     scratch = shadow_scratch(env.resolution)
     alone = np.zeros((0, 3))  # no copies: every plant alone
     out_total = np.empty(P)
@@ -755,8 +777,8 @@ def grow_population(genes, c, strength_young, dims, walls, steps, cap, env):
         n = new_plant(modules, cp)
         stop = STOP_NONE
         for _ in range(steps):
-            n, code = grow_step(n, dims, modules, scratch, genes[p], cp, strength_young[p], env,
-                                alone)
+            row = (genes[p : p + 1], c[p : p + 1], strength_young[p : p + 1])
+            n, code = grow_step(n, dims, modules, scratch, *row, env, alone)
             out_steps[p] += n
             if code != STOP_NONE:
                 stop = code

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from growsim.kernels.config import njit
-from growsim.kernels.hormone import new_plant
+from growsim.kernels.hormone import C_NEWLEN, C_NEWRAD, new_plant
 
 __all__ = ["new_stand", "periodic_shifts"]
 
@@ -28,20 +28,21 @@ def new_stand(modules, c, xz, ground):
     >>> from growsim.kernels.hormone import N_CONSTANTS, new_module_arrays
     >>> modules = new_module_arrays(4, 2)
     >>> xz = np.array([[-1.0, 0.0], [1.0, 0.5]])
-    >>> new_stand(modules, np.full(N_CONSTANTS, 0.1), xz, 0.0), modules.parent[:2].tolist()
-    (2, [-1, -1])
+    >>> new_stand(modules, np.full((2, N_CONSTANTS), 0.1), xz, 0.0), modules.plant[:2].tolist()
+    (2, [0, 1])
     >>> modules.origin[1].tolist(), modules.R[1, :, 2].tolist()
     ([1.0, 0.0, 0.5], [0.0, 1.0, 0.0])
     """
-    new_plant(modules, c)
+    new_plant(modules, c[0])
     N = xz.shape[0]
     for i in range(N):
         modules.R[i] = modules.R[0]
-        modules.length[i] = modules.length[0]
-        modules.radius[i] = modules.radius[0]
+        modules.length[i] = c[i, C_NEWLEN]
+        modules.radius[i] = c[i, C_NEWRAD]
         modules.nutrient[i] = modules.nutrient[0]
         modules.chlorophyll[i] = 1.0
         modules.apex[i] = True
+        modules.plant[i] = i
         modules.origin[i, 0] = xz[i, 0]
         modules.origin[i, 1] = ground
         modules.origin[i, 2] = xz[i, 1]

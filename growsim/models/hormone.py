@@ -287,6 +287,8 @@ def grow_stand(params: Mapping[str, float] | None = None, *, env=None, xz=None) 
         )
     N = len(xz)
     n, s = seedling({**p, "max_modules": int(p["max_modules"]) * N}, env)
+    for key in ("genes", "c", "strength_young"):  # copies of one genome: a row per plant
+        s[key] = np.repeat(s[key], N, axis=0)
     n = KS.new_stand(s["modules"], s["c"], np.ascontiguousarray(xz), 0.0)
     stopped = ""
     for step in range(int(p["steps"])):
@@ -374,19 +376,19 @@ def seedling(p: Mapping[str, float], env) -> tuple[int, dict]:
     dims = int(p["dims"])
     walls = 2 if dims == 2 else int(p["walls"])
     cap = int(p["max_modules"])
-    c = np.array([p[name] for name, _, _ in CONSTANTS])
-    g = genes(p)
+    c = np.array([[p[name] for name, _, _ in CONSTANTS]])
+    g = genes(p)[None]
     s = {
         "dims": dims,
-        "modules": K.new_module_arrays(cap, walls, g.shape[0]),
+        "modules": K.new_module_arrays(cap, walls, g.shape[1]),
         "scratch": shadow_scratch(int(env.light.resolution)),
         "genes": g,
         "c": c,
-        "strength_young": float(p["strength_young"]),
+        "strength_young": np.array([float(p["strength_young"])]),
         "env": environment_args(env),
         "shifts": np.zeros((0, 3)),  # alone: no copies (a periodic stand's offsets)
     }
-    n = K.new_plant(s["modules"], c)
+    n = K.new_plant(s["modules"], c[0])
     return n, s
 
 

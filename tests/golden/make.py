@@ -29,6 +29,14 @@ BUDGETS: dict[str, list[str]] = {
     "hormone_3d": ["ga.population=6", "ga.generations=2"],
     "hormone_2d_seed_ga": ["ga.population=8", "ga.generations=2"],
     "hormone_3d_seed_ga": ["ga.population=8", "ga.generations=2"],
+    "stand_density_2d": ["ga.population=6", "ga.generations=2"],
+    # the dense variant: a periodic stand (the alone path is pinned by hormone_3d)
+    "stand_density_3d": [
+        "ga.population=6",
+        "ga.generations=2",
+        "environment.stand.mode=periodic",
+        "environment.stand.spacing=1.0",
+    ],
     "ifs_fern_fit": [
         "ga.population=10",
         "ga.generations=3",

@@ -64,87 +64,93 @@ def rotation(axis, angle):
 
 def step_kernel(n, dims, modules, genes, c):
     """Mirror of :func:`growsim.kernels.hormone.step_kernel` (updates the arrays of
-    ``modules`` in place, returns ``(n_new, gained)``)."""
+    ``modules`` in place, returns ``(n_new, gained)``): module ``m`` reads the genes
+    ``genes[plant[m]]`` and constants ``c[plant[m]]`` of its plant."""
     parent, R, length, radius = modules.parent, modules.R, modules.length, modules.radius
     nutrient, chlorophyll, lignin = modules.nutrient, modules.chlorophyll, modules.lignin
     apex, laterals, hormone = modules.apex, modules.laterals, modules.hormone
-    wall_light, met = modules.wall_light, modules.met
+    wall_light, met, plant = modules.wall_light, modules.met, modules.plant
     cap, walls = hormone.shape[:2]
     sig = lambda a: 1 / (1 + math.exp(-a)) if a > -50 else 0.0  # noqa: E731
-    H = genes.shape[0]
+    H = genes.shape[1]
     mean_h = np.zeros((n, H))
     for m in range(n):
+        g = genes[plant[m]]
         v = wall_frame(R[m], walls, dims)
         for i in range(walls):
             x = np.array([wall_light[m, i], met[m], nutrient[m] / (1 + abs(nutrient[m])),
                           chlorophyll[m], v[i, 1], hormone[m, i, 3]])  # fmt: skip
-            s = genes[:, 1] * np.array([sig(a) for a in genes[:, 0] + genes[:, 3:] @ x])
-            hormone[m, i] = (1 - genes[:, 2]) * hormone[m, i] + s
+            s = g[:, 1] * np.array([sig(a) for a in g[:, 0] + g[:, 3:] @ x])
+            hormone[m, i] = (1 - g[:, 2]) * hormone[m, i] + s
         mean_h[m] = hormone[m, :walls].mean(axis=0)
     inh = mean_h[:, 3].copy()
     for m in range(n - 1, -1, -1):
         if parent[m] >= 0:
-            inh[parent[m]] += c[K.C_INH_TRANSPORT] * inh[m]
+            inh[parent[m]] += c[plant[m], K.C_INH_TRANSPORT] * inh[m]
     gained = 0.0
     for m in range(n):
+        cm = c[plant[m]]
         v = wall_frame(R[m], walls, dims)
         L, r = length[m], radius[m]
         area = 2 * math.pi * r * L / walls if dims == 3 else r * L
-        area *= 1 + c[K.C_EXPAND] * mean_h[m, 9]
+        area *= 1 + cm[K.C_EXPAND] * mean_h[m, 9]
         li = wall_light[m, :walls]
-        photo = np.sum(area * li * (1 + c[K.C_HALF_SAT]) / (li + c[K.C_HALF_SAT]))
-        drought = 1 - c[K.C_DROUGHT] * min(1.0, mean_h[m, 7])
-        photo *= c[K.C_PHOTO] * chlorophyll[m] * met[m] * drought
+        photo = np.sum(area * li * (1 + cm[K.C_HALF_SAT]) / (li + cm[K.C_HALF_SAT]))
+        drought = 1 - cm[K.C_DROUGHT] * min(1.0, mean_h[m, 7])
+        photo *= cm[K.C_PHOTO] * chlorophyll[m] * met[m] * drought
         gained += photo
-        nutrient[m] += photo - c[K.C_UPKEEP] * math.pi * r * r * L * (0.2 + 0.8 * chlorophyll[m])
-        e = c[K.C_ELONG] * hormone[m, :walls, 0] * met[m] * drought
-        e_mean = min(e.mean(), max(0.0, c[K.C_MAXLEN] - L))
-        cost = c[K.C_BUILD] * math.pi * r * r * e_mean
+        nutrient[m] += photo - cm[K.C_UPKEEP] * math.pi * r * r * L * (0.2 + 0.8 * chlorophyll[m])
+        e = cm[K.C_ELONG] * hormone[m, :walls, 0] * met[m] * drought
+        e_mean = min(e.mean(), max(0.0, cm[K.C_MAXLEN] - L))
+        cost = cm[K.C_BUILD] * math.pi * r * r * e_mean
         if e_mean > 0 and nutrient[m] >= cost:
             nutrient[m] -= cost
             length[m] = L + e_mean
-            gain = c[K.C_TURN] * min(1.0, mean_h[m, 8]) / max(L, 1e-9)
+            gain = cm[K.C_TURN] * min(1.0, mean_h[m, 8]) / max(L, 1e-9)
             for i in range(walls):
                 n_ = np.cross(R[m][:, 2], v[i])
                 if np.linalg.norm(n_) > 0:
                     R[m] = rotation(n_ / np.linalg.norm(n_), -gain * (e[i] - e_mean)) @ R[m]
-        dr = c[K.C_THICK] * min(1.0, mean_h[m, 1])
-        cost = c[K.C_BUILD] * 2 * math.pi * r * length[m] * dr
+        dr = cm[K.C_THICK] * min(1.0, mean_h[m, 1])
+        cost = cm[K.C_BUILD] * 2 * math.pi * r * length[m] * dr
         if dr > 0 and nutrient[m] >= cost:
             nutrient[m] -= cost
             radius[m] = r + dr
-        lg = c[K.C_LIGNIFY] * min(1.0, mean_h[m, 5])
+        lg = cm[K.C_LIGNIFY] * min(1.0, mean_h[m, 5])
         lignin[m] = min(1.0, lignin[m] + lg)
-        chl = chlorophyll[m] - c[K.C_CHL_LOSS] * lg + c[K.C_GREEN] * min(1.0, mean_h[m, 6])
+        chl = chlorophyll[m] - cm[K.C_CHL_LOSS] * lg + cm[K.C_GREEN] * min(1.0, mean_h[m, 6])
         chlorophyll[m] = min(1.0, max(0.0, chl))
     for m in range(n - 1, 0, -1):
         if parent[m] >= 0:
-            flow = c[K.C_SHARE] * 0.5 * (nutrient[m] - nutrient[parent[m]])
+            flow = c[plant[m], K.C_SHARE] * 0.5 * (nutrient[m] - nutrient[parent[m]])
             nutrient[m] -= flow
             nutrient[parent[m]] += flow
     n_new = n
 
     def new(q, m, Rq):
-        parent[q], R[q] = m, Rq
-        length[q], radius[q] = c[K.C_NEWLEN], min(c[K.C_NEWRAD], radius[m])
-        nutrient[m] -= c[K.C_NEW_COST]
-        nutrient[q] = 0.5 * c[K.C_NEW_COST]
+        cm = c[plant[m]]
+        parent[q], R[q], plant[q] = m, Rq, plant[m]
+        length[q], radius[q] = cm[K.C_NEWLEN], min(cm[K.C_NEWRAD], radius[m])
+        nutrient[m] -= cm[K.C_NEW_COST]
+        nutrient[q] = 0.5 * cm[K.C_NEW_COST]
         chlorophyll[q], lignin[q], apex[q], laterals[q] = 1.0, 0.0, True, 0
         hormone[q] = 0.0
 
     for m in range(n):
         if n_new >= cap:
             break
-        grown = length[m] >= 0.999 * c[K.C_MAXLEN]
-        if apex[m] and grown and mean_h[m, 4] > c[K.C_THRESHOLD] and nutrient[m] > c[K.C_NEW_COST]:
+        cm = c[plant[m]]
+        grown = length[m] >= 0.999 * cm[K.C_MAXLEN]
+        ready = mean_h[m, 4] > cm[K.C_THRESHOLD] and nutrient[m] > cm[K.C_NEW_COST]
+        if apex[m] and grown and ready:
             new(n_new, m, R[m].copy())
             n_new += 1
             apex[m] = False
         if n_new >= cap:
             break
-        if (mean_h[m, 2] > c[K.C_THRESHOLD] and inh[m] < c[K.C_THRESHOLD]
-                and laterals[m] < c[K.C_LATERALS] and length[m] >= 0.5 * c[K.C_MAXLEN]
-                and nutrient[m] > c[K.C_NEW_COST]):  # fmt: skip
+        if (mean_h[m, 2] > cm[K.C_THRESHOLD] and inh[m] < cm[K.C_THRESHOLD]
+                and laterals[m] < cm[K.C_LATERALS] and length[m] >= 0.5 * cm[K.C_MAXLEN]
+                and nutrient[m] > cm[K.C_NEW_COST]):  # fmt: skip
             v = wall_frame(R[m], walls, dims)
             b = (v * hormone[m, :walls, 2][:, None]).sum(axis=0)
             z = R[m][:, 2]
@@ -156,7 +162,7 @@ def step_kernel(n, dims, modules, genes, c):
             else:  # the j-th lateral: B turned about the axis by j times the golden angle
                 b = rotation(z, laterals[m] * K.GOLDEN_ANGLE) @ b
             axis = np.cross(z, b) / np.linalg.norm(b)
-            new(n_new, m, rotation(axis, c[K.C_BRANCH_ANGLE]) @ R[m])
+            new(n_new, m, rotation(axis, cm[K.C_BRANCH_ANGLE]) @ R[m])
             n_new += 1
             laterals[m] += 1
     return n_new, gained

@@ -359,17 +359,21 @@ class Plant(Phenotype):
         return float(b[1, 2] - b[0, 2])
 
     def height_to_width(self) -> float:
-        """:meth:`height` over the wider of :meth:`crown_width` and :meth:`crown_depth`
-        (slenderness: plants in dense stands grow tall and narrow); NaN for a plant of no
-        width.
+        """:meth:`height` over the plant's width: the widest of :meth:`crown_width`,
+        :meth:`crown_depth` and its thickest segment's diameter (a bare stem is as wide as
+        it is thick). Slenderness: plants in dense stands grow tall and narrow. 0 for a
+        plant of no segments.
 
         Examples
         --------
-        >>> Plant.from_points([[0, 0, 0], [0, 2, 0], [1, 3, 0]], [-1, 0], [-1, 0, 1]).height_to_width()
+        >>> p = Plant.from_points([[0, 0, 0], [0, 2, 0], [1, 3, 0]], [-1, 0], [-1, 0, 1])
+        >>> p.height_to_width()  # 3 tall, 1 wide
         3.0
         """
-        width = max(self.crown_width(), self.crown_depth())
-        return self.height() / width if width > 0 else float("nan")
+        if self.n_segments == 0:
+            return 0.0
+        width = max(self.crown_width(), self.crown_depth(), 2.0 * float(self.radius.max()))
+        return self.height() / width if width > 0 else 0.0
 
     def total_length(self, kinds: Iterable[int] | None = (STEM,)) -> float:
         """Sum of segment lengths of the given kinds (default stems only; ``None`` = all).
@@ -601,7 +605,7 @@ class LeafLight(NamedTuple):
     area: float
 
 
-def leaf_light(plant: Plant, light, response=None) -> LeafLight:
+def leaf_light(plant: Plant, light, response=None, shifts=None) -> LeafLight:
     """The light a plant's leaves receive from a shadow-map light, weighted by blade area.
 
     ``light`` is a :class:`growsim.env.Light` (``environment.light``, or a copy with other
@@ -615,7 +619,8 @@ def leaf_light(plant: Plant, light, response=None) -> LeafLight:
     with ``R`` the ``response`` (a function of an array of light values; default
     ``R(L) = L``). The one home of this sum: ``Plant.measures(env)["light_captured"]`` and
     the light objective (:mod:`growsim.objectives.light`) both use it. A plant without
-    leaves gives ``(0.0, 0.0)``.
+    leaves gives ``(0.0, 0.0)``. ``shifts`` ``(k, 3)``: the plant is also shaded by its
+    copies moved by these offsets (a periodic stand; :meth:`growsim.env.Light.segment_light`).
 
     Examples
     --------
@@ -630,7 +635,9 @@ def leaf_light(plant: Plant, light, response=None) -> LeafLight:
     sel = plant.kind == LEAF
     if not sel.any():
         return LeafLight(0.0, 0.0)
-    received = np.asarray(light.segment_light(plant), dtype=np.float64)[sel]
+    extra = {} if shifts is None else {"shifts": shifts}
+    lit = light.segment_light(plant, **extra)
+    received = np.asarray(lit, dtype=np.float64)[sel]
     area = 2.0 * plant.radius[sel] * plant.lengths()[sel]
     if response is not None:
         received = np.asarray(response(received), dtype=np.float64)
