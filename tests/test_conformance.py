@@ -163,6 +163,14 @@ def test_declared_model_capability_gives_its_documented_type(name, cap, tmp_path
         assert isinstance(d, np.ndarray) and d.ndim == 2 and d.dtype == np.float64
         again = model.develop(params, seed=4, draws=d)
         assert same_phenotype(again, model.develop(params, seed=4), tmp_path)
+    elif cap == "mixture":  # the focal phenotype among neighbours; None: among copies
+        env = Environment.model_validate(
+            {"stand": {"mode": "mixture", "neighbours": 2, "spacing": 1.0}}
+        )
+        copies = model.mixture(params, None, env=env)
+        again = model.mixture(params, [params, params], env=env)
+        assert same_phenotype(copies, again, tmp_path)
+        assert same_phenotype(copies, model.develop(params, env=env), tmp_path)
     else:  # pragma: no cover - a capability added to CAPABILITIES needs its check here
         pytest.fail(f"no conformance check for model capability {cap!r}")
 

@@ -59,7 +59,9 @@ def test_layouts_give_the_positions():
         ({"mode": "explicit", "rows": 100, "cols": 100, "spacing": 50.0}, "spacing"),
         ({"mode": "explicit", "positions": [[0, 0, 0]]}, "positions"),
         ({"mode": "explicit", "layout": "random", "count": 500, "density": 1e4}, "density"),
-        ({"mode": "mixture"}, "mode"),  # not built yet: refused, named
+        ({"mode": "mixture", "neighbours": 0}, "neighbours"),
+        ({"mode": "mixture", "draws": 0}, "draws"),
+        ({"mode": "mixture", "spacing": 0.0}, "spacing"),
         ({"mode": "periodic", "rings": 0}, "rings"),
         ({"mode": "crowd"}, "mode"),
         ({"spacing_m": 1.0}, "spacing_m"),

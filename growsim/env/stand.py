@@ -9,9 +9,12 @@
 - ``"periodic"``: one focal plant in an endless monoculture of its own copies at
   ``spacing`` (a square lattice; ``rings`` rings of copies around it shade it every
   step: :func:`growsim.models.hormone.grow_periodic`);
-- ``"mixture"`` (the focal plant among neighbours drawn from the population) is declared
-  but not built yet: a config that asks for it is refused with a message naming
-  ``stand.mode``.
+- ``"mixture"``: the focal plant grown with ``neighbours`` plants of other genomes on the
+  lattice cells nearest it at ``spacing`` (a 3 x 3 block for 8 in 3D; a row in 2D), all
+  grown together; in an experiment the neighbours are drawn from the population being
+  evaluated, ``draws`` draws a generation, the same for every individual (common random
+  numbers: :meth:`growsim.experiment.fitness.Fitness.prepare`), and the score is the mean
+  over the draws (:func:`growsim.models.hormone.grow_mixture`).
 
 Positions are on the ground, ``[x, z]`` pairs (in 2D ``z`` is 0): ``layout = "grid"``
 (``rows`` x ``cols`` at ``spacing``), ``"row"`` (``count`` at ``spacing`` along x),
@@ -34,8 +37,8 @@ from growsim.options import Options
 
 __all__ = ["MODES", "Stand"]
 
-#: the stand's modes and whether they are built
-MODES = {"alone": True, "explicit": True, "periodic": True, "mixture": False}
+#: the stand's modes
+MODES = ("alone", "explicit", "periodic", "mixture")
 
 
 class Stand(Options):
@@ -61,7 +64,7 @@ class Stand(Options):
         "alone",
         description="alone (one plant, the default), explicit (every position a plant, "
         "grown together), periodic (the plant among its own copies at spacing), mixture "
-        "(not built yet: refused)",
+        "(the plant among neighbours drawn from the population)",
     )
     layout: Literal["grid", "row", "random", "positions"] = Field(
         "grid", description="how the positions are laid out (positions: given)"
@@ -81,6 +84,12 @@ class Stand(Options):
     rings: int = Field(
         2, ge=1, le=5, description="periodic: rings of copies around the focal plant"
     )
+    neighbours: int = Field(
+        8, ge=1, le=48, description="mixture: neighbours around the focal plant"
+    )
+    draws: int = Field(
+        2, ge=1, le=64, description="mixture: draws of neighbours a generation (scores averaged)"
+    )
     reach: float = Field(
         1000.0, gt=0.0, le=1e5, description="furthest a plant may stand from the origin"
     )
@@ -89,10 +98,6 @@ class Stand(Options):
     def _check(self):
         from growsim.errors import ConfigError
 
-        if not MODES[self.mode]:
-            raise ConfigError(
-                f"mode: {self.mode!r} is not built yet; use 'alone', 'explicit' or 'periodic'"
-            )
         if self.positions is not None:
             bad = [p for p in self.positions if len(p) != 2]
             if bad or not self.positions:
@@ -130,6 +135,8 @@ class Stand(Options):
         >>> Stand.parse({"mode": "explicit", "layout": "row", "count": 4}).n_plants
         4
         """
+        if self.mode == "mixture":
+            return self.neighbours + 1
         return 1 if self.mode in ("alone", "periodic") else len(self.xz())
 
     def xz(self) -> np.ndarray:
@@ -144,6 +151,8 @@ class Stand(Options):
         """
         if self.mode in ("alone", "periodic"):
             return np.zeros((1, 2))
+        if self.mode == "mixture":  # the focal plant first, its neighbours nearest first
+            return self.mixture_xz(3)
         if self.positions is not None:
             return np.asarray(self.positions, dtype=np.float64).reshape(-1, 2)
         s = self.spacing
@@ -158,6 +167,21 @@ class Stand(Options):
         z = (np.arange(self.rows) - (self.rows - 1) / 2) * s
         zz, xx = np.meshgrid(z, x, indexing="ij")
         return np.stack([xx.ravel(), zz.ravel()], axis=1)
+
+    def mixture_xz(self, dims: int) -> np.ndarray:
+        """``(neighbours + 1, 2)`` a mixture's positions ``[x, z]``: the focal plant at the
+        origin, then its neighbours on the lattice cells of ``spacing`` nearest it (ring by
+        ring; on the x axis in 2D, ``dims = 2``).
+
+        Examples
+        --------
+        >>> Stand.parse({"mode": "mixture", "neighbours": 2, "spacing": 1.5}).mixture_xz(2).tolist()
+        [[0.0, 0.0], [-1.5, 0.0], [1.5, 0.0]]
+        """
+        from growsim.kernels.stand import nearest_shifts
+
+        shifts = nearest_shifts(self.spacing, self.neighbours, dims)
+        return np.vstack([np.zeros((1, 2)), shifts[:, [0, 2]]])
 
     def ground_area(self) -> float:
         """The ground the stand covers (m2), for the leaf area index: each plant's cell,

@@ -28,6 +28,7 @@ class Individual(NamedTuple):
     #: the grown phenotype (None when not grown)
     phenotype: Any
 
+
 _BLAS = None
 
 
@@ -101,6 +102,9 @@ class Fitness:
         self.noise = plan.noise
         self.seed = int(plan.seed)
         self.int_names = plan.int_names
+        #: a mixture's neighbours ``(draws, k, p)`` (full parameters), drawn by
+        #: :meth:`prepare` for the batch being evaluated; None: none drawn yet
+        self.neighbours: np.ndarray | None = None
         col = {n: i for i, n in enumerate(self.names)}
         self._evolved_cols = np.array([col[n] for n in self.evolved], dtype=np.int64)
         self._base = np.array([self.fixed.get(n, np.nan) for n in self.names], dtype=np.float64)
@@ -131,9 +135,58 @@ class Fitness:
             return full[:, self.names.index("seed")].astype(np.uint64)
         return np.full(n, self.seed, dtype=np.uint64)
 
-    def develop(self, row: np.ndarray, seed: int):
-        """Grow the phenotype of one full parameter row."""
-        return self.model.develop(self.param_dict(row), seed=int(seed), env=self.env)
+    @property
+    def mixture(self) -> bool:
+        """Whether the plants are judged among neighbours drawn from the population
+        (``environment.stand.mode = "mixture"``)."""
+        stand = getattr(self.env, "stand", None)
+        return stand is not None and stand.mode == "mixture"
+
+    def prepare(self, x: np.ndarray, seeds: np.ndarray | None = None) -> None:
+        """Called by the GA's evaluator once for each batch it evaluates (a generation's
+        new individuals, a polish step), in its own process, before the batch is split
+        between workers. In a mixture, draw the neighbours that judge every individual
+        of the batch: ``environment.stand.draws`` draws of ``neighbours`` individuals of
+        ``x`` (without replacement when the batch holds enough, else with), from a
+        generator seeded by the batch's evaluation seeds (or, without seeds, by the
+        batch's values), so a resumed run and every executor draw the same (common
+        random numbers). Otherwise nothing.
+
+        Examples
+        --------
+        >>> from growsim.experiment import load_plan
+        >>> f = load_plan("experiments/stand_mixture_2d.toml", ["ga.population=6"]).fitness()
+        >>> x = np.random.default_rng(0).uniform(-1, 1, (6, len(f.evolved)))
+        >>> f.prepare(x, np.arange(6, dtype=np.uint64))
+        >>> f.neighbours.shape == (f.env.stand.draws, f.env.stand.neighbours, len(f.names))
+        True
+        """
+        if not self.mixture:
+            return
+        import hashlib
+
+        full = self.full_params(x)
+        stand = self.env.stand
+        if seeds is not None:
+            entropy = [int(s) for s in np.asarray(seeds, dtype=np.uint64)]
+        else:
+            entropy = int.from_bytes(hashlib.sha256(full.tobytes()).digest()[:16], "little")
+        rng = np.random.default_rng(np.random.SeedSequence(entropy))
+        n, k = len(full), stand.neighbours
+        idx = np.stack([rng.choice(n, size=k, replace=n < k) for _ in range(stand.draws)])
+        self.neighbours = full[idx]
+
+    def develop(self, row: np.ndarray, seed: int, draw: int = 0):
+        """Grow the phenotype of one full parameter row (in a mixture, among the
+        neighbours of draw ``draw`` of :meth:`prepare`; before any draw, among copies of
+        itself)."""
+        params = self.param_dict(row)
+        if not self.mixture:
+            return self.model.develop(params, seed=int(seed), env=self.env)
+        nb = None
+        if self.neighbours is not None:
+            nb = [self.param_dict(r) for r in self.neighbours[draw]]
+        return self.model.mixture(params, nb, seed=int(seed), env=self.env)
 
     def phenotype_of(self, x, *, grow: bool = True, draws=None) -> Individual:
         """The one way to rebuild an individual from its ``(k,)`` evolved values ``x``
@@ -160,7 +213,7 @@ class Fitness:
         seed = int(self.model_seeds(row[None, :], None)[0])
         if not grow:
             return Individual(params, seed, None)
-        if draws is None:
+        if draws is None:  # (in a mixture: among the last draw's first neighbours)
             return Individual(params, seed, self.develop(row, seed))
         grown = self.model.develop(params, seed=seed, env=self.env, draws=draws)
         return Individual(params, seed, grown)
@@ -194,9 +247,13 @@ class Fitness:
             else:
                 total += w * s * np.asarray(vals, dtype=np.float64).reshape(n)
         if pending:
+            # in a mixture: the mean over the draws of neighbours (:meth:`prepare`)
+            draws = len(self.neighbours) if self.mixture and self.neighbours is not None else 1
             for i in range(n):
-                phenotype = self.develop(full[i], mseeds[i])
-                for obj, ws in pending:
-                    total[i] += ws * float(obj(phenotype))
+                score = 0.0
+                for d in range(draws):
+                    phenotype = self.develop(full[i], mseeds[i], d)
+                    for obj, ws in pending:
+                        score += ws * float(obj(phenotype))
+                total[i] += score / draws
         return total
-

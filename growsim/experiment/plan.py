@@ -189,6 +189,7 @@ def plan_model(cfg: Config) -> ModelPlan:
                 raise ConfigError(f"model.evolve.{p.name}: no integer in [{lo:g}, {hi:g}]")
             p = dataclasses.replace(p, low=float(lo), high=float(hi))
         evolved.append(p)
+    _check_mixture(cfg, model)
     return ModelPlan(
         model=model,
         spec=tuple(spec),
@@ -198,6 +199,26 @@ def plan_model(cfg: Config) -> ModelPlan:
         noise=cfg.model.noise,
         seed=cfg.experiment.seed,
     )
+
+
+def _check_mixture(cfg: Config, model) -> None:
+    """A mixture (``environment.stand.mode = "mixture"``) needs a model that grows among
+    neighbours and a population that holds them: else a :class:`ConfigError` naming the
+    key."""
+    stand = cfg.environment.stand
+    if stand.mode != "mixture":
+        return
+    if "mixture" not in model.capabilities:
+        raise ConfigError(
+            f"environment.stand.mode: 'mixture' needs a model that grows among neighbours "
+            f"(the hormone model); model {model.name!r} does not"
+        )
+    population = cfg.ga.population
+    if stand.neighbours > population - 1:
+        raise ConfigError(
+            f"environment.stand.neighbours: {stand.neighbours} neighbours drawn from a "
+            f"population of {population}: at most {population - 1}"
+        )
 
 
 def _expand_patterns(evolve: dict, by_name: dict, kind: str) -> dict:

@@ -245,6 +245,12 @@ class Evaluator:
         ``Client.get_executor(pure=False)``)
     batch_size : rows per task; default: the population split into 4 tasks per worker
 
+    A fitness whose values depend on the whole batch (plants judged among neighbours
+    drawn from the population) has a ``prepare(x, seeds)`` method: the evaluator calls
+    it once per batch, in its own process, before splitting the batch between workers,
+    so every worker judges with the same draw
+    (:meth:`growsim.experiment.fitness.Fitness.prepare`).
+
     Examples
     --------
     >>> import numpy as np
@@ -273,6 +279,9 @@ class Evaluator:
         takes none) -> :class:`EvalOutcome`."""
         n = x.shape[0]
         s = seeds if self.with_seeds else None
+        prepare = getattr(self.fitness, "prepare", None)
+        if callable(prepare) and n:  # a fitness that depends on the batch (a mixture)
+            prepare(x, s)
         if self.executor is None or n == 0:
             v, err = evaluate_batch(self.fitness, x, s, self.vectorized, self.with_seeds)
             return EvalOutcome(v, err)

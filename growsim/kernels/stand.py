@@ -11,7 +11,7 @@ import numpy as np
 from growsim.kernels.config import njit
 from growsim.kernels.hormone import C_NEWLEN, C_NEWRAD, new_plant
 
-__all__ = ["new_stand", "periodic_shifts"]
+__all__ = ["nearest_shifts", "new_stand", "periodic_shifts"]
 
 
 @njit
@@ -68,3 +68,23 @@ def periodic_shifts(spacing, rings, dims):
             if i or j:
                 out.append([i * spacing, 0.0, j * spacing])
     return np.array(out, dtype=np.float64).reshape(-1, 3)
+
+
+def nearest_shifts(spacing, count, dims):
+    """``(count, 3)`` the offsets of the ``count`` lattice cells nearest the focal one
+    (a mixture's neighbours): :func:`periodic_shifts`' cells, nearest first (ring by ring;
+    within a distance in :func:`periodic_shifts`' order).
+
+    Examples
+    --------
+    >>> nearest_shifts(1.0, 4, 3).tolist()
+    [[0.0, 0.0, -1.0], [-1.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]
+    >>> nearest_shifts(2.0, 3, 2).tolist()
+    [[-2.0, 0.0, 0.0], [2.0, 0.0, 0.0], [-4.0, 0.0, 0.0]]
+    """
+    rings = 1
+    while (2 * rings + 1) ** (2 if dims == 3 else 1) - 1 < count:
+        rings += 1
+    cells = periodic_shifts(spacing, rings, dims)
+    d = np.round(np.hypot(cells[:, 0], cells[:, 2]) / spacing, 9)
+    return cells[np.argsort(d, kind="stable")[:count]]

@@ -14,7 +14,8 @@ A model is a :class:`Model` (one instance per model, registered by name in
   (growth animations use it; a one-shot model yields once);
 - the optional capabilities it implements, declared by name in :attr:`Model.capabilities`
   (one of :data:`CAPABILITIES` each; the base methods refuse): :meth:`Model.population`,
-  :meth:`Model.map_groups`, :meth:`Model.collisions`, :meth:`Model.draws`. Callers ask
+  :meth:`Model.map_groups`, :meth:`Model.collisions`, :meth:`Model.draws`,
+  :meth:`Model.mixture`. Callers ask
   ``"population" in model.capabilities``, never ``getattr``. The conformance suite
   (``tests/test_conformance.py``) checks that a model overrides exactly the methods it
   declares and that each gives what its docstring says.
@@ -36,7 +37,7 @@ __all__ = ["CAPABILITIES", "Model", "Param", "resolve_params"]
 
 #: the optional capabilities a model may declare (:attr:`Model.capabilities`), each the
 #: name of the :class:`Model` method that implements it
-CAPABILITIES = ("population", "map_groups", "collisions", "draws")
+CAPABILITIES = ("population", "map_groups", "collisions", "draws", "mixture")
 
 
 @dataclass(frozen=True)
@@ -219,6 +220,13 @@ class Model(abc.ABC):
         row per branching), which ``develop(params, draws=...)`` takes back, so a fit can
         search them (:func:`growsim.fitting.setups.arrange`)."""
         self._missing("draws")
+
+    def mixture(self, params, neighbours, *, seed=None, env=None):
+        """Capability ``"mixture"``: the phenotype of ``params`` grown together with
+        ``neighbours`` (a sequence of parameter mappings, ``env.stand.neighbours`` of them;
+        None: copies of ``params``) in ``env``'s mixed stand (``environment.stand.mode =
+        "mixture"``), scored as the focal plant among them."""
+        self._missing("mixture")
 
     def __repr__(self) -> str:
         return f"<growsim model {self.name!r} ({self.phenotype})>"

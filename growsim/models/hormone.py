@@ -240,6 +240,9 @@ def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Pla
     if env.stand.mode == "explicit":  # a stand of copies: the stand is the phenotype
         yield from grow_stand(p, env=env)
         return
+    if env.stand.mode == "mixture":  # no population to draw from: among its own copies
+        yield from grow_mixture(p, None, env=env)
+        return
     n, s = seedling(p, env)
     stopped = ""
     for step in range(int(p["steps"])):
@@ -251,9 +254,11 @@ def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Pla
             return
 
 
-def grow_stand(params: Mapping[str, float] | None = None, *, env=None, xz=None) -> Iterator[Plant]:
-    """Grow an explicit stand of copies of one genome step by step, yielding the stand
-    (one :class:`Plant`, every plant's modules) after every step.
+def grow_stand(params=None, *, env=None, xz=None) -> Iterator[Plant]:
+    """Grow an explicit stand step by step, yielding the stand (one :class:`Plant`, every
+    plant's modules) after every step: copies of one genome (``params`` a mapping) or a
+    plant of its own genome at each position (``params`` a sequence of mappings, one per
+    position; they must agree on ``dims``, ``walls``, ``steps`` and ``max_modules``).
 
     The plants stand at ``xz`` ``(N, 2)`` (default: ``env.stand.xz()``, the
     ``[environment.stand]`` positions; ``[x, z]`` on the ground, ``z`` must be 0 in 2D).
@@ -277,18 +282,33 @@ def grow_stand(params: Mapping[str, float] | None = None, *, env=None, xz=None) 
     from growsim.env import Environment
     from growsim.errors import UserInputError
 
-    p = resolve_params(PARAMS, params, where="hormone.")
     env = env if env is not None else Environment()
     xz = env.stand.xz() if xz is None else np.asarray(xz, dtype=np.float64).reshape(-1, 2)
+    N = len(xz)
+    each = params is not None and not isinstance(params, Mapping)
+    plants = [resolve_params(PARAMS, q, where="hormone.") for q in params] if each else None
+    if plants is not None and len(plants) != N:
+        raise UserInputError(f"hormone.grow_stand: {len(plants)} genomes for {N} positions")
+    p = plants[0] if plants else resolve_params(PARAMS, params, where="hormone.")
+    for i, q in enumerate(plants or ()):
+        for name in ("dims", "walls", "steps", "max_modules"):
+            if q[name] != p[name]:
+                raise UserInputError(
+                    f"hormone.{name}: plant {i} has {q[name]:g}, plant 0 {p[name]:g}: the "
+                    "plants of a stand grow with the same settings"
+                )
     if int(p["dims"]) == 2 and np.any(xz[:, 1] != 0.0):
         raise UserInputError(
             "environment.stand.positions: a 2D plant grows in the x-y plane: every z must "
             "be 0 (use layout = 'row' or positions [[x, 0], ...])"
         )
-    N = len(xz)
     n, s = seedling({**p, "max_modules": int(p["max_modules"]) * N}, env)
-    for key in ("genes", "c", "strength_young"):  # copies of one genome: a row per plant
-        s[key] = np.repeat(s[key], N, axis=0)
+    keys = ("genes", "c", "strength_young")
+    if plants:  # a row of genes, constants and young strength per plant
+        rows = [_rows(q) for q in plants]
+        s.update({key: np.concatenate([r[i] for r in rows]) for i, key in enumerate(keys)})
+    else:  # copies of one genome
+        s.update({key: np.repeat(s[key], N, axis=0) for key in keys})
     n = KS.new_stand(s["modules"], s["c"], np.ascontiguousarray(xz), 0.0)
     stopped = ""
     for step in range(int(p["steps"])):
@@ -342,13 +362,52 @@ def grow_periodic(
             return
 
 
+def grow_mixture(params, neighbours=None, *, env=None) -> Iterator[Plant]:
+    """Grow a plant among neighbours of other genomes (``environment.stand.mode =
+    "mixture"``), yielding the focal plant after every step: the plant at the origin and
+    ``neighbours`` (a sequence of ``env.stand.neighbours`` parameter mappings; None:
+    copies of ``params``) on the lattice cells of ``env.stand.spacing`` nearest it
+    (:meth:`growsim.env.stand.Stand.mixture_xz`), all grown together as one
+    :func:`grow_stand`. The focal plant's ``meta["total_nutrient"]`` is its own nutrient
+    (so the ``nutrient`` objective scores it among its neighbours);
+    ``meta["neighbours_nutrient"]`` theirs, ``meta["stand"]`` the positions.
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> env = Environment.model_validate({"light": {"diffuse": 0.5}, "stand": {
+    ...     "mode": "mixture", "neighbours": 2, "spacing": 0.8}})
+    >>> p = {**PRESETS["demo_2d"], "steps": 8}
+    >>> weak = {**p, "h0_gain": 0.0}  # a neighbour that does not elongate
+    >>> *_, among_weak = grow_mixture(p, [weak, weak], env=env)
+    >>> *_, among_copies = grow_mixture(p, None, env=env)
+    >>> among_weak.meta["stand"][:2], among_weak.meta["total_nutrient"] > 0
+    ([[0.0, 0.0], [-0.8, 0.0]], True)
+    """
+    from growsim.env import Environment
+    from growsim.errors import UserInputError
+
+    env = env if env is not None else Environment()
+    p = resolve_params(PARAMS, params, where="hormone.")
+    k = env.stand.neighbours
+    neighbours = [p] * k if neighbours is None else list(neighbours)
+    if len(neighbours) != k:
+        raise UserInputError(
+            f"environment.stand.neighbours = {k}: {len(neighbours)} neighbours given"
+        )
+    xz = env.stand.mixture_xz(int(p["dims"]))
+    for stand in grow_stand([p, *neighbours], env=env, xz=xz):
+        focal = stand.subset(stand.data["plant"] == 0)
+        nutrient = stand.meta["plant_nutrient"]
+        focal.meta.update(total_nutrient=float(nutrient[0]), neighbours_nutrient=nutrient[1:])
+        focal.data.pop("plant")
+        yield focal
+
+
 def _stand_plant(p, n, modules, steps, stopped, ground, xz) -> Plant:
     plant = _plant(p, n, modules, steps, stopped, ground)
     N = len(xz)
-    which = np.empty(n, np.int64)
-    parent = modules.parent
-    for m in range(n):  # parents first: a module belongs to its parent's plant
-        which[m] = m if m < N else which[parent[m]]
+    which = modules.plant[:n].copy()  # a module belongs to its parent's plant
     nutrient = np.bincount(which, weights=plant.data["nutrient"], minlength=N)
     data = {**plant.data, "plant": which}
     meta = {**plant.meta, "stand": xz.tolist(), "plant_nutrient": nutrient.tolist()}
@@ -376,20 +435,26 @@ def seedling(p: Mapping[str, float], env) -> tuple[int, dict]:
     dims = int(p["dims"])
     walls = 2 if dims == 2 else int(p["walls"])
     cap = int(p["max_modules"])
-    c = np.array([[p[name] for name, _, _ in CONSTANTS]])
-    g = genes(p)[None]
+    g, c, young = _rows(p)
     s = {
         "dims": dims,
         "modules": K.new_module_arrays(cap, walls, g.shape[1]),
         "scratch": shadow_scratch(int(env.light.resolution)),
         "genes": g,
         "c": c,
-        "strength_young": np.array([float(p["strength_young"])]),
+        "strength_young": young,
         "env": environment_args(env),
         "shifts": np.zeros((0, 3)),  # alone: no copies (a periodic stand's offsets)
     }
     n = K.new_plant(s["modules"], c[0])
     return n, s
+
+
+def _rows(p):
+    """A plant's rows of :func:`growsim.kernels.hormone.grow_step`'s per-plant arrays:
+    genes ``(1, H, 3 + J)``, constants ``(1, N_CONSTANTS)``, young strength ``(1,)``."""
+    c = np.array([[p[name] for name, _, _ in CONSTANTS]])
+    return genes(p)[None], c, np.array([float(p["strength_young"])])
 
 
 def _plant(p, n, modules, steps, stopped, ground=0.0) -> Plant:
@@ -520,7 +585,7 @@ class Hormone(Model):
 
     name = NAME
     phenotype = "plant"
-    capabilities = frozenset({"population"})
+    capabilities = frozenset({"population", "mixture"})
     params = PARAMS
     presets = PRESETS
     preset_environments = PRESET_ENVIRONMENTS
@@ -537,6 +602,12 @@ class Hormone(Model):
     def population(self, params, names, seeds=None, env=None):
         """See :func:`population` (``seeds`` unused: the model is deterministic)."""
         return population(params, names, env)
+
+    def mixture(self, params, neighbours, *, seed=None, env=None) -> Plant:
+        """See :func:`grow_mixture` (the focal plant after its last step; ``seed``
+        unused)."""
+        *_, last = grow_mixture(params, neighbours, env=env)
+        return last
 
 
 #: The registered model (``growsim.models.MODELS["hormone"]``).
