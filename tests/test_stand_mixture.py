@@ -5,6 +5,7 @@ drawn from the population with common random numbers, the config's checks."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -132,3 +133,29 @@ def test_a_mixture_run_is_the_same_on_one_and_two_processes(tmp_path):
     a = json.loads((tmp_path / "serial" / "best.json").read_text())
     b = json.loads((tmp_path / "pool" / "best.json").read_text())
     assert a["fitness"] == b["fitness"] and a["params"] == b["params"]
+
+
+def test_a_mixture_sweep_and_its_garden(tmp_path):
+    # mixture against monoculture: a sweep, then every genome grown in both gardens; in the
+    # mixture garden among neighbours drawn from every evolved genome of the family
+    import pandas as pd
+
+    from growsim.experiment import sweep
+    from growsim.report import compare
+
+    tiny = ["ga.population=6", "ga.generations=2", "model.params.steps=8",
+            "model.params.max_modules=30"]  # fmt: skip
+    df = sweep(MIX, repeats=2, out=tmp_path / "sw", overrides=tiny, progress=False)
+    assert sorted(df["sweep_variant"].unique()) == ["mixture", "monoculture"]
+    c = compare([tmp_path / "sw"], tmp_path / "cmp", renders=False, garden=True)
+    grown = pd.read_csv(c.files["garden"])
+    assert len(grown) == 4 * 2
+    name = {o: Path(p).parent.name for o, p in zip(grown.origin, grown.path)}
+    grown = grown.assign(garden=grown.garden.map(name), origin=grown.origin.map(name))
+    for row in grown[grown.origin == grown.garden].itertuples():
+        # in its own garden: a monoculture scores what its run found; a mixture is judged by
+        # other neighbours than in its run (the family's genomes), so only its sign is known
+        best = json.loads((Path(row.path) / "best.json").read_text())
+        if row.garden == "monoculture":
+            assert row.fitness == pytest.approx(best["fitness"], rel=1e-12)
+        assert np.isfinite(row.fitness)

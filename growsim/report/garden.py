@@ -62,7 +62,10 @@ def grow_in_gardens(families: list[Family], notes: list[str]):
     weighted sum of the objectives, as the GA saw it), every objective's score and terms
     (``<kind>.score``, ``<kind>.<term>``) and the phenotype's numeric measures in that
     environment. Families whose groups do not differ in ``[environment]`` are left out
-    (with a note).
+    (with a note). In a mixture garden (``environment.stand.mode = "mixture"``) every
+    genome grows among neighbours drawn from the family's evolved genomes (all origins;
+    one set of draws for every genome, :meth:`Fitness.prepare`): ``fitness`` is the mean
+    over the draws, the terms and measures are the focal plant's among the first draw.
 
     Examples
     --------
@@ -80,16 +83,23 @@ def grow_in_gardens(families: list[Family], notes: list[str]):
                 notes.append(f"{fam.label}: no common garden (its groups share one environment)")
             continue
         gardens = [(g.label, g.runs[0].config["environment"]) for g in fam.groups if g.runs]
+        pool = [r.best["params"] for g in fam.groups for r in g.runs]  # a mixture's neighbours
         for g in fam.groups:
             for r in g.runs:
                 for garden, env in gardens:
                     data = {**r.config, "environment": env}
                     fitness = load_plan(data).fitness()
+                    if fitness.mixture:
+                        x = np.array([[p[n] for n in fitness.evolved] for p in pool])
+                        fitness.prepare(x, np.arange(len(pool), dtype=np.uint64))
                     phenotype = fitness.phenotype_of(r.best["params"]).phenotype
                     terms = fitness.terms(phenotype)
                     total = 0.0
                     for (_, t), w, s in zip(terms.items(), fitness.weights, fitness.signs):
                         total += float(w * s * t["score"])
+                    if fitness.mixture:  # the mean over the draws
+                        mine = np.array([[r.best["params"][n] for n in fitness.evolved]])
+                        total = float(fitness(mine)[0])
                     row = {
                         "family": fam.label,
                         "origin": g.label,
