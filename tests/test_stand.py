@@ -231,6 +231,20 @@ def test_grow_stand_renders_and_reports(tmp_path):
     assert png.stat().st_size > 0
 
 
+def test_grow_stand_gif_one_frame_per_step(tmp_path):
+    from PIL import Image
+
+    gif = tmp_path / "stand.gif"
+    code, out, err = _grow(["--preset", "demo_2d", "--set", "steps=6", "--stand", "3",
+                            "--gif", str(gif), "--size", "64", "64"])  # fmt: skip
+    assert code == 0 and "animation:" in out, err
+    with Image.open(gif) as im:
+        assert im.n_frames == 6 and im.size == (64, 64)
+    bad = tmp_path / "stand.png"
+    code, _, err = _grow(["--preset", "demo_2d", "--stand", "3", "--gif", str(bad)])
+    assert code != 0 and "--gif" in err and not bad.exists()
+
+
 def test_grow_stand_of_another_model_places_copies(tmp_path):
     from growsim.cli import main
 

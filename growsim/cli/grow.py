@@ -327,7 +327,8 @@ def run_grow(args: argparse.Namespace) -> int:
     params = model.resolve(params, where=f"{args.model}.")
     # check every output path before the (possibly long) growth, so nothing is grown
     # for an output that cannot be written
-    for opt, path in (("--export", args.export), ("--screenshot", args.screenshot)):
+    outputs = (("--export", args.export), ("--screenshot", args.screenshot), ("--gif", args.gif))
+    for opt, path in outputs:
         if path is not None and not Path(path).resolve().parent.is_dir():
             raise UserInputError(f"{opt} {path}: directory {Path(path).parent} does not exist")
     if args.screenshot is not None and Path(args.screenshot).suffix.lower() != ".png":
@@ -339,18 +340,31 @@ def run_grow(args: argparse.Namespace) -> int:
         ".glb",
     ):
         raise UserInputError(f"--export {args.export}: use .vtp, .ply, .obj or .glb")
+    if args.gif is not None and Path(args.gif).suffix.lower() not in (".gif", ".mp4"):
+        raise UserInputError(f"--gif {args.gif}: must end in .gif (or .mp4)")
     # models default their own seed (honda: its ``seed`` parameter); pass one only if given
     stand = _stand_env(args, model, env)
+
+    def grown(steps):  # every step's phenotype for --gif, else the last
+        if args.gif is not None:
+            return list(steps)
+        *_, last = steps
+        return [last]
+
     if stand is not None and args.model == "hormone":  # grown together, shading each other
         from growsim.models.hormone import grow_stand
 
         env = stand
-        *_, plant = grow_stand(params, env=env)
+        frames = grown(grow_stand(params, env=env))
     elif stand is not None:  # other models: copies of one plant placed (grown alone)
         env = stand
-        plant = _placed_copies(model.develop(params, seed=args.seed, env=env), env.stand)
+        steps = model.grow(params, seed=args.seed, env=env)
+        frames = [_placed_copies(p, env.stand) for p in grown(steps)]
+    elif args.gif is not None:
+        frames = grown(model.grow(params, seed=args.seed, env=env))
     else:
-        plant = model.develop(params, seed=args.seed, env=env)
+        frames = [model.develop(params, seed=args.seed, env=env)]
+    plant = frames[-1]
     args.environment_label = base[1] if base is not None else "default"
     if model.phenotype != "plant":
         return _report_other(args, plant, params)
@@ -369,6 +383,10 @@ def run_grow(args: argparse.Namespace) -> int:
             plant, args.screenshot, view=args.view, size=args.size, color=args.color, env=env,
             light_arrow=args.light_arrow,
         )  # fmt: skip
+    if args.gif is not None:
+        from growsim.phenotypes.plant.views import growth_animation
+
+        growth_animation(frames, args.gif, view=args.view, size=args.size)
     if args.save is not None:
         plant.save(args.save)
     generations = plant.data.get("generation")
@@ -408,7 +426,9 @@ def run_grow(args: argparse.Namespace) -> int:
             f"height {info['measures']['height']:.3g}"
             + ("" if base is None else f" (environment: {base[1]})")
         )
-        for opt, path in (("mesh", args.export), ("image", args.screenshot), ("plant", args.save)):
+        shown = (("mesh", args.export), ("image", args.screenshot), ("animation", args.gif),
+                 ("plant", args.save))  # fmt: skip
+        for opt, path in shown:
             if path is not None:
                 print(f"  {opt}: {path}")
     return 0
@@ -493,6 +513,12 @@ def register(subparsers) -> None:
     p.add_argument("--export", metavar="PATH", help="mesh file: .vtp, .ply, .obj or .glb")
     p.add_argument("--screenshot", metavar="PATH", help="PNG render")
     p.add_argument("--save", metavar="PATH", help="the Plant skeleton as .npz")
+    p.add_argument(
+        "--gif",
+        metavar="PATH",
+        help="an animation of the growth (.gif, or .mp4), one frame per step of a step-wise "
+        "model (hormone; with --stand, the stand growing)",
+    )
     add_screenshot_options(p, view="front")
     add_color_options(p)
     add_environment_options(p)

@@ -160,13 +160,15 @@ class Light(Options):
         return d, w
 
     def segment_light(
-        self, skeleton, end=None, radius=None, offsets=None, samples: int = 1, resolution=None
-    ) -> np.ndarray:
+        self, skeleton, end=None, radius=None, offsets=None, samples: int = 1, resolution=None,
+        shifts=None,
+    ) -> np.ndarray:  # fmt: skip
         """``(n,)`` light on each segment of ``skeleton`` (a Plant, a mapping of arrays, or
         ``start`` with ``end`` and ``radius``), one shadow map per plant of ``offsets`` and
         direction: the weighted sum over :meth:`directions` of :func:`segment_light` with
         this light's intensity, shadows, transmission, resolution (or ``resolution``),
-        bias and backend.
+        bias and backend. ``shifts`` ``(k, 3)``: each plant is also shaded by its copies
+        moved by these offsets (a periodic stand), which are not judged.
 
         Examples
         --------
@@ -178,16 +180,20 @@ class Light(Options):
         >>> sky = Light(diffuse=0.5).segment_light(tree)  # the sky lights the shaded ones
         >>> bool((sky[light == 0] > 0).mean() > 0.5)
         True
+        >>> near = [[15.0, 0, 0], [-15.0, 0, 0]]  # two copies 15 m away shade it
+        >>> bool(Light().segment_light(tree, shifts=near).sum() < light.sum())
+        True
         """
         dirs, weights = self.directions()
         out = None
+        extra = {} if shifts is None else {"shifts": shifts}
         for d, w in zip(dirs, weights):
             if w == 0.0:
                 continue
             part = segment_light(
                 skeleton, end, radius, offsets, d, self.intensity * w,
                 resolution or self.resolution, self.bias, samples, self.shadows,
-                self.transmission, self.backend,
+                self.transmission, self.backend, **extra,
             )  # fmt: skip
             out = part if out is None else out + part
         return out
@@ -473,6 +479,7 @@ def segment_light(
     shadows: str = "hard",
     transmission: float = 0.25,
     backend: str = "numba",
+    shifts=None,
 ) -> np.ndarray:
     """Light on each segment from a parallel light through a shadow map.
 
@@ -503,6 +510,13 @@ def segment_light(
     ``backend="moderngl"`` renders the hard map through OpenGL
     (:mod:`growsim.env.shadow_gl`).
 
+    ``shifts`` ``(k, 3)`` (a periodic stand, :func:`growsim.kernels.stand.periodic_shifts`):
+    every plant is also shaded by ``k`` copies of itself moved by these offsets. The
+    copies' segments join the plant's map (framed over the plant and its copies, as an
+    explicit stand of the same copies is) but are not judged: the result is the plant's
+    ``(n,)``, as the same plant at the centre of an explicit stand of copies gets it.
+    ``None`` (default) or no rows: the plant alone, bit for bit as without the argument.
+
     Raises :class:`growsim.errors.UserInputError` for a zero or non-finite direction, a
     non-finite coordinate, radius or normal (naming the array and row), a negative radius,
     bad offsets or a bad setting.
@@ -521,6 +535,8 @@ def segment_light(
     [1.0, 1.0, 0.0]
     >>> segment_light(start, end, r, shadows="soft", transmission=0.5).round(3).tolist()
     [1.0, 0.5, 0.0]
+    >>> segment_light(start[2:], end[2:], r[2:], shifts=[[-5.0, 2, 0]]).tolist()  # a copy
+    [0.0]
     """
     from growsim.kernels import light as kernels
 
@@ -543,6 +559,14 @@ def segment_light(
         norm = np.linalg.norm(normal, axis=1)
         use = norm > 0 if kind is None else (norm > 0) & (kind == LEAF)
         normal = np.ascontiguousarray(normal / np.where(norm > 0, norm, 1.0)[:, None])
+    sh = None if shifts is None else checked_array(where, "shifts", shifts, (3,), None)
+    if sh is not None and len(sh):  # shaded by copies that are not judged
+        out = _shaded_exposure(
+            (s, e, r, off), sh, (u, v, d), samples, (res, bias, shadows == "soft"),
+            _transmissions(where, data, transmission, n) if shadows == "soft" else None,
+            backend,
+        )  # fmt: skip
+        return kernels.apply_cosines(s, e, normal, use, d, intensity, out)
     frames = kernels.plant_frames(s, e, r, off, u, v, res)
     if backend == "moderngl" and shadows == "hard":
         from growsim.env.shadow_gl import segment_exposure_gl
@@ -556,6 +580,104 @@ def segment_light(
             _scratch(res), np.empty(n),
         )  # fmt: skip
     return kernels.apply_cosines(s, e, normal, use, d, intensity, out)
+
+
+def _shaded_exposure(segments, shifts, plane, samples, shadow, trans, backend) -> np.ndarray:
+    """``(n,)`` each segment's exposure (mean over its samples) in its plant's map, the
+    plant joined by its copies moved by ``shifts`` ``(k, 3)``: plant ``p``'s block of the
+    map's segments is the plant, then each copy in turn (the copies' segments in the
+    plant's order), and only the plant's own samples are judged (each owned by its
+    segment, as :func:`segment_light` judges them). ``shadow`` ``(res, bias, soft)``;
+    ``trans`` the plant's per-segment transmissions when soft.
+
+    The map is framed over the plant and all its copies (:func:`_stand_frames`: the frame
+    :func:`growsim.kernels.light.plant_frames` gives them all), then a copy whose shadow's
+    bounding box (its axes' widened by its largest radius and a pixel) misses the plant's
+    samples is left out: its capsules cover no pixel holding a sample (a capsule covers a
+    pixel only when it holds the pixel's centre), so the answers are those of the whole
+    stand of copies, bit for bit, at the cost of the copies that can shade the plant."""
+    from growsim.kernels import light as kernels
+
+    s, e, r, off = segments
+    u, v, d = plane
+    res, bias, soft = shadow
+    n, k = s.shape[0], shifts.shape[0]
+    moves = np.concatenate([np.zeros((1, 3)), shifts])  # (k + 1, 3): the plant, its copies
+    blocks = [(int(off[p]), int(off[p + 1])) for p in range(len(off) - 1)]
+    frames = _stand_frames(s, e, r, blocks, moves, u, v, res)
+    t = (np.arange(samples) + 0.5) / samples  # as segment_exposure_into places them
+    query = (s[:, None, :] + t[None, :, None] * (e - s)[:, None, :]).reshape(-1, 3)
+    parts, kept_off, own = [], [0], []
+    for p, (a, b) in enumerate(blocks):
+        hit = np.zeros(k + 1, bool)
+        if b > a and backend == "moderngl" and not soft:
+            hit[:] = True  # the whole stand (the GPU draws every copy)
+        elif b > a:
+            q = query[a * samples : b * samples]
+            ends = np.concatenate([s[a:b], e[a:b]])
+            rim = float(r[a:b].max()) + frames[p, 2]
+            hit[:] = True
+            for axis in (u, v):
+                pa, qa, moved = ends @ axis, q @ axis, moves @ axis
+                hit &= (pa.min() - rim + moved <= qa.max()) & (pa.max() + rim + moved >= qa.min())
+            hit[0] = True
+        for j in np.flatnonzero(hit):
+            parts.append((a, b, j))
+        own.append(kept_off[-1] + np.arange(b - a))
+        kept_off.append(kept_off[-1] + int(hit.sum()) * (b - a))
+    all_s, all_e = (
+        np.ascontiguousarray(np.concatenate([x[a:b] + moves[j] for a, b, j in parts] or [s[:0]]))
+        for x in (s, e)
+    )
+    all_r = np.ascontiguousarray(np.concatenate([r[a:b] for a, b, _ in parts] or [r[:0]]))
+    all_off = np.asarray(kept_off, np.int64)
+    own = np.concatenate(own).astype(np.int64) if own else np.empty(0, np.int64)
+    if backend == "moderngl" and not soft:
+        from growsim.env.shadow_gl import segment_exposure_gl
+
+        every = segment_exposure_gl(all_s, all_e, all_r, all_off, frames, u, v, d, res, bias,
+                                    samples)  # fmt: skip
+        return np.ascontiguousarray(every[own])
+    all_t = np.concatenate([trans[a:b] for a, b, _ in parts]) if soft else np.empty(0)
+    none = np.empty(0, np.int64)
+    expo = kernels._judge(
+        (all_s, all_e, all_r, all_off), frames, (u, v, d), (res, bias, soft, all_t),
+        (0, np.ascontiguousarray(query), np.ascontiguousarray(samples * off, dtype=np.int64),
+         np.repeat(own, samples)),
+        np.empty(n * samples), (np.empty(0), none), _scratch(res),
+    )  # fmt: skip
+    return np.ascontiguousarray(expo.reshape(n, samples).sum(axis=1) / samples)
+
+
+def _stand_frames(s, e, r, blocks, moves, u, v, res) -> np.ndarray:
+    """``(P, 3)`` each plant's frame over itself and its copies (``moves`` ``(k + 1, 3)``):
+    what :func:`growsim.kernels.light.plant_frames` gives over every copy's segments, from
+    the few points that can hold the extremes (the plant's end points and the copies
+    within a rounding error of the extreme along each axis, the points moved as the
+    copies' segments are: ``point + move``) and the largest radius."""
+    from growsim.kernels import light as kernels
+
+    cand, radii, offsets = [], [], [0]
+    for a, b in blocks:
+        if b <= a:
+            offsets.append(offsets[-1])
+            continue
+        pts = np.concatenate([s[a:b], e[a:b]])
+        found = []
+        for axis in (u, v):
+            pa, ma = pts @ axis, moves @ axis
+            tol = 1e-9 * (np.abs(pa).max() + np.abs(ma).max() + 1.0)
+            for sign in (1.0, -1.0):
+                at_p = pts[sign * pa >= (sign * pa).max() - tol]
+                at_m = moves[sign * ma >= (sign * ma).max() - tol]
+                found.append((at_p[None, :, :] + at_m[:, None, :]).reshape(-1, 3))
+        c = np.concatenate(found)
+        cand.append(c)
+        radii.append(np.full(len(c), r[a:b].max()))
+        offsets.append(offsets[-1] + len(c))
+    c = np.ascontiguousarray(np.concatenate(cand)) if cand else np.empty((0, 3))
+    rr = np.concatenate(radii) if radii else np.empty(0)
+    return kernels.plant_frames(c, c, rr, np.asarray(offsets, np.int64), u, v, res)
 
 
 def point_light(

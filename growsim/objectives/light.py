@@ -36,6 +36,31 @@ The sum ``sum_i A_i R(L_i)`` is :func:`growsim.phenotypes.plant.leaf_light` (its
 plant's ``light_captured`` measure). Terms: ``light`` (the sum), ``leaf_area``
 (``sum_i A_i``) and ``wood_volume``.
 
+In a stand (``[environment.stand]``, ``docs/models/stand.md``) the shadow-map score is
+the plant's among its neighbours:
+
+- ``mode = "periodic"``: the plant (the focal one) is shaded by its own copies at the
+  lattice offsets :func:`growsim.kernels.stand.periodic_shifts` (``spacing``, ``rings``;
+  on the x-z plane, or along x for a plant whose ``params`` say ``dims = 2``); the copies
+  cast shadows, only the plant's own leaves are judged, and the wood is the plant's;
+- ``mode = "explicit"``: the stand is scored, as the hormone model's explicit stand is (its
+  nutrient is the stand's): a copy of the plant at every position of
+  :meth:`growsim.env.stand.Stand.xz` (one genome; a model that does not grow plants
+  together places them), all in one shadow map, every tree's leaves judged, shaded by
+  all; ``light``, ``leaf_area`` and ``wood_volume`` are the stand's sums. A phenotype that
+  is a stand already (``data["plant"]``, the hormone model's) is scored as it is.
+
+One shadow map per light spans the whole stand (the plant and its copies). So that each
+crown keeps its ``resolution`` pixels across, as alone, the map gets
+:func:`stand_resolution` pixels: ``resolution x (1 + lattice / crown)``, ``crown`` the
+tree's width across the light and ``lattice`` what the copies add to it (about ``2 rings
+spacing``, or the positions' spread), rounded up to 2^k or 1.5 x 2^k (few shadow-map
+scratches are kept) and at most 4096. A map of ``resolution`` pixels over the whole stand
+would leave a tree a few pixels at wide spacings, and coarse maps let more light through
+(+56 % for a zelkova in a periodic stand 100 m apart at 64 pixels:
+``benchmarks/log/stand.md``), a bias the GA could exploit. ``shading = "projection"`` has
+no stand and is refused with one.
+
 ``shading = "projection"`` is the measure this objective used before the shadow-map
 light, kept so old configs can reproduce old results (linear response only)::
 
@@ -63,9 +88,36 @@ import numpy as np
 from pydantic import Field, model_validator
 
 from growsim.env.light import Direction, Intensity
+from growsim.errors import ConfigError
 from growsim.objectives.base import Objective, ObjectiveOptions
 
-__all__ = ["LightObjective", "LightOptions", "saturating_response"]
+__all__ = ["LightObjective", "LightOptions", "saturating_response", "stand_resolution"]
+
+#: the finest shadow map a stand gets (pixels across)
+STAND_RESOLUTION_MAX = 4096
+
+
+def stand_resolution(resolution: int, crown: float, lattice: float) -> int:
+    """Pixels across a stand's shadow map that keep ``resolution`` pixels across a crown
+    ``crown`` wide in a stand whose positions spread ``lattice`` (same units): ``resolution
+    x (1 + lattice / crown)`` rounded up to the next ``2^k`` or ``1.5 x 2^k``, at least
+    ``resolution`` and at most 4096 (``STAND_RESOLUTION_MAX``).
+
+    Examples
+    --------
+    >>> stand_resolution(64, 40.0, 0.0), stand_resolution(64, 40.0, 80.0)
+    (64, 192)
+    >>> stand_resolution(64, 40.0, 100.0), stand_resolution(512, 1.0, 1e3)
+    (256, 4096)
+    """
+    want = resolution * (1.0 + max(lattice, 0.0) / crown) if crown > 0 else resolution
+    if want <= resolution:
+        return int(resolution)
+    step = 2 ** int(np.floor(np.log2(want)))
+    for size in (step, 1.5 * step, 2 * step):
+        if size >= want - 1e-9:
+            return int(min(STAND_RESOLUTION_MAX, size))
+    return STAND_RESOLUTION_MAX
 
 
 def saturating_response(light, half_saturation: float):
@@ -139,7 +191,9 @@ class LightObjective(Objective):
     ``half_saturation`` (``K > 0``, default 0.5), ``direction`` (3 floats, the direction
     the light travels, y up), ``intensity`` and ``resolution`` (16..4096; each defaults to
     ``environment.light``'s), ``wood_cost`` (per unit^3 of wood, >= 0, default 0.02). The
-    formulas: :mod:`growsim.objectives.light`.
+    formulas: :mod:`growsim.objectives.light`. With ``[environment.stand]`` it scores the
+    plant among its copies (``periodic``) or the stand of copies (``explicit``):
+    :meth:`scored`.
 
     Examples
     --------
@@ -153,6 +207,14 @@ class LightObjective(Objective):
     (['leaf_area', 'light', 'wood_volume'], True, True)
     >>> sat = LightObjective(wood_cost=0.0, response="saturating", half_saturation=0.2)
     >>> bool(sat(plant) >= obj(plant))  # every leaf's light is <= 1: R(L) >= L
+    True
+
+    In a periodic stand of its copies 20 m apart the tree gets less light:
+
+    >>> from growsim.env import Environment
+    >>> env = Environment.parse({"light": {"resolution": 512},
+    ...                          "stand": {"mode": "periodic", "spacing": 20.0}})
+    >>> bool(LightObjective(env=env, wood_cost=0.0)(plant) < obj(plant))
     True
     """
 
@@ -182,6 +244,84 @@ class LightObjective(Objective):
         }
         #: the light the leaves receive: the environment's, with this objective's overrides
         self.light = env_light.model_copy(update=update) if update else env_light
+        stand = self.env.stand
+        #: the stand the plant is scored in (None: alone)
+        self.stand = None if stand.mode == "alone" else stand
+        if self.stand is not None and self.stand.mode not in ("periodic", "explicit"):
+            raise ConfigError(
+                f"objective light: environment.stand.mode = {stand.mode!r} is not scored by "
+                "the light objective; use 'alone', 'periodic' or 'explicit'"
+            )
+        if self.stand is not None and self.shading == "projection":
+            raise ConfigError(
+                f"objective light: shading = 'projection' cannot score a plant in a stand "
+                f"(environment.stand.mode = {stand.mode!r}); use shading = 'shadow-map'"
+            )
+
+    def scored(self, plant):
+        """``(plant, shifts, light)``: what :meth:`terms` scores in the environment's
+        stand, and the light it is lit by. Alone: the plant, ``None`` and :attr:`light`;
+        ``"periodic"``: the plant and its copies' offsets ``(k, 3)``; ``"explicit"``: the
+        stand of copies of the plant at the stand's positions (one
+        :class:`growsim.phenotypes.plant.Plant`, ``data["plant"]`` each segment's tree)
+        and ``None``. In a stand the light has :func:`stand_resolution` pixels (the crown
+        keeps its ``resolution``); a stand phenotype (grown together) is scored as it is,
+        by :attr:`light`.
+
+        Examples
+        --------
+        >>> from growsim.env import Environment
+        >>> from growsim.phenotypes.plant import Plant
+        >>> one = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0], radius=0.5)
+        >>> env = Environment.parse({"stand": {"mode": "periodic", "spacing": 2.0,
+        ...                                    "rings": 1}})
+        >>> _, shifts, light = LightObjective(env=env).scored(one)
+        >>> shifts.shape, light.resolution  # a crown 1 wide, copies 4 across: 64 x 5 -> 384
+        ((8, 3), 384)
+        >>> env = Environment.parse({"stand": {"mode": "explicit", "layout": "row",
+        ...                                    "count": 3}})
+        >>> stand, _, _ = LightObjective(env=env).scored(one)
+        >>> stand.n_segments, stand.data["plant"].tolist()
+        (3, [0, 1, 2])
+        """
+        if self.stand is None or "plant" in plant.data:  # alone, or a stand already
+            return plant, None, self.light
+        if self.stand.mode == "periodic":
+            from growsim.kernels.stand import periodic_shifts
+
+            dims = int(plant.meta.get("params", {}).get("dims", 3))
+            shifts = periodic_shifts(self.stand.spacing, self.stand.rings, dims)
+            return plant, shifts, self._stand_light(plant, shifts)
+        from growsim.phenotypes.plant import Plant
+
+        xz = self.stand.xz()
+        at = np.stack([xz[:, 0], np.zeros(len(xz)), xz[:, 1]], axis=1)
+        stand = Plant.concat([plant] * len(xz), offsets=at)
+        which = np.repeat(np.arange(len(xz)), plant.n_segments)
+        stand = Plant(
+            stand.start, stand.end, stand.radius, stand.parent, stand.order, stand.kind,
+            {**stand.data, "plant": which}, {**plant.meta, "stand": xz.tolist()},
+        )  # fmt: skip
+        return stand, None, self._stand_light(plant, at)
+
+    def _stand_light(self, plant, moves):
+        """:attr:`light` with :func:`stand_resolution` pixels for ``plant`` (one crown)
+        moved by each row of ``moves`` ``(k, 3)``: the crown's and the stand's widths as
+        the map of the light's direction frames them (the larger of their extents across
+        it, widened by the largest radius)."""
+        from growsim.env.light import view_basis
+
+        if plant.n_segments == 0:
+            return self.light
+        ends = np.concatenate([plant.start, plant.end])
+        rim = 2.0 * float(plant.radius.max())
+        across = view_basis(self.light.direction)
+        crown = max(float(np.ptp(ends @ a)) for a in across) + rim
+        stand = max(float(np.ptp(ends @ a) + np.ptp(moves @ a)) for a in across) + rim
+        res = stand_resolution(self.light.resolution, crown, stand - crown)
+        if res == self.light.resolution:
+            return self.light
+        return self.light.model_copy(update={"resolution": res})
 
     def respond(self, light: np.ndarray) -> np.ndarray:
         """The response ``R`` applied to an array of leaf light values (see the module).
@@ -202,7 +342,8 @@ class LightObjective(Objective):
     def terms(self, plant) -> dict[str, float]:
         """The terms of the score: ``light`` (``sum A_i R(L_i)``, or ``intensity x A_leaf``
         for the projection), ``leaf_area`` (blade area, or the leaves' shadow for the
-        projection) and ``wood_volume``.
+        projection) and ``wood_volume``; in a stand, of what :meth:`scored` gives (the
+        plant among its copies, or the explicit stand's sums).
 
         Examples
         --------
@@ -218,7 +359,11 @@ class LightObjective(Objective):
         else:
             from growsim.phenotypes.plant import leaf_light
 
-            light, area = leaf_light(plant, self.light, self.respond)
+            plant, shifts, lit = self.scored(plant)
+            if shifts is None:
+                light, area = leaf_light(plant, lit, self.respond)
+            else:
+                light, area = leaf_light(plant, lit, self.respond, shifts=shifts)
         return {"light": light, "leaf_area": area, "wood_volume": float(plant.wood_volume())}
 
     def __call__(self, plant) -> float:
