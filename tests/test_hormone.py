@@ -312,6 +312,28 @@ def _rows(params_list):
 
 
 @pytest.mark.parametrize("dims", [2, 3])
+def test_population_kernel_matches_its_oracle(dims):
+    from naive import hormone_population as naive_population
+
+    from growsim.kernels.hormone_population import grow_population
+
+    rng = np.random.default_rng(40 + dims)
+    base = hormone.resolve_params(hormone.PARAMS, hormone.PRESETS[f"demo_{dims}d"])
+    rows = [base, *({**base, **{p.name: float(rng.uniform(p.low, p.high))
+                                for p in hormone.GENES}} for _ in range(3))]  # fmt: skip
+    g = np.stack([hormone.genes(p) for p in rows])
+    c = np.array([[p[name] for name, _, _ in hormone.CONSTANTS] for p in rows])
+    young = np.array([p["strength_young"] for p in rows])
+    walls = 2 if dims == 2 else int(base["walls"])
+    args = (g, c, young, dims, walls, 10, 40, hormone.environment_args(SKY))
+    got, want = grow_population(*args), naive_population.grow_population(*args)
+    np.testing.assert_allclose(got[0], want[0], rtol=1e-12)
+    for a, b in zip(got[1:], want[1:]):
+        np.testing.assert_array_equal(a, b)
+    assert got[1].max() > 5  # the demo grew
+
+
+@pytest.mark.parametrize("dims", [2, 3])
 def test_population_path_grows_the_same_plants(dims):
     # random genomes, a capped one, a weak one that breaks: the one-call population path
     # gives each plant's total, module count, stop and module-steps as grow() does

@@ -22,7 +22,7 @@ import numpy as np
 
 from growsim.kernels.config import njit
 from growsim.kernels.gravity import loads_kernel, radius_end_kernel
-from growsim.kernels.light import module_light_into, point_light_into, shadow_scratch
+from growsim.kernels.light import module_light_into, point_light_into
 from growsim.kernels.water import transport_into_kernel
 
 __all__ = [
@@ -33,7 +33,6 @@ __all__ = [
     "Modules",
     "Surroundings",
     "ground_kernel",
-    "grow_population",
     "grow_step",
     "new_plant",
     "place_kernel",
@@ -573,8 +572,9 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env, shifts):
     ``shifts`` ``(k, 3)``: a periodic stand, the plant among copies of it moved by each
     row (:func:`growsim.kernels.stand.periodic_shifts`, :func:`walls_light`; ``(0, 3)``:
     alone).
-    :func:`growsim.models.hormone.grow` calls this once per step; :func:`grow_population`
-    runs whole populations through it.
+    :func:`growsim.models.hormone.grow` calls this once per step;
+    :func:`growsim.kernels.hormone_population.grow_population` runs whole populations
+    through it.
 
     Examples
     --------
@@ -724,67 +724,3 @@ def total(values, n):
     for q in range(n):
         acc += values[q]
     return acc
-
-
-@njit
-def grow_population(genes, c, strength_young, dims, walls, steps, cap, env):
-    """Grow ``P`` plants (genes ``(P, H, 3 + J)``, constants ``c`` ``(P, N_CONSTANTS)``,
-    ``strength_young`` ``(P,)``; the settings and the environment ``env``
-    (:class:`Surroundings`) shared) for ``steps`` steps each, as
-    :func:`growsim.models.hormone.grow` does one at a time, keeping no plant. Returns
-    ``(total, modules, stop, module_steps)``, each ``(P,)``: the nutrient held at the end
-    (NaN for a plant stopped by a NaN), the module count, the stop code (:data:`STOPS`:
-    the last of cap, nan, broken) and the modules alive summed over the steps.
-
-    Examples
-    --------
-    >>> from growsim.env import Environment
-    >>> from growsim.models.hormone import PARAMS, PRESETS, population, resolve_params
-    >>> env = Environment.model_validate({"light": {"diffuse": 0.5}})
-    >>> row = resolve_params(PARAMS, PRESETS["demo_2d"])
-    >>> table = population(np.array([list(row.values())] * 2), list(row), env)
-    >>> from growsim.models.hormone import develop
-    >>> table.modules.tolist() == [develop(row, env=env).n_segments] * 2
-    True
-    """
-    P = genes.shape[0]
-    H = genes.shape[1]
-    parent = np.empty(cap, np.int64)
-    R = np.empty((cap, 3, 3))
-    origin = np.empty((cap, 3))
-    length = np.empty(cap)
-    radius = np.empty(cap)
-    nutrient = np.empty(cap)
-    chlorophyll = np.empty(cap)
-    lignin = np.empty(cap)
-    apex = np.empty(cap, np.bool_)
-    laterals = np.empty(cap, np.int64)
-    hormone = np.empty((cap, walls, H))
-    wall_light = np.zeros((cap, walls))
-    met = np.zeros(cap)
-    light = np.zeros(cap)
-    plant = np.zeros(cap, np.int64)  # one plant at a time: row 0 of its own genes
-    modules = Modules(parent, R, origin, length, radius, nutrient, chlorophyll, lignin, apex,
-                      laterals, hormone, wall_light, met, light, plant)  # fmt: skip
-    scratch = shadow_scratch(env.resolution)
-    alone = np.zeros((0, 3))  # no copies: every plant alone
-    out_total = np.empty(P)
-    out_modules = np.empty(P, np.int64)
-    out_stop = np.zeros(P, np.int64)
-    out_steps = np.zeros(P, np.int64)
-    for p in range(P):
-        cp = c[p]
-        n = new_plant(modules, cp)
-        stop = STOP_NONE
-        for _ in range(steps):
-            row = (genes[p : p + 1], c[p : p + 1], strength_young[p : p + 1])
-            n, code = grow_step(n, dims, modules, scratch, *row, env, alone)
-            out_steps[p] += n
-            if code != STOP_NONE:
-                stop = code
-            if code == STOP_NAN or code == STOP_BROKEN:
-                break
-        out_total[p] = np.nan if stop == STOP_NAN else total(nutrient, n)
-        out_modules[p] = n
-        out_stop[p] = stop
-    return out_total, out_modules, out_stop, out_steps

@@ -42,6 +42,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from growsim.kernels import hormone as K
+from growsim.kernels import hormone_population as KP
 from growsim.kernels import stand as KS
 from growsim.kernels.light import shadow_scratch
 from growsim.models.base import Model, Param, resolve_params
@@ -492,7 +493,7 @@ def _plant(p, n, modules, steps, stopped, ground=0.0) -> Plant:
 def population(params, names: Sequence[str], env=None) -> pd.DataFrame | None:
     """Grow every row of full parameters ``params`` ``(P, p)`` (columns ``names``, every
     parameter of :data:`PARAMS`) in ``env`` in one kernel call
-    (:func:`growsim.kernels.hormone.grow_population`), keeping no plant: the population
+    (:func:`growsim.kernels.hormone_population.grow_population`), keeping no plant: the population
     path of the ``nutrient`` objective. Returns a DataFrame with one row per plant:
     ``total_nutrient`` (as :func:`develop`'s ``meta``; NaN for a plant stopped by a NaN),
     ``modules``, ``stopped`` (``""``, ``"cap"``, ``"nan"``, ``"broken"``) and
@@ -545,7 +546,7 @@ def population(params, names: Sequence[str], env=None) -> pd.DataFrame | None:
     g = np.ascontiguousarray(x[:, gene_cols].reshape(len(x), H, 3 + J))
     c = np.ascontiguousarray(x[:, [col[name] for name, _, _ in CONSTANTS]])
     young = np.ascontiguousarray(x[:, col["strength_young"]])
-    total, modules, stop, module_steps = K.grow_population(
+    total, modules, stop, module_steps = KP.grow_population(
         g, c, young, dims, walls, steps, cap, environment_args(env)
     )
     return pd.DataFrame(
