@@ -11,7 +11,11 @@
   module-step is given too.
 - ``stand_9x200x40``: an explicit stand of 9 copies (3 x 3 at 1 m) of the 3D demo genome,
   200 modules each at most, 40 steps (:func:`growsim.models.hormone.grow_stand`), wall
-  time (issue 30's bar for a mixture of 9 plants: at most 1 s).
+  time.
+- ``mixture_9x200x40``: a mixture of 9 plants of different genomes (the demo genome
+  among 8 neighbours whose elongation gain is 0.3 to 1 times the demo's, 1 m apart),
+  200 modules each at most, 40 steps (:func:`growsim.models.hormone.grow_mixture`):
+  issue 30's bar, at most 1 s.
 
 Best of ``--repeats`` after a warm-up call (numba compiled and cached first).
 """
@@ -73,6 +77,13 @@ def main(argv=None) -> dict:
     q = {**p, "max_modules": 200}
     t, stand = _best(lambda: list(H.grow_stand(q, env=stand_env))[-1], args.repeats)
     out["stand_9x200x40"] = {"s": t, "modules": stand.n_segments}
+    mix_env = Environment.parse(
+        {**H.PRESET_ENVIRONMENTS["demo_3d"],
+         "stand": {"mode": "mixture", "neighbours": 8, "spacing": 1.0}}
+    )  # fmt: skip
+    others = [{**q, "h0_gain": q["h0_gain"] * f} for f in np.linspace(0.3, 1.0, 8)]
+    t, focal = _best(lambda: list(H.grow_mixture(q, others, env=mix_env))[-1], args.repeats)
+    out["mixture_9x200x40"] = {"s": t, "focal_modules": focal.n_segments}
     out["load_after"] = os.getloadavg()[0]
     print(json.dumps(out, indent=2))
     return out
