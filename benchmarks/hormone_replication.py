@@ -1,8 +1,9 @@
-"""Discovery and confirmation of the hormone sweeps, as one JSON file (issue 29).
+"""Discovery and confirmation of the hormone sweeps, as one JSON file (issues 29, 30).
 
 Reads the directories ``growsim compare`` wrote for a discovery block (with
 ``--confirm`` and ``--garden``) and for the confirmation block alone (with ``--garden``),
-and writes what ``docs/reproduction.md`` reports of them:
+or for one block alone (its ``--garden`` compare), and writes what
+``docs/reproduction.md`` reports of them:
 
 - ``primary``: each block's primary tests (``primary.csv``: means, Hedges' g, p, Holm p
   over the primary tests, finding, seeds a replication needs for 80 % power);
@@ -10,12 +11,16 @@ and writes what ``docs/reproduction.md`` reports of them:
 - ``garden``: each block's genetic contrasts (origins within a garden) that pass Holm,
   by garden and measure, light per area apart;
 - ``spread``: each block's coefficient of variation of the best fitness (and of each
-  primary measure) within each environment, from ``runs.csv``.
+  primary measure) within each environment, from ``runs.csv``;
+- ``variance``: each block's shares of each quantity's variation in the common garden
+  (``garden_variance.csv``: origin = genetic, garden = plastic, their interaction).
 
     growsim compare runs/h3d --confirm runs/h3d-b2 --garden --out runs/h3d-cmp
     growsim compare runs/h3d-b2 --garden --out runs/h3d-b2-cmp
     python benchmarks/hormone_replication.py runs/h3d-cmp runs/h3d-b2-cmp \\
         --json benchmarks/results/hormone_3d_replication.json
+    python benchmarks/hormone_replication.py runs/d3d-cmp \\
+        --json benchmarks/results/stand_density_3d.json             # one block
 """
 
 from __future__ import annotations
@@ -60,18 +65,29 @@ def garden(compare_dir: Path, alpha: float = 0.05) -> list[dict]:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("discovery", help="compare's directory of the discovery block (--confirm)")
-    ap.add_argument("confirmation", help="compare's directory of the confirmation block")
+    ap.add_argument(
+        "confirmation",
+        nargs="?",
+        default=None,
+        help="compare's directory of the confirmation block (none: one block)",
+    )
     ap.add_argument("--json", default=None, help="write the figures here")
     a = ap.parse_args(argv)
-    d, c = Path(a.discovery), Path(a.confirmation)
-    prim = {k: pd.read_csv(p / "primary.csv") for k, p in (("discovery", d), ("confirmation", c))}
+    blocks = {"discovery": Path(a.discovery)}
+    if a.confirmation is not None:
+        blocks["confirmation"] = Path(a.confirmation)
+    prim = {k: pd.read_csv(p / "primary.csv") for k, p in blocks.items()}
     measures = sorted(set(prim["discovery"].measure))
     out = {
         "primary": {k: _records(v) for k, v in prim.items()},
-        "replication": _records(pd.read_csv(d / "replication.csv")),
-        "garden": {"discovery": garden(d), "confirmation": garden(c)},
-        "spread": {"discovery": spread(d, measures), "confirmation": spread(c, measures)},
+        "garden": {k: garden(p) for k, p in blocks.items()},
+        "spread": {k: spread(p, measures) for k, p in blocks.items()},
+        "variance": {
+            k: _records(pd.read_csv(p / "garden_variance.csv")) for k, p in blocks.items()
+        },
     }
+    if a.confirmation is not None:
+        out["replication"] = _records(pd.read_csv(blocks["discovery"] / "replication.csv"))
     text = json.dumps(out, indent=1)
     if a.json:
         Path(a.json).write_text(text + "\n")
