@@ -159,3 +159,14 @@ def test_a_mixture_sweep_and_its_garden(tmp_path):
         if row.garden == "monoculture":
             assert row.fitness == pytest.approx(best["fitness"], rel=1e-12)
         assert np.isfinite(row.fitness)
+
+
+def test_every_plant_of_a_stand_keeps_to_its_own_cap():
+    # the stand's arrays hold max_modules per plant; no plant takes another's share
+    p = {**DEMO2, "steps": 30, "max_modules": 25}
+    xz = np.array([[-2.0, 0.0], [0.0, 0.0], [2.0, 0.0]])
+    *_, stand = H.grow_stand([p, WEAK | {"steps": 30, "max_modules": 25}, p], env=env2(), xz=xz)
+    counts = np.bincount(stand.data["plant"], minlength=3)
+    assert counts.max() == 25 and counts[1] < 25, counts
+    *_, focal = H.grow_mixture(p, [p, p], env=env2({"mode": "mixture", "neighbours": 2}))
+    assert focal.n_segments <= 25

@@ -286,7 +286,8 @@ def step_kernel(n, dims, modules, genes, c):
     ``walls`` walls: the shape of ``modules.hormone``) in ``dims`` dimensions; returns the
     new module count (at most ``cap``) and the nutrient gained by photosynthesis this step.
     Module ``m`` reads its plant's genes ``genes[plant[m]]`` ``(H, 3 + J)`` and constants
-    ``c[plant[m]]`` (``plant`` = ``modules.plant``).
+    ``c[plant[m]]`` (``plant`` = ``modules.plant``); each of the ``P`` plants (rows of
+    ``genes``) grows at most ``cap // P`` modules.
 
     Reads ``wall_light`` ``(cap, walls)`` the light each wall receives and ``met``
     ``(cap,)`` the share of each module's water demand met; ``hormone`` ``(cap, walls,
@@ -401,21 +402,32 @@ def step_kernel(n, dims, modules, genes, c):
             flow = c[plant[m], C_SHARE] * 0.5 * (nutrient[m] - nutrient[p])
             nutrient[m] -= flow
             nutrient[p] += flow
-    # new modules: an apical child from a meristem, laterals from the branching hormone
+    # new modules: an apical child from a meristem, laterals from the branching hormone;
+    # each plant of the P rows holds at most cap // P modules (its share of the arrays)
+    share = cap // genes.shape[0]
+    count = np.zeros(genes.shape[0], np.int64)
+    for m in range(n):
+        count[plant[m]] += 1
     for m in range(n):
         if n_new >= cap:
             break
-        cm = c[plant[m]]
+        owner = plant[m]
+        cm = c[owner]
         grown = length[m] >= 0.999 * cm[C_MAXLEN]
-        if apex[m] and grown and mean_h[m, 4] > cm[C_THRESHOLD] and nutrient[m] > cm[C_NEW_COST]:
+        if (
+            apex[m] and grown and mean_h[m, 4] > cm[C_THRESHOLD]
+            and nutrient[m] > cm[C_NEW_COST] and count[owner] < share
+        ):  # fmt: skip
             q = n_new
             n_new += 1
+            count[owner] += 1
             _new(q, m, R[m], modules, cm)
             apex[m] = False
         if n_new >= cap:
             break
         if (
-            mean_h[m, 2] > cm[C_THRESHOLD]
+            count[owner] < share
+            and mean_h[m, 2] > cm[C_THRESHOLD]
             and inh[m] < cm[C_THRESHOLD]
             and laterals[m] < cm[C_LATERALS]
             and length[m] >= 0.5 * cm[C_MAXLEN]
@@ -449,6 +461,7 @@ def step_kernel(n, dims, modules, genes, c):
             _rotate(Rl, axis, cm[C_BRANCH_ANGLE])
             q = n_new
             n_new += 1
+            count[owner] += 1
             _new(q, m, Rl, modules, cm)
             laterals[m] += 1
     return n_new, gained

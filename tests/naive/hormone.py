@@ -136,19 +136,22 @@ def step_kernel(n, dims, modules, genes, c):
         chlorophyll[q], lignin[q], apex[q], laterals[q] = 1.0, 0.0, True, 0
         hormone[q] = 0.0
 
+    def room(m):  # each plant holds at most its share of the arrays
+        return np.count_nonzero(plant[:n_new] == plant[m]) < cap // len(genes)
+
     for m in range(n):
         if n_new >= cap:
             break
         cm = c[plant[m]]
         grown = length[m] >= 0.999 * cm[K.C_MAXLEN]
         ready = mean_h[m, 4] > cm[K.C_THRESHOLD] and nutrient[m] > cm[K.C_NEW_COST]
-        if apex[m] and grown and ready:
+        if apex[m] and grown and ready and room(m):
             new(n_new, m, R[m].copy())
             n_new += 1
             apex[m] = False
         if n_new >= cap:
             break
-        if (mean_h[m, 2] > cm[K.C_THRESHOLD] and inh[m] < cm[K.C_THRESHOLD]
+        if (room(m) and mean_h[m, 2] > cm[K.C_THRESHOLD] and inh[m] < cm[K.C_THRESHOLD]
                 and laterals[m] < cm[K.C_LATERALS] and length[m] >= 0.5 * cm[K.C_MAXLEN]
                 and nutrient[m] > cm[K.C_NEW_COST]):  # fmt: skip
             v = wall_frame(R[m], walls, dims)
