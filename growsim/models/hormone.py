@@ -265,8 +265,7 @@ def grow_stand(params=None, *, env=None, xz=None) -> Iterator[Plant]:
     ``[environment.stand]`` positions; ``[x, z]`` on the ground, ``z`` must be 0 in 2D).
     One module array holds them all (:func:`growsim.kernels.stand.new_stand`): every
     step they share one shadow map per light (each plant shades the others) and each root
-    draws its own water; the module cap is ``max_modules`` per plant, shared by the
-    stand. The stand's ``data["plant"]`` gives each module's plant; ``meta["stand"]``
+    draws its own water; each plant grows at most ``max_modules`` modules. The stand's ``data["plant"]`` gives each module's plant; ``meta["stand"]``
     the positions, ``meta["total_nutrient"]`` the stand's nutrient and
     ``meta["plant_nutrient"]`` each plant's. With one plant at the origin this is
     :func:`grow`, step for step.
