@@ -30,7 +30,12 @@ its bounding box against its radius (by rows, or by columns when the box is tall
 wide); a larger one is walked line by line along its
 shorter extent (rows, or columns for a segment taller than wide) over exactly the
 pixels of each line's chord of the capsule, computed in closed form, masked by the
-line's occupancy. So a plant costs its segments' walks and its queries, not a whole
+line's occupancy. A capsule is not walked at all (:func:`_culled`) when its bounding box,
+widened by its radius and a pixel, misses the box of the pixels holding queries, or when
+its axis lies wholly behind the deepest query less the bias (it can shade none; not for
+:func:`map_depth_kernel`, whose depths are read): a plant among its copies in a periodic
+stand walks only the copies' capsules that can reach its queries, with the same answers
+bit for bit. So a plant costs its segments' walks and its queries, not a whole
 map's writes. The answers are those of the whole map at the pixels read (tested against
 a pixel-by-pixel z-buffer, ``tests/naive/light.py``'s ``render_depth``,
 :func:`map_depth_kernel` read at every pixel centre).
@@ -201,7 +206,11 @@ def _judge(segments, frames, plane, shadow, queries, expo, hits, scratch):
             continue
         ox, oy, inv = frames[p, 0], frames[p, 1], 1.0 / frames[p, 2]
         bias = bias_pixels * frames[p, 2]
-        # the queries' pixels, as lists per pixel, and their bits by rows and by columns
+        # the queries' pixels, as lists per pixel, and their bits by rows and by columns;
+        # the box of the pixels holding queries and the deepest query in them (_culled)
+        lo_x = lo_y = res
+        hi_x = hi_y = -1
+        deep = -np.inf
         for i in range(q1 - q0):
             if samples > 0:
                 k = offsets[p] + i // samples
@@ -233,11 +242,18 @@ def _judge(segments, frames, plane, shadow, queries, expo, hits, scratch):
                     near_id[pix[i]] = -1
                 nxt[i] = head[pix[i]]
                 head[pix[i]] = i
+                lo_x = min(lo_x, xi)
+                hi_x = max(hi_x, xi)
+                lo_y = min(lo_y, yi)
+                hi_y = max(hi_y, yi)
+                deep = max(deep, qz[i])
             else:
                 pix[i] = -1  # outside the frame: in the open
         plant_queries = (nxt, qz, mine, expo[q0:q1])
-        for k in range(offsets[p], offsets[p + 1]):
+        for k in range(offsets[p], offsets[p + 1]) if hi_x >= 0 else range(0):
             ends = project_segment(start, end, k, u, v, d, ox, oy, inv)
+            if _culled(ends, radius[k] * inv, (lo_x, hi_x, lo_y, hi_y), deep - bias, keep):
+                continue
             walk_capsule(k, ends, radius[k] * inv, res, scratch, plant_queries, bias, soft,
                          trans[k] if soft else 1.0)  # fmt: skip
         if not soft:
@@ -253,6 +269,28 @@ def _judge(segments, frames, plane, shadow, queries, expo, hits, scratch):
                 occ[rows[i]] = 0
                 occ[cols[i]] = 0
     return expo
+
+
+@njit(inline="always")
+def _culled(ends, rr, box, behind, keep):
+    """Whether a capsule (``ends`` as :func:`project_segment` gives them, radius ``rr``
+    pixels) can be left out of a map read only at the pixels of ``box`` ``(lo_x, hi_x,
+    lo_y, hi_y)`` (the columns and rows holding queries) without changing an answer: its
+    bounding box, widened by its radius and a pixel, misses them (it covers a pixel only
+    when it holds the pixel's centre), or, unless the map's depths are kept (``keep``),
+    its axis lies wholly behind ``behind`` (the deepest query less the bias, with a
+    rounding margin): it shades no query, and where it would be a pixel's nearest
+    segment every capsule left there lies behind the queries too."""
+    ax, ay, bx, by, za, zb = ends
+    lo_x, hi_x, lo_y, hi_y = box
+    if max(ax, bx) + rr < lo_x - 1.0 or min(ax, bx) - rr > hi_x + 2.0:
+        return True
+    if max(ay, by) + rr < lo_y - 1.0 or min(ay, by) - rr > hi_y + 2.0:
+        return True
+    if keep:
+        return False
+    z = min(za, zb)
+    return z - 1e-9 * (1.0 + abs(za) + abs(zb) + abs(behind)) > behind
 
 
 @njit

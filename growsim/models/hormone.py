@@ -262,13 +262,13 @@ def grow_stand(params=None, *, env=None, xz=None) -> Iterator[Plant]:
     position; they must agree on ``dims``, ``walls``, ``steps`` and ``max_modules``).
 
     The plants stand at ``xz`` ``(N, 2)`` (default: ``env.stand.xz()``, the
-    ``[environment.stand]`` positions; ``[x, z]`` on the ground, ``z`` must be 0 in 2D).
-    One module array holds them all (:func:`growsim.kernels.stand.new_stand`): every
-    step they share one shadow map per light (each plant shades the others) and each root
-    draws its own water; each plant grows at most ``max_modules`` modules. The stand's ``data["plant"]`` gives each module's plant; ``meta["stand"]``
-    the positions, ``meta["total_nutrient"]`` the stand's nutrient and
-    ``meta["plant_nutrient"]`` each plant's. With one plant at the origin this is
-    :func:`grow`, step for step.
+    ``[environment.stand]`` positions; ``[x, z]`` on the ground, ``z`` must be 0 in 2D). One
+    module array holds them all (:func:`growsim.kernels.stand.new_stand`): every step they
+    share one shadow map per light (each plant shades the others) and each root draws its
+    own water; each plant grows at most ``max_modules`` modules. The stand's
+    ``data["plant"]`` gives each module's plant; ``meta["stand"]`` the positions,
+    ``meta["total_nutrient"]`` the stand's nutrient and ``meta["plant_nutrient"]`` each
+    plant's. With one plant at the origin this is :func:`grow`, step for step.
 
     Examples
     --------

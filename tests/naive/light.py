@@ -291,3 +291,56 @@ def module_light_into(segments, walls, lights, shadow, tol_pixels=0.0):
         if tol_pixels > 0:
             edge[pick] |= point_exposure(*args, tol_pixels=tol_pixels)
     return edge if tol_pixels > 0 else out
+
+
+def map_exposure(segments, points, plane, res, bias_pixels, trans=None, framing=None):
+    """The exposure of points judged in one plant's whole map (no capsule left out), the
+    pixel-by-pixel mirror of :func:`growsim.kernels.light._judge` with its culling
+    (:func:`growsim.kernels.light._culled`) for points owned by no segment: the map framed
+    over every segment (:func:`growsim.kernels.light.plant_frames`' frame), each point
+    at its pixel (``framing`` ``(ox, oy, pix)``: that frame, as the kernel computed it; None:
+    :func:`frame`'s); hard shadows (``trans`` None): lit (1) when the pixel is empty or its
+    nearest depth (:func:`render_depth`) lies at most the bias in front of the point,
+    else 0; soft: the product of ``trans`` over the capsules covering the pixel more than
+    the bias in front, in the segments' order. A point outside the frame is lit.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = np.array([[0.0, 1, 0]]); e = np.array([[1.0, 1, 0]])
+    >>> plane = (np.array([1.0, 0, 0]), np.array([0.0, 0, -1]), np.array([0.0, -1, 0]))
+    >>> map_exposure((s, e, np.array([0.2])), np.array([[0.5, 0, 0], [0.5, 2, 0]]), plane,
+    ...              64, 0.1).tolist()
+    [0.0, 1.0]
+    """
+    start, end, radius = segments
+    u, v, d = plane
+    ox, oy, pix = frame(start, end, radius, u, v, res) if framing is None else framing
+    inv = 1.0 / pix
+
+    def px(p, axis, o):
+        return (p[:, 0] * axis[0] + p[:, 1] * axis[1] + p[:, 2] * axis[2] - o) * inv
+
+    a = np.stack([px(start, u, ox), px(start, v, oy)], 1)
+    b = np.stack([px(end, u, ox), px(end, v, oy)], 1)
+    za = start[:, 0] * d[0] + start[:, 1] * d[1] + start[:, 2] * d[2]
+    zb = end[:, 0] * d[0] + end[:, 1] * d[1] + end[:, 2] * d[2]
+    x, y = px(points, u, ox), px(points, v, oy)
+    qz = points[:, 0] * d[0] + points[:, 1] * d[1] + points[:, 2] * d[2]
+    bias = bias_pixels * pix
+    inside = (x >= 0) & (y >= 0) & (x < res) & (y < res)
+    out = np.ones(len(points))
+    if trans is None:
+        depth, _ = render_depth(a, b, za, zb, radius * inv, res)
+        for i in np.flatnonzero(inside):
+            z = depth[int(y[i]), int(x[i])]
+            out[i] = 1.0 if not np.isfinite(z) or qz[i] - z <= bias else 0.0
+        return out
+    for k in range(len(start)):  # the deep map, a capsule at a time
+        depth, _ = render_depth(a[k : k + 1], b[k : k + 1], za[k : k + 1], zb[k : k + 1],
+                                radius[k : k + 1] * inv, res)  # fmt: skip
+        for i in np.flatnonzero(inside):
+            z = depth[int(y[i]), int(x[i])]
+            if np.isfinite(z) and z < qz[i] - bias:
+                out[i] *= trans[k]
+    return out
