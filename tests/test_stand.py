@@ -245,6 +245,24 @@ def test_grow_stand_gif_one_frame_per_step(tmp_path):
     assert code != 0 and "--gif" in err and not bad.exists()
 
 
+def test_grow_stand_of_different_plants(tmp_path):
+    best = tmp_path / "best.json"  # a run's best.json: its params
+    best.write_text(json.dumps({"params": {"h0_gain": 0.0, "steps": 99}, "fitness": 1.0}))
+    code, out, err = _grow(["--preset", "demo_2d", "--set", "steps=10", "--stand", "4",
+                            "--plants", f"demo_2d,{best}", "--json"])  # fmt: skip
+    assert code == 0, err
+    plants = json.loads(out)["plants"]
+    # the file's plant does not elongate (h0_gain 0); --set steps wins over the file's
+    assert [p["segments"] > 1 for p in plants] == [True, False, True, False]
+    for args, says in (
+        (["--plants", "demo_2d"], "--plants: only with --stand"),
+        (["--stand", "2", "--plants", "nothing.json"], "--plants nothing.json"),
+        (["--stand", "2", "--plants", "demo_2d,demo_3d"], "hormone.dims"),
+    ):
+        code, _, err = _grow(["--preset", "demo_2d", *args])
+        assert code != 0 and says in err, err
+
+
 def test_grow_stand_of_another_model_places_copies(tmp_path):
     from growsim.cli import main
 

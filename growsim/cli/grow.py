@@ -277,6 +277,56 @@ def _stand_env(args: argparse.Namespace, model, env):
     return env.model_copy(update={"stand": stand})
 
 
+def _stand_plants(args: argparse.Namespace, model, params, n: int) -> list[dict] | None:
+    """The parameters of each of a stand's ``n`` plants from ``--plants A,B,...`` (None
+    without it): each item a preset name of ``model`` or a JSON file (a run's
+    ``best.json``, whose ``params`` are used, or a ``{name: value}`` mapping) over the
+    preset's values ``params``, ``--set`` over them all, given to the positions in turn. Only the
+    hormone model grows a stand of different plants; bad items raise
+    :class:`growsim.errors.UserInputError` naming ``--plants``.
+
+    Examples
+    --------
+    >>> import argparse
+    >>> from growsim.models import get_model
+    >>> m = get_model("hormone")
+    >>> a = argparse.Namespace(plants="demo_2d,demo_3d", stand="3", set=None)
+    >>> [p["dims"] for p in _stand_plants(a, m, m.resolve({}), 3)]
+    [2.0, 3.0, 2.0]
+    """
+    import json
+
+    text = getattr(args, "plants", None)
+    if text is None:
+        return None
+    if getattr(args, "stand", None) is None:
+        raise UserInputError("--plants: only with --stand")
+    if model.name != "hormone":
+        raise UserInputError(f"--plants: {model.name} does not grow a stand of different plants")
+    items = [t.strip() for t in text.split(",") if t.strip()]
+    if not items:
+        raise UserInputError("--plants: give presets or JSON files, separated by commas")
+    each = []
+    for item in items:
+        if item in model.presets:
+            values = model.preset(item)
+        else:
+            path = Path(item)
+            try:
+                data = json.loads(path.read_text())
+            except (OSError, ValueError) as exc:
+                raise UserInputError(
+                    f"--plants {item}: not a preset of {model.name} "
+                    f"({', '.join(model.presets)}) nor a readable JSON file ({exc})"
+                ) from None
+            values = data.get("params", data) if isinstance(data, dict) else None
+            if not isinstance(values, dict):
+                raise UserInputError(f"--plants {item}: expected a JSON object of parameters")
+        sets = parse_sets(getattr(args, "set", None))
+        each.append(model.resolve({**params, **values, **sets}, where=f"--plants {item}: "))
+    return [each[i % len(each)] for i in range(n)]
+
+
 def _placed_copies(plant, stand):
     """A stand of copies of ``plant`` at ``stand.xz()`` (a model that does not grow
     plants together: each grew alone; the light on them, ``--color light``, is the
@@ -351,11 +401,12 @@ def run_grow(args: argparse.Namespace) -> int:
         *_, last = steps
         return [last]
 
+    plants = _stand_plants(args, model, params, stand.stand.n_plants if stand else 0)
     if stand is not None and args.model == "hormone":  # grown together, shading each other
         from growsim.models.hormone import grow_stand
 
         env = stand
-        frames = grown(grow_stand(params, env=env))
+        frames = grown(grow_stand(params if plants is None else plants, env=env))
     elif stand is not None:  # other models: copies of one plant placed (grown alone)
         env = stand
         steps = model.grow(params, seed=args.seed, env=env)
@@ -543,5 +594,11 @@ def register(subparsers) -> None:
         "in --json",
     )
     p.add_argument("--spacing", type=float, metavar="S", help="--stand: distance (m, default 1)")
+    p.add_argument(
+        "--plants",
+        metavar="A,B,...",
+        help="--stand of different hormone plants: presets or JSON files (a run's best.json), "
+        "given to the positions in turn",
+    )
     p.add_argument("--json", action="store_true", help="print counts and measures as JSON")
     p.set_defaults(func=run_grow)
