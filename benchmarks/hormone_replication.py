@@ -12,6 +12,9 @@ or for one block alone (its ``--garden`` compare), and writes what
   by garden and measure, light per area apart;
 - ``spread``: each block's coefficient of variation of the best fitness (and of each
   primary measure) within each environment, from ``runs.csv``;
+- ``fitness_by_garden``: each block's genetic contrasts of fitness in every garden
+  (passing Holm or not: does a genome evolved in one environment do better or worse in
+  another garden);
 - ``variance``: each block's shares of each quantity's variation in the common garden
   (``garden_variance.csv``: origin = genetic, garden = plastic, their interaction).
 
@@ -62,6 +65,15 @@ def garden(compare_dir: Path, alpha: float = 0.05) -> list[dict]:
     return _records(hit[cols])
 
 
+def fitness_by_garden(compare_dir: Path) -> list[dict]:
+    """Every genetic contrast of fitness in the common garden (``garden_stats.csv``)."""
+    g = pd.read_csv(compare_dir / "garden_stats.csv")
+    hit = g[(g.contrast == "genetic") & (g.measure == "fitness")]
+    cols = ["within", "group_a", "group_b", "mean_a", "mean_b", "welch_t_p", "welch_t_p_holm",
+            "mann_whitney_p"]  # fmt: skip
+    return _records(hit[cols])
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("discovery", help="compare's directory of the discovery block (--confirm)")
@@ -82,6 +94,7 @@ def main(argv=None) -> int:
         "primary": {k: _records(v) for k, v in prim.items()},
         "garden": {k: garden(p) for k, p in blocks.items()},
         "spread": {k: spread(p, measures) for k, p in blocks.items()},
+        "fitness_by_garden": {k: fitness_by_garden(p) for k, p in blocks.items()},
         "variance": {
             k: _records(pd.read_csv(p / "garden_variance.csv")) for k, p in blocks.items()
         },

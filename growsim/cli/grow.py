@@ -567,8 +567,7 @@ def register(subparsers) -> None:
     p.add_argument(
         "--gif",
         metavar="PATH",
-        help="an animation of the growth (.gif, or .mp4), one frame per step of a step-wise "
-        "model (hormone; with --stand, the stand growing)",
+        help="the growth, a frame a step (.gif or .mp4)",
     )
     add_screenshot_options(p, view="front")
     add_color_options(p)
@@ -589,16 +588,14 @@ def register(subparsers) -> None:
     p.add_argument(
         "--stand",
         metavar="RxC|N",
-        help="a stand of copies: a grid RxC (e.g. 5x5) or a row of N; hormone plants grow "
-        "together sharing one light, other models' copies are placed; measures per plant "
-        "in --json",
+        help="a stand: a grid RxC (e.g. 5x5) or a row of N; hormone plants grow together, "
+        "other models' copies are placed; per plant in --json",
     )
     p.add_argument("--spacing", type=float, metavar="S", help="--stand: distance (m, default 1)")
     p.add_argument(
         "--plants",
         metavar="A,B,...",
-        help="--stand of different hormone plants: presets or JSON files (a run's best.json), "
-        "given to the positions in turn",
+        help="--stand of different hormone plants (presets, best.json files)",
     )
     p.add_argument("--json", action="store_true", help="print counts and measures as JSON")
     p.set_defaults(func=run_grow)

@@ -640,7 +640,7 @@ def _shaded_exposure(segments, shifts, plane, samples, shadow, trans, backend) -
         return np.ascontiguousarray(every[own])
     all_t = np.concatenate([trans[a:b] for a, b, _ in parts]) if soft else np.empty(0)
     none = np.empty(0, np.int64)
-    expo = kernels._judge(
+    expo = kernels.judge_queries(
         (all_s, all_e, all_r, all_off), frames, (u, v, d), (res, bias, soft, all_t),
         (0, np.ascontiguousarray(query), np.ascontiguousarray(samples * off, dtype=np.int64),
          np.repeat(own, samples)),

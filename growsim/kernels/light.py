@@ -79,6 +79,7 @@ from growsim.kernels.config import njit
 
 __all__ = [
     "apply_cosines",
+    "judge_queries",
     "map_depth_kernel",
     "module_light_into",
     "plant_frames",
@@ -159,7 +160,7 @@ def project_segment(start, end, k, u, v, d, ox, oy, inv):
 
 
 @njit
-def _judge(segments, frames, plane, shadow, queries, expo, hits, scratch):
+def judge_queries(segments, frames, plane, shadow, queries, expo, hits, scratch):
     """Exposure of every query point into ``expo`` ``(m,)``: each plant's shadow map read
     at its queries' pixels only (a pixel holding no query is never written: the same
     answers as a whole z-buffer or deep map, for the pixels read).
@@ -174,7 +175,26 @@ def _judge(segments, frames, plane, shadow, queries, expo, hits, scratch):
     segment a query belongs to or -1. ``scratch`` a :func:`shadow_scratch` of ``res``,
     left as given. For hard shadows, the map's depth and segment at each query's pixel
     (``inf`` and -1 where empty) go into ``hits`` ``(depth, seg)`` ``(m,)`` unless they
-    are empty."""
+    are empty. Returns ``expo``. The one pass every exposure here runs through
+    (:func:`segment_exposure_into`, :func:`point_light_into`, :func:`module_light_into`,
+    :func:`map_depth_kernel`) and :func:`growsim.env.light.segment_light`'s plants among
+    their copies.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> start, end = np.array([[0.0, 1.0, 0.0]]), np.array([[0.0, 2.0, 0.0]])
+    >>> radius, offsets = np.array([0.2]), np.array([0, 1])
+    >>> d, u, v = np.array([0.0, -1.0, 0.0]), np.array([1.0, 0, 0]), np.array([0, 0, 1.0])
+    >>> frames = plant_frames(start, end, radius, offsets, u, v, 32)
+    >>> points = np.array([[0.0, 0.0, 0.0], [0.8, 0.5, 0.0]])  # under the stem, beside it
+    >>> none = np.empty(0, np.int64)
+    >>> judge_queries((start, end, radius, offsets), frames, (u, v, d),
+    ...               (32, 0.5, False, np.empty(0)), (0, points, np.array([0, 2]),
+    ...               np.array([-1, -1])), np.empty(2), (np.empty(0), none),
+    ...               shadow_scratch(32)).tolist()
+    [0.0, 1.0]
+    """
     start, end, radius, offsets = segments
     u, v, d = plane
     res, bias_pixels, soft, trans = shadow
@@ -328,7 +348,7 @@ def segment_exposure_into(segments, frames, plane, samples, shadow, scratch, out
     [1.0, 0.5]
     """
     none = np.empty(0, np.int64)
-    expo = _judge(segments, frames, plane, shadow, (samples, np.empty((0, 3)), none, none),
+    expo = judge_queries(segments, frames, plane, shadow, (samples, np.empty((0, 3)), none, none),
                   np.empty(segments[0].shape[0] * samples), (np.empty(0), none),
                   scratch)  # fmt: skip
     for s in range(segments[0].shape[0]):
@@ -405,7 +425,7 @@ def point_light_into(segments, targets, lights, shadow, scratch, out):
                     c += 1
         facing_offsets[P] = c
         frames = plant_frames(start, end, radius, offsets, u, v, res)
-        _judge(segments, frames, (u, v, d), shadow, (0, facing[:c], facing_offsets, own[:c]),
+        judge_queries(segments, frames, (u, v, d), shadow, (0, facing[:c], facing_offsets, own[:c]),
                expo[:c], (np.empty(0), own[:0]), scratch)  # fmt: skip
         for i in range(c):
             out[which[i]] += expo[i] * cosine[i] * w
@@ -490,7 +510,7 @@ def module_light_into(segments, walls, lights, shadow, scratch, out):
                 c += 1
         point_offsets[P] = c
         frames = plant_frames(start, end, radius, offsets, u, v, res)
-        _judge(segments, frames, (u, v, d), shadow, (0, points[:c], point_offsets, own[:c]),
+        judge_queries(segments, frames, (u, v, d), shadow, (0, points[:c], point_offsets, own[:c]),
                expo[:c], (np.empty(0), own[:0]), scratch)  # fmt: skip
         for q in range(c):
             e = expo[q] * w
@@ -534,7 +554,7 @@ def map_depth_kernel(segments, frames, points, point_offsets, plane, res):
     """The hard shadow map the production entries build, read at points: ``(depth,
     segment)`` ``(m,)`` of the nearest capsule at each point's pixel of its plant's map
     (``inf`` and -1 where the pixel is empty or the point lies outside the frame). A probe
-    of the rasteriser (the same :func:`_judge` as :func:`segment_exposure_into` and
+    of the rasteriser (the same :func:`judge_queries` as :func:`segment_exposure_into` and
     :func:`point_light_into`), tested against a pixel-by-pixel z-buffer.
 
     Examples
@@ -551,7 +571,7 @@ def map_depth_kernel(segments, frames, points, point_offsets, plane, res):
     m = points.shape[0]
     scratch = shadow_scratch(res)
     depth, seg = np.empty(m), np.empty(m, np.int64)
-    _judge(segments, frames, plane, (res, 0.0, False, np.empty(0)),
+    judge_queries(segments, frames, plane, (res, 0.0, False, np.empty(0)),
            (0, points, point_offsets, np.full(m, -1, np.int64)), np.empty(m), (depth, seg),
            scratch)  # fmt: skip
     return depth, seg

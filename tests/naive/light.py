@@ -295,7 +295,7 @@ def module_light_into(segments, walls, lights, shadow, tol_pixels=0.0):
 
 def map_exposure(segments, points, plane, res, bias_pixels, trans=None, framing=None):
     """The exposure of points judged in one plant's whole map (no capsule left out), the
-    pixel-by-pixel mirror of :func:`growsim.kernels.light._judge` with its culling
+    pixel-by-pixel mirror of :func:`growsim.kernels.light.judge_queries` with its culling
     (:func:`growsim.kernels.light._culled`) for points owned by no segment: the map framed
     over every segment (:func:`growsim.kernels.light.plant_frames`' frame), each point
     at its pixel (``framing`` ``(ox, oy, pix)``: that frame, as the kernel computed it; None:
