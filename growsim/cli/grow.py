@@ -281,8 +281,8 @@ def _stand_plants(args: argparse.Namespace, model, params, n: int) -> list[dict]
     """The parameters of each of a stand's ``n`` plants from ``--plants A,B,...`` (None
     without it): each item a preset name of ``model`` or a JSON file (a run's
     ``best.json``, whose ``params`` are used, or a ``{name: value}`` mapping) over the
-    preset's values ``params``, ``--set`` over them all, given to the positions in turn. Only the
-    hormone model grows a stand of different plants; bad items raise
+    preset's values ``params``, ``--set`` over them all, given to the positions in turn.
+    Only the hormone model grows a stand of different plants; bad items raise
     :class:`growsim.errors.UserInputError` naming ``--plants``.
 
     Examples
@@ -392,6 +392,8 @@ def run_grow(args: argparse.Namespace) -> int:
         raise UserInputError(f"--export {args.export}: use .vtp, .ply, .obj or .glb")
     if args.gif is not None and Path(args.gif).suffix.lower() not in (".gif", ".mp4"):
         raise UserInputError(f"--gif {args.gif}: must end in .gif (or .mp4)")
+    if args.gif is not None and model.phenotype != "plant":
+        raise UserInputError(f"--gif: {model.name} grows no plant (its own view: growsim show)")
     # models default their own seed (honda: its ``seed`` parameter); pass one only if given
     stand = _stand_env(args, model, env)
 
