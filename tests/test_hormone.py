@@ -11,10 +11,12 @@ import pandas as pd
 import pytest
 from conftest import ROOT
 from naive import hormone as naive
+from naive import walls as naive_walls
 
 from growsim.env import Environment
 from growsim.errors import UserInputError
 from growsim.kernels import hormone as K
+from growsim.kernels import walls as KW
 from growsim.models import get_model, hormone
 from growsim.objectives.nutrient import NutrientObjective
 
@@ -109,8 +111,8 @@ def test_walls_match_oracle():
     rng = np.random.default_rng(2)
     q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
     for dims, walls in ((2, 2), (3, 3), (3, 6)):
-        got = K.wall_frame(q, walls, dims, np.empty((walls, 3)))
-        np.testing.assert_allclose(got, naive.wall_frame(q, walls, dims), atol=1e-12)
+        got = KW.wall_frame(q, walls, dims, np.empty((walls, 3)))
+        np.testing.assert_allclose(got, naive_walls.wall_frame(q, walls, dims), atol=1e-12)
 
 
 def test_one_module_step_worked_by_hand_from_the_doc():

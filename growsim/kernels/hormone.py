@@ -23,6 +23,7 @@ import numpy as np
 from growsim.kernels.config import njit
 from growsim.kernels.gravity import loads_kernel, radius_end_kernel
 from growsim.kernels.light import module_light_into, point_light_into
+from growsim.kernels.walls import frame_of, wall_angles, wall_normals
 from growsim.kernels.water import transport_into_kernel
 
 __all__ = [
@@ -38,9 +39,6 @@ __all__ = [
     "place_kernel",
     "step_kernel",
     "total",
-    "wall_angles",
-    "wall_frame",
-    "wall_normals",
     "walls_light",
 ]
 
@@ -133,70 +131,6 @@ def new_module_arrays(cap: int, walls: int, hormones: int = len(HORMONES)) -> Mo
         np.empty((cap, walls, hormones)), np.zeros((cap, walls)), np.zeros(cap), np.zeros(cap),
         np.zeros(cap, np.int64),
     )  # fmt: skip
-
-
-@njit
-def wall_angles(walls, dims):
-    """``(walls, 2)``: the cosine and sine of each wall's angle about a module's axis: in
-    3D ``2 pi i / walls``; in 2D (the plant in the x-y plane) the two sides, ``(1, 0)`` and
-    ``(-1, 0)``. Computed once per step, not per module.
-
-    Examples
-    --------
-    >>> wall_angles(2, 2).tolist()
-    [[1.0, 0.0], [-1.0, 0.0]]
-    """
-    out = np.empty((walls, 2))
-    for i in range(walls):
-        if dims == 2:
-            out[i, 0] = 1.0 if i == 0 else -1.0
-            out[i, 1] = 0.0
-        else:
-            a = 2.0 * math.pi * i / walls
-            out[i, 0] = math.cos(a)
-            out[i, 1] = math.sin(a)
-    return out
-
-
-@njit(inline="always")
-def _frame(R, cs, out_v):
-    """:func:`wall_frame` with the walls' :func:`wall_angles` ``cs`` given."""
-    for i in range(cs.shape[0]):
-        for c in range(3):
-            out_v[i, c] = cs[i, 0] * R[c, 0] + cs[i, 1] * R[c, 1]
-    return out_v
-
-
-@njit
-def wall_frame(R, walls, dims, out_v):
-    """Unit outward directions ``(walls, 3)`` of a module's walls from its pose ``R``
-    ``(3, 3)`` (columns: the two axes across the module and its growth axis): in 3D
-    ``cos(2 pi i / walls) x + sin(2 pi i / walls) y``; in 2D (the plant in the x-y plane)
-    the two sides ``+-x`` (:func:`wall_angles`).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> wall_frame(np.eye(3), 2, 2, np.empty((2, 3))).tolist()
-    [[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]]
-    """
-    return _frame(R, wall_angles(walls, dims), out_v)
-
-
-@njit
-def wall_normals(n, R, walls, dims, out):
-    """``(n, walls, 3)``: :func:`wall_frame` of modules ``0..n-1``.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> wall_normals(1, np.eye(3)[None], 2, 2, np.empty((1, 2, 3)))[0, 1].tolist()
-    [-1.0, 0.0, 0.0]
-    """
-    cs = wall_angles(walls, dims)
-    for m in range(n):
-        _frame(R[m], cs, out[m])
-    return out
 
 
 @njit
@@ -323,7 +257,7 @@ def step_kernel(n, dims, modules, genes, c):
     # synthesis per wall: s = gain sigmoid(bias + w . x); h = (1 - decay) h + s
     for m in range(n):
         g = genes[plant[m]]
-        _frame(R[m], cs, v)
+        frame_of(R[m], cs, v)
         for i in range(walls):
             x[0] = wall_light[m, i]
             x[1] = met[m]
@@ -347,7 +281,7 @@ def step_kernel(n, dims, modules, genes, c):
     n_new = n
     for m in range(n):
         cm = c[plant[m]]
-        _frame(R[m], cs, v)
+        frame_of(R[m], cs, v)
         L = length[m]
         r = radius[m]
         area = 2.0 * math.pi * r * L / walls if dims == 3 else 2.0 * r * L / 2.0
@@ -434,7 +368,7 @@ def step_kernel(n, dims, modules, genes, c):
             and nutrient[m] > cm[C_NEW_COST]
         ):
             # lateral direction B = sum_i v_i H_i, tilted from the axis by the branch angle
-            _frame(R[m], cs, v)
+            frame_of(R[m], cs, v)
             bx = by = bz = 0.0
             for i in range(walls):
                 bx += v[i, 0] * hormone[m, i, 2]

@@ -9,14 +9,7 @@ import math
 import numpy as np
 
 from growsim.kernels import hormone as K
-
-
-def wall_frame(R, walls, dims):
-    """Mirror of :func:`growsim.kernels.hormone.wall_frame` (returns the array)."""
-    if dims == 2:
-        return np.stack([R[:, 0], -R[:, 0]])
-    a = 2 * np.pi * np.arange(walls) / walls
-    return np.cos(a)[:, None] * R[:, 0] + np.sin(a)[:, None] * R[:, 1]
+from naive.walls import wall_frame
 
 
 def place_kernel(n, parent, R, length, origin):
