@@ -12,6 +12,7 @@ from naive import light as naive
 from growsim.env.light import Light, point_light, segment_light, sky_directions, view_basis
 from growsim.errors import UserInputError
 from growsim.kernels import light as kernels
+from growsim.kernels.stand import periodic_shifts
 from growsim.models import honda
 from growsim.phenotypes.plant import LEAF, Plant
 
@@ -54,12 +55,13 @@ def exposure(args):
                                          np.full(n, np.nan))  # fmt: skip
 
 
-def light_at_points(segments, targets, lights, shadow):
+def light_at_points(segments, targets, lights, shadow, shifts=None):
     """:func:`growsim.kernels.light.point_light_into` (the production entry) with a fresh
-    scratch."""
+    scratch (among copies moved by ``shifts``, or alone)."""
     return kernels.point_light_into(segments, targets, lights, shadow,
                                     kernels.shadow_scratch(shadow[0]),
-                                    np.full(len(targets[0]), np.nan))  # fmt: skip
+                                    np.full(len(targets[0]), np.nan),
+                                    np.zeros((0, 3)) if shifts is None else shifts)  # fmt: skip
 
 
 def population(rng, k, n):
@@ -163,6 +165,37 @@ def test_point_exposure_matches_oracle(seed):
     want = naive.point_light_into(segments, targets, lights, soft)
     edge = naive.point_light_into(segments, targets, lights, soft, tol_pixels=1.0)
     assert np.all(np.isclose(got, want, rtol=1e-12, atol=0) | edge)
+
+
+@pytest.mark.parametrize(("seed", "soft"), [(0, False), (1, False), (2, True), (3, True)])
+def test_points_among_copies_match_the_oracle(seed, soft):
+    """Points among copies of their plants (a periodic stand's ``shifts``): each copy
+    shades a point as the plant shades the point moved back by its shift, the answers
+    multiplied (hard: a whole map read once per point and copy; soft: the moved points
+    as queries). Every point away from an edge agrees with the exact oracle."""
+    rng = np.random.default_rng(300 + seed)
+    start, end, radius, offsets = population(rng, 2, 50)
+    light = Light(direction=[0.4, -1.0, 0.1], diffuse=0.5, sky=3)
+    d, u, v, w = light.passes()
+    m = 150
+    mids = 0.5 * (start + end)
+    pick = [rng.integers(offsets[k], offsets[k + 1], m) for k in range(2)]
+    pts = np.concatenate([mids[i] for i in pick]) + rng.normal(scale=0.5, size=(2 * m, 3))
+    nrm = rng.normal(size=(2 * m, 3))
+    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+    spread = float(np.ptp(np.concatenate([start, end])[:, [0, 2]], axis=0).max())
+    shifts = periodic_shifts(0.4 * spread, 2, 3)  # close enough for the copies to overlap
+    trans = rng.uniform(0.1, 0.9, len(start))
+    args = ((start, end, radius, np.asarray(offsets, np.int64)),
+            (pts, np.array([0, m, 2 * m]), nrm), (d, u, v, w),
+            (96, 0.5, soft, trans if soft else np.empty(0)))  # fmt: skip
+    got = light_at_points(*args, shifts=shifts)
+    want = naive.point_light_into(*args, shifts=shifts)
+    edge = naive.point_light_into(*args, tol_pixels=1.0, shifts=shifts)
+    assert np.all(np.isclose(got, want, rtol=1e-12, atol=1e-15) | edge)
+    assert np.mean(~edge) > 0.15  # enough points judged
+    alone = naive.point_light_into(*args)
+    assert (want < alone - 1e-9).mean() > 0.1  # the copies shade
 
 
 @pytest.mark.parametrize("soft", [False, True])

@@ -45,7 +45,7 @@ def test_a_plant_among_copies_gets_the_whole_maps_answers(seed, soft):
         (s, e, r, np.array([0, len(s)])), (points, np.array([0, len(points)]), normals),
         (d[None], u[None], v[None], np.ones(1)),
         (res, 0.5, soft, trans if soft else np.empty(0)), kernels.shadow_scratch(res),
-        np.empty(len(points)),
+        np.empty(len(points)), np.zeros((0, 3)),
     )  # fmt: skip
     framing = kernels.plant_frames(s, e, r, np.array([0, len(s)]), u, v, res)[0]
     want = naive.map_exposure((s, e, r), points, (u, v, d), res, 0.5, trans, framing)
@@ -94,7 +94,7 @@ def test_capsules_behind_the_points_are_left_out_without_changing_an_answer(seed
         (s, e, r, np.array([0, len(s)])), (points, np.array([0, 30]), normals),
         (d[None], u[None], v[None], np.ones(1)),
         (res, bias, soft, trans if soft else np.empty(0)), kernels.shadow_scratch(res),
-        np.empty(30),
+        np.empty(30), np.zeros((0, 3)),
     )  # fmt: skip
     framing = kernels.plant_frames(s, e, r, np.array([0, len(s)]), u, v, res)[0]
     want = naive.map_exposure((s, e, r), points, (u, v, d), res, bias, trans, framing)

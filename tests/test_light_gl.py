@@ -68,7 +68,7 @@ def both_points(start, end, radius, offsets, points, point_offsets, d, res, bias
                            (points, point_offsets, np.tile(-d, (len(points), 1))),
                            (d[None], u[None], v[None], np.ones(1)),
                            (res, bias, False, np.empty(0)), shadow_scratch(res),
-                           np.empty(len(points)))  # fmt: skip
+                           np.empty(len(points)), np.zeros((0, 3)))  # fmt: skip
     return got, np.round(lit)
 
 

@@ -5,20 +5,24 @@ periodic stand with ``rings = 3`` (its 48 copies at :func:`growsim.kernels.stand
 shade it, only its own segments or walls are judged) and (b) as the centre plant of an
 explicit 7 x 7 stand of the same copies (every plant in one shadow map; in 2D a row of 7).
 The centre plant's light is compared segment by segment (Honda trees,
-:meth:`growsim.env.Light.segment_light`) or wall by wall (the hormone model's exact light,
-:func:`growsim.kernels.hormone.walls_light`). How rings = 1 and 2 compare with the 7 x 7
-stand is measured, not tested: ``benchmarks/log/stand.md``.
-"""
+:meth:`growsim.env.Light.segment_light`: the copies drawn into the map, exactly the explicit
+stand's answers) or wall by wall (the hormone model's exact light,
+:func:`growsim.kernels.hormone.walls_light`: the plant's own map read at the points moved
+back by each copy's shift, the same answers away from a shadow's edge). How rings = 1 and 2
+compare with the 7 x 7 stand is measured, not tested: ``benchmarks/log/stand.md``. """
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from naive import light as naive
 
 from growsim.env import Environment, Light
 from growsim.env.stand import Stand
 from growsim.kernels import hormone as K
+from growsim.kernels.light import plant_frames, shadow_scratch
 from growsim.kernels.stand import periodic_shifts
+from growsim.kernels.walls import wall_normals
 from growsim.models import honda
 from growsim.models import hormone as H
 from growsim.phenotypes.plant import Plant
@@ -90,10 +94,10 @@ def hormone_grown(preset: str, steps: int):
     return n, s, int(p["dims"])
 
 
-def hormone_explicit_centre(n, s, dims, spacing):
+def hormone_explicit_centre(n, s, dims, spacing, env):
     """Each wall's light on the centre plant of a 7 x 7 stand (a row of 7 in 2D) of copies
     of the plant's ``n`` modules: one module array of 49 (7) plants lit alone (no
-    shifts), in the grid order of :meth:`Stand.xz` (z rows, x columns)."""
+    shifts) in ``env``, in the grid order of :meth:`Stand.xz` (z rows, x columns)."""
     m = s["modules"]
     ring = periodic_shifts(spacing, 3, dims)
     cells = np.concatenate([ring[: len(ring) // 2], np.zeros((1, 3)), ring[len(ring) // 2 :]])
@@ -104,25 +108,71 @@ def hormone_explicit_centre(n, s, dims, spacing):
         big.origin[rows] = m.origin[:n] + cell
         big.length[rows] = m.length[:n]
         big.radius[rows] = m.radius[:n]
-    light = K.walls_light(len(cells) * n, dims, big, s["env"], np.zeros((0, 3)), s["scratch"])
+    scratch = shadow_scratch(env.resolution)
+    light = K.walls_light(len(cells) * n, dims, big, env, np.zeros((0, 3)), scratch)
     walls = m.hormone.shape[1]
     centre = len(cells) // 2
     return light[centre * n * walls : (centre + 1) * n * walls]
+
+
+def wall_points(n, dims, m):
+    """``(points, normals)`` ``(n * walls, 3)``: each wall's point (on the surface, halfway
+    along its module) and outward unit normal, as :func:`K.walls_light` judges them."""
+    walls = m.hormone.shape[1]
+    normals = wall_normals(n, m.R, walls, dims, np.empty((n, walls, 3)))
+    normals /= np.linalg.norm(normals, axis=2, keepdims=True)
+    ends = m.origin[:n] + m.length[:n, None] * m.R[:n, :, 2]
+    mid = 0.5 * (m.origin[:n] + ends)
+    points = mid[:, None, :] + m.radius[:n, None, None] * normals
+    return points.reshape(-1, 3), normals.reshape(-1, 3)
 
 
 @pytest.mark.parametrize(("preset", "steps"), [("demo_3d", 30), ("demo_2d", 30)])
 @pytest.mark.parametrize("spacing", [1.0, 3.0])
 def test_hormone_periodic_agrees_with_an_explicit_7x7_stand(preset, steps, spacing):
     """The hormone model's exact light (each wall at its own point, the preset's sun and
-    sky): the focal plant with ``shifts`` of three rings against 49 (2D: 7) copies of its
-    modules in one array, per wall within 2 % (:func:`worst_difference`) at spacings 1 m
-    (crowns overlap) and 3 m."""
+    sky), light by light: the focal plant with ``shifts`` of three rings (its own map, a
+    copy read at the point moved back) against the centre plant of 49 (2D: 7) copies of
+    its modules in one map of the same pixel size. Every sampled wall away from a shadow's
+    edge (more than 1.5 pixels, by the exact oracle) gets the same light, light by light;
+    the walls at an edge fall on either side as the pixels lie (the two maps' pixels are
+    placed differently), so the plant's light agrees within the noise of the pixels'
+    placement: within 6 % here (at 64 pixels, 1 m apart the plant is deep in shade, and
+    its light changes by up to 4.6 % between maps of 250, 256 and 262 pixels), converging
+    as the maps grow (``benchmarks/log/stand.md``)."""
     n, s, dims = hormone_grown(preset, steps)
-    explicit = hormone_explicit_centre(n, s, dims, spacing)
-    periodic = K.walls_light(
-        n, dims, s["modules"], s["env"], periodic_shifts(spacing, 3, dims), s["scratch"]
-    )
-    assert worst_difference(periodic, explicit) <= TOLERANCE
+    env, m = s["env"], s["modules"]
+    shifts = periodic_shifts(spacing, 3, dims)
+    start = m.origin[:n]
+    end = start + m.length[:n, None] * m.R[:n, :, 2]
+    own = np.array([0, n])
+    frame = plant_frames(start, end, m.radius[:n], own, env.us[0], env.vs[0], env.resolution)
+    everyone = np.concatenate([start + c for c in np.vstack([np.zeros((1, 3)), shifts])])
+    stand = plant_frames(everyone, everyone + (end - start)[np.arange(len(everyone)) % n],
+                         np.tile(m.radius[:n], len(shifts) + 1), np.array([0, len(everyone)]),
+                         env.us[0], env.vs[0], env.resolution)  # fmt: skip
+    big = env._replace(resolution=int(np.ceil(env.resolution * stand[0, 2] / frame[0, 2])))
+    points, normals = wall_points(n, dims, m)
+    pick = np.arange(0, len(points), max(1, len(points) // 120))
+    periodic = np.zeros(len(points))
+    explicit = np.zeros(len(points))
+    judged = 0
+    for k in range(len(env.dirs)):
+        one = {"dirs": env.dirs[k : k + 1], "us": env.us[k : k + 1], "vs": env.vs[k : k + 1],
+               "weights": np.ones(1)}  # fmt: skip
+        p = K.walls_light(n, dims, m, env._replace(**one), shifts, s["scratch"])
+        e = hormone_explicit_centre(n, s, dims, spacing, big._replace(**one))
+        lights = (one["dirs"], one["us"], one["vs"], one["weights"])
+        args = ((start, end, m.radius[:n], own), (points[pick], np.array([0, len(pick)]),
+                normals[pick]), lights, (env.resolution, env.bias, False, None))  # fmt: skip
+        edge = naive.point_light_into(*args, tol_pixels=1.5, shifts=shifts)
+        clear = pick[~edge]
+        np.testing.assert_allclose(p[clear], e[clear], rtol=1e-9, atol=1e-12)
+        judged += len(clear)
+        periodic += env.weights[k] * p
+        explicit += env.weights[k] * e
+    assert judged >= 0.3 * len(pick) * len(env.dirs)
+    assert abs(periodic.sum() / explicit.sum() - 1.0) <= 0.06
 
 
 def test_no_shifts_is_the_plant_alone_bit_for_bit():

@@ -656,7 +656,7 @@ def point_light(
         trans = _transmissions(where, data, transmission, s.shape[0]) if soft else np.empty(0)
         return kernels.point_light_into(
             (s, e, r, off), (pts, poff, nrm), (d, u, v, w), (res, bias, soft, trans),
-            _scratch(res), np.empty(m),
+            _scratch(res), np.empty(m), np.zeros((0, 3)),
         )  # fmt: skip
     from growsim.env.shadow_gl import point_exposure_gl
 

@@ -590,9 +590,10 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env, shifts):
 def walls_light(n, dims, modules, env, shifts, scratch):
     """``(n * walls,)`` the light on each wall of modules ``0..n-1`` (placed: ``origin``
     up to date) at its own point (on the surface, halfway along the module) with its
-    outward normal, through one shadow map per light of the modules and of their copies
-    moved by ``shifts`` ``(k, 3)`` (a periodic stand; ``(0, 3)``: the plant alone): only
-    the plant's own wall points are judged. :func:`grow_step`'s exact light.
+    outward normal, through one shadow map per light of the modules, among their copies
+    moved by ``shifts`` ``(k, 3)`` (a periodic stand, each copy's shadow read at the
+    point moved back by its shift, :func:`growsim.kernels.light.point_light_into`;
+    ``(0, 3)``: the plant alone). :func:`grow_step`'s exact light.
 
     Examples
     --------
@@ -607,18 +608,7 @@ def walls_light(n, dims, modules, env, shifts, scratch):
     walls = modules.hormone.shape[1]
     start = origin[:n]
     end = _ends(n, origin, length, R, np.empty((n, 3)))
-    k = shifts.shape[0]
-    all_start = np.empty(((k + 1) * n, 3))
-    all_end = np.empty(((k + 1) * n, 3))
-    all_radius = np.empty((k + 1) * n)
-    for j in range(k + 1):
-        for q in range(n):
-            for a in range(3):
-                d = shifts[j - 1, a] if j > 0 else 0.0
-                all_start[j * n + q, a] = start[q, a] + d
-                all_end[j * n + q, a] = end[q, a] + d
-            all_radius[j * n + q] = radius[q]
-    trans = np.full((k + 1) * n, env.transmission) if env.soft else np.empty(0)
+    trans = np.full(n, env.transmission) if env.soft else np.empty(0)
     m = n * walls
     normals = wall_normals(n, R, walls, dims, np.empty((n, walls, 3)))
     points = np.empty((m, 3))
@@ -632,9 +622,9 @@ def walls_light(n, dims, modules, env, shifts, scratch):
                 points[q * walls + i, a] = mid + radius[q] * normals[q, i, a]
                 unit[q * walls + i, a] = normals[q, i, a] / norm
     return point_light_into(
-        (all_start, all_end, all_radius, np.array([0, (k + 1) * n], np.int64)),
+        (start, end, radius[:n], np.array([0, n], np.int64)),
         (points, np.array([0, m], np.int64), unit), (env.dirs, env.us, env.vs, env.weights),
-        (env.resolution, env.bias, env.soft, trans), scratch, np.empty(m),
+        (env.resolution, env.bias, env.soft, trans), scratch, np.empty(m), shifts,
     )  # fmt: skip
 
 

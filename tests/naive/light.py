@@ -210,12 +210,14 @@ def point_exposure(segments, points, point_offsets, plane, res, bias_pixels, tra
     return edge if tol_pixels > 0 else out
 
 
-def point_light_into(segments, targets, lights, shadow, tol_pixels=0.0):
+def point_light_into(segments, targets, lights, shadow, tol_pixels=0.0, shifts=None):
     """Mirror of :func:`growsim.kernels.light.point_light_into` (without ``scratch`` and
     ``out``): the sum over the lights ``(dirs, us, vs, weights)`` of
     :func:`point_exposure` times the clipped cosine ``max(0, -n . d)`` times the weight;
     with ``tol_pixels > 0``, the boolean ``(m,)`` of points near an edge along some light
-    of non-zero weight that they face.
+    of non-zero weight that they face. Among copies moved by ``shifts`` ``(k, 3)``: the
+    exposure is the product of the point's and of each ``point - shifts[j]``'s (copy
+    ``j`` shades the point as the plant shades the point moved back), an edge near any.
 
     Examples
     --------
@@ -235,11 +237,15 @@ def point_light_into(segments, targets, lights, shadow, tol_pixels=0.0):
         if w == 0.0:
             continue
         cos = np.maximum(0.0, -(normals @ d))
-        args = (segments, points, point_offsets, (u, v, d), res, bias_pixels,
-                trans if soft else None)  # fmt: skip
-        out += point_exposure(*args) * cos * w
-        if tol_pixels > 0:
-            edge |= point_exposure(*args, tol_pixels=tol_pixels) & (cos > 0)
+        moves = np.zeros((1, 3)) if shifts is None else np.vstack([np.zeros((1, 3)), shifts])
+        expo = np.ones(len(points))
+        for move in moves:
+            args = (segments, points - move, point_offsets, (u, v, d), res, bias_pixels,
+                    trans if soft else None)  # fmt: skip
+            expo *= point_exposure(*args)
+            if tol_pixels > 0:
+                edge |= point_exposure(*args, tol_pixels=tol_pixels) & (cos > 0)
+        out += expo * cos * w
     return edge if tol_pixels > 0 else out
 
 
