@@ -9,7 +9,7 @@ The centre plant's light is compared segment by segment (Honda trees,
 stand's answers) or wall by wall (the hormone model's exact light,
 :func:`growsim.kernels.hormone.walls_light`: the plant's own map read at the points moved
 back by each copy's shift, the same answers away from a shadow's edge). How rings = 1 and 2
-compare with the 7 x 7 stand is measured, not tested: ``benchmarks/log/stand.md``. """
+compare with the 7 x 7 stand is measured, not tested: ``benchmarks/log/stand.md``."""
 
 from __future__ import annotations
 
@@ -115,6 +115,21 @@ def hormone_explicit_centre(n, s, dims, spacing, env):
     return light[centre * n * walls : (centre + 1) * n * walls]
 
 
+def matched(n, m, env, shifts):
+    """``env`` with the resolution that gives the stand of the plant and its copies at
+    ``shifts`` (one map over all, as :func:`hormone_explicit_centre` lights them) the
+    pixel size of the plant's own map (along the first light)."""
+    start = m.origin[:n]
+    end = start + m.length[:n, None] * m.R[:n, :, 2]
+    u, v, res = env.us[0], env.vs[0], env.resolution
+    frame = plant_frames(start, end, m.radius[:n], np.array([0, n]), u, v, res)
+    every = np.concatenate([start + c for c in np.vstack([np.zeros((1, 3)), shifts])])
+    stand = plant_frames(every, every + np.tile(end - start, (len(shifts) + 1, 1)),
+                         np.tile(m.radius[:n], len(shifts) + 1), np.array([0, len(every)]), u,
+                         v, res)  # fmt: skip
+    return env._replace(resolution=int(np.ceil(res * stand[0, 2] / frame[0, 2])))
+
+
 def wall_points(n, dims, m):
     """``(points, normals)`` ``(n * walls, 3)``: each wall's point (on the surface, halfway
     along its module) and outward unit normal, as :func:`K.walls_light` judges them."""
@@ -146,12 +161,7 @@ def test_hormone_periodic_agrees_with_an_explicit_7x7_stand(preset, steps, spaci
     start = m.origin[:n]
     end = start + m.length[:n, None] * m.R[:n, :, 2]
     own = np.array([0, n])
-    frame = plant_frames(start, end, m.radius[:n], own, env.us[0], env.vs[0], env.resolution)
-    everyone = np.concatenate([start + c for c in np.vstack([np.zeros((1, 3)), shifts])])
-    stand = plant_frames(everyone, everyone + (end - start)[np.arange(len(everyone)) % n],
-                         np.tile(m.radius[:n], len(shifts) + 1), np.array([0, len(everyone)]),
-                         env.us[0], env.vs[0], env.resolution)  # fmt: skip
-    big = env._replace(resolution=int(np.ceil(env.resolution * stand[0, 2] / frame[0, 2])))
+    big = matched(n, m, env, shifts)
     points, normals = wall_points(n, dims, m)
     pick = np.arange(0, len(points), max(1, len(points) // 120))
     periodic = np.zeros(len(points))
@@ -235,7 +245,8 @@ def test_the_opengl_backend_gives_the_same_shifted_light():
 
 def _rings_table() -> None:  # pragma: no cover - a measurement, benchmarks/log/stand.md
     """Print rings 1, 2, 3 against the explicit 7 x 7 stand (total, mean and max of the
-    per-segment metric) at 64, 512 and 2048 pixels: ``python tests/test_stand_periodic.py``."""
+    per-segment metric) at 64, 512 and 2048 pixels (the hormone model's stand map at the
+    plant's pixel size, :func:`matched`): ``python tests/test_stand_periodic.py``."""
 
     def cell(p, e):
         rel = np.abs(p - e) / np.maximum(np.abs(e), np.abs(e).mean())
@@ -261,17 +272,24 @@ def _rings_table() -> None:  # pragma: no cover - a measurement, benchmarks/log/
             m, dims = s["modules"], int(p["dims"])
             K.place_kernel(n, m.parent, m.R, m.length, m.origin)
             for sp in (1.0, 3.0):
-                e = hormone_explicit_centre(n, s, dims, sp)
+                big = matched(n, m, s["env"], periodic_shifts(sp, 3, dims))
+                e = hormone_explicit_centre(n, s, dims, sp, big)
                 row = [cell(K.walls_light(n, dims, m, s["env"], periodic_shifts(sp, r, dims),
                                           s["scratch"]), e) for r in (1, 2, 3)]  # fmt: skip
                 print(f"| hormone {preset} | {res} | {sp:g} | " + " | ".join(row) + " |")
-    print("\nnoise floor: the tree alone at res against res + 2")
+    print("\nnoise floor: the plant alone at res against res + 1 (Honda: res + 2)")
     for res in (64, 512, 2048):
         for name in ("zelkova", "ginkgo", "g_tall_trunk"):
             tree = honda.develop(honda.PRESETS[name])
             a, b = (Light(direction=[0.3, -1.0, 0.2], diffuse=0.5, resolution=x).segment_light(tree)
                     for x in (res, res + 2))  # fmt: skip
             print(f"| {res} | {name} | {cell(b, a)} |")
+        for preset in ("demo_3d", "demo_2d"):
+            n, s, dims = hormone_grown(preset, 30)
+            a, b = (K.walls_light(n, dims, s["modules"], s["env"]._replace(resolution=x),
+                                  np.zeros((0, 3)), shadow_scratch(x))
+                    for x in (res, res + 1))  # fmt: skip
+            print(f"| {res} | {preset} | {cell(b, a)} |")
 
 
 if __name__ == "__main__":

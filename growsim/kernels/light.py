@@ -63,6 +63,17 @@ every ``trans -> 0`` it is 0 when anything else lies in front: the binary map, e
 that a steep segment whose own nearest depth at the pixel is in front of an occluder does
 not shield its point here.
 
+Among copies (a periodic stand, :func:`point_light_into` with ``shifts``): copy ``j`` of a
+plant, moved by ``shifts[j]``, shades a point ``q`` exactly as the plant shades ``q -
+shifts[j]``, so the copies are never drawn: the plant's own map (its frame, as alone) is
+read at each point and at each point moved back by a shift, and the point is lit when
+every reading is (soft: the product of the readings). For hard shadows the map is filled
+whole over the box those readings fall in (:func:`_copies_hard`) and read once per point
+and copy; the cost is one plant's raster plus a lookup per copy, not a raster per copy.
+The readings agree with a map of the plant and its copies drawn together wherever the
+point lies more than a pixel from a shadow's edge (the two maps' pixels lie
+differently).
+
 Plants never shade each other: each has its own map (one scratch of list heads,
 occupancy and nearest depths, a pixel's cells set up by its first query and its
 occupancy bits cleared after each plant).
