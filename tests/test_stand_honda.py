@@ -113,11 +113,6 @@ def test_projection_in_a_stand_is_refused():
         objective({"mode": "periodic", "spacing": 20.0}, shading="projection")
 
 
-def test_a_mixture_is_not_scored_by_the_light_objective():
-    with pytest.raises(ConfigError, match=r"environment\.stand\.mode = 'mixture'"):
-        objective({"mode": "mixture", "spacing": 20.0})
-
-
 CONFIG = """
 [experiment]
 name = "honda_stand_{mode}"
@@ -167,7 +162,8 @@ def _run(tmp_path, mode, extra=""):
 
 
 @pytest.mark.parametrize(
-    ("mode", "extra"), [("periodic", "rings = 1"), ("explicit", "rows = 2\ncols = 2")]
+    ("mode", "extra"),
+    [("periodic", "rings = 1"), ("explicit", "rows = 2\ncols = 2"), ("mixture", "neighbours = 2")],
 )
 def test_growsim_run_evolves_honda_in_a_stand(tmp_path, mode, extra):
     code, err = _run(tmp_path, mode, extra)
@@ -175,7 +171,7 @@ def test_growsim_run_evolves_honda_in_a_stand(tmp_path, mode, extra):
     assert any((tmp_path / mode).rglob("*"))
 
 
-def test_growsim_run_refuses_a_mixture(tmp_path):
-    code, err = _run(tmp_path, "mixture")
-    assert code == 2 and "'mixture'" in err and len(err.strip().splitlines()) == 1, err
+def test_growsim_run_refuses_a_mixture_larger_than_the_population(tmp_path):
+    code, err = _run(tmp_path, "mixture", "neighbours = 8")  # a population of 6
+    assert code == 2 and "stand.neighbours" in err and len(err.strip().splitlines()) == 1, err
     assert not (tmp_path / "mixture").exists()

@@ -111,10 +111,10 @@ def test_prepare_draws_the_same_neighbours_for_the_same_batch():
         (["environment.stand.neighbours=8", "ga.population=8"], "environment.stand.neighbours"),
         (
             [
-                "model.kind=honda",
-                "model.preset=zelkova",
+                "model.kind=ifs3d",
+                "model.preset=table1",
                 "model.params={}",
-                "model.evolve={f=true}",
+                "model.evolve={depth=true}",
             ],
             "environment.stand.mode",
         ),

@@ -282,8 +282,8 @@ def _stand_plants(args: argparse.Namespace, model, params, n: int) -> list[dict]
     without it): each item a preset name of ``model`` or a JSON file (a run's
     ``best.json``, whose ``params`` are used, or a ``{name: value}`` mapping) over the
     preset's values ``params``, ``--set`` over them all, given to the positions in turn.
-    Only the hormone model grows a stand of different plants; bad items raise
-    :class:`growsim.errors.UserInputError` naming ``--plants``.
+    Hormone plants grow together, other models' plants each alone (then placed); bad items
+    raise :class:`growsim.errors.UserInputError` naming ``--plants``.
 
     Examples
     --------
@@ -301,8 +301,6 @@ def _stand_plants(args: argparse.Namespace, model, params, n: int) -> list[dict]
         return None
     if getattr(args, "stand", None) is None:
         raise UserInputError("--plants: only with --stand")
-    if model.name != "hormone":
-        raise UserInputError(f"--plants: {model.name} does not grow a stand of different plants")
     items = [t.strip() for t in text.split(",") if t.strip()]
     if not items:
         raise UserInputError("--plants: give presets or JSON files, separated by commas")
@@ -328,9 +326,9 @@ def _stand_plants(args: argparse.Namespace, model, params, n: int) -> list[dict]
 
 
 def _placed_copies(plant, stand):
-    """A stand of copies of ``plant`` at ``stand.xz()`` (a model that does not grow
-    plants together: each grew alone; the light on them, ``--color light``, is the
-    stand's).
+    """A stand of copies of ``plant`` at ``stand.xz()``, or of the plants of the list
+    ``plant``, one a position (a model that does not grow plants together: each grew
+    alone; the light on them, ``--color light``, is the stand's).
 
     Examples
     --------
@@ -347,9 +345,10 @@ def _placed_copies(plant, stand):
 
     xz = stand.xz()
     offsets = np.stack([xz[:, 0], np.zeros(len(xz)), xz[:, 1]], axis=1)
-    copies = Plant.concat([plant] * len(xz), offsets=offsets)
-    which = np.repeat(np.arange(len(xz)), plant.n_segments)
-    meta = {**plant.meta, "stand": xz.tolist()}
+    trees = list(plant) if isinstance(plant, list) else [plant] * len(xz)
+    copies = Plant.concat(trees, offsets=offsets)
+    which = np.repeat(np.arange(len(xz)), [t.n_segments for t in trees])
+    meta = {**trees[0].meta, "stand": xz.tolist()}
     return Plant(copies.start, copies.end, copies.radius, copies.parent, copies.order,
                  copies.kind, {**copies.data, "plant": which}, meta)  # fmt: skip
 
@@ -409,6 +408,10 @@ def run_grow(args: argparse.Namespace) -> int:
 
         env = stand
         frames = grown(grow_stand(params if plants is None else plants, env=env))
+    elif stand is not None and plants is not None:  # other models: each grown alone, placed
+        env = stand
+        frames = [_placed_copies([model.develop(q, seed=args.seed, env=env) for q in plants],
+                                 env.stand)]  # fmt: skip
     elif stand is not None:  # other models: copies of one plant placed (grown alone)
         env = stand
         steps = model.grow(params, seed=args.seed, env=env)
@@ -597,7 +600,7 @@ def register(subparsers) -> None:
     p.add_argument(
         "--plants",
         metavar="A,B,...",
-        help="--stand of different hormone plants (presets, best.json files)",
+        help="--stand of different plants (presets, best.json files)",
     )
     p.add_argument("--json", action="store_true", help="print counts and measures as JSON")
     p.set_defaults(func=run_grow)

@@ -211,7 +211,7 @@ def _check_mixture(cfg: Config, model) -> None:
     if "mixture" not in model.capabilities:
         raise ConfigError(
             f"environment.stand.mode: 'mixture' needs a model that grows among neighbours "
-            f"(the hormone model); model {model.name!r} does not"
+            f"(hormone, honda); model {model.name!r} does not"
         )
     population = cfg.ga.population
     if stand.neighbours > population - 1:

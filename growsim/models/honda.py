@@ -42,6 +42,7 @@ __all__ = [
     "develop",
     "draws",
     "leaf_bearing",
+    "mixture",
 ]
 
 NAME = "honda"
@@ -212,11 +213,12 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None, d
 
     ``params``: any subset of :data:`PARAMS` (defaults fill the rest; values are checked).
     ``seed``: overrides ``params["seed"]`` when given. ``env`` is unused (the seed's tree
-    has no environment). ``draws``: optional ``(m, N_DRAWS)`` uniforms in ``[0, 1]``
-    replacing the seed's draws of the first ``m`` branchings (the arrangement of the
-    branches: see :func:`draws`; rows beyond the tree's branchings are ignored; without
-    it, the tree is the seed's, bit for bit). Returns a :class:`growsim.phenotypes.plant.Plant`
-    whose first
+    has no environment), except in a mixture (``environment.stand.mode = "mixture"``):
+    then the tree among copies of itself, :func:`mixture`. ``draws``: optional
+    ``(m, N_DRAWS)`` uniforms in ``[0, 1]`` replacing the seed's draws of the first ``m``
+    branchings (the arrangement of the branches: see :func:`draws`; rows beyond the tree's
+    branchings are ignored; without it, the tree is the seed's, bit for bit). Returns a
+    :class:`growsim.phenotypes.plant.Plant` whose first
     ``n_stems`` segments are the stems in the seed's vertex order (segment ``v - 1`` ends
     at vertex ``v``), followed by the leaves (``kind == LEAF``). ``data`` holds
     ``generation``, ``depth``, ``main`` (bool) and ``radius_end``.
@@ -236,6 +238,8 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None, d
     >>> bool((develop(PRESETS["zelkova"], draws=d).end == develop(PRESETS["zelkova"]).end).all())
     False
     """
+    if env is not None and env.stand.mode == "mixture":  # among copies of itself
+        return mixture(params, None, seed=seed, env=env, draws=draws)
     p = _resolved(params, seed)
     gens = int(p["generations"])
     n_stems, n_tips = count_topology(p["f"], gens)
@@ -326,6 +330,63 @@ def _override(U: np.ndarray, given) -> np.ndarray:
     return U
 
 
+def mixture(params, neighbours=None, *, seed=None, env=None, draws=None) -> Plant:
+    """The tree of ``params`` in a mixture (``environment.stand.mode = "mixture"``): the
+    focal tree at the origin, grown as :func:`develop` (``seed``, ``draws``), with
+    ``neighbours`` (a sequence of ``env.stand.neighbours`` parameter mappings, each grown
+    with its own ``seed`` parameter; None: copies of the focal tree) on the lattice cells
+    of ``env.stand.spacing`` nearest it (:meth:`growsim.env.stand.Stand.mixture_xz`).
+    Honda's trees do not grow by light, so each grows alone; they meet in the light
+    objective's shadow map (:meth:`growsim.objectives.light.LightObjective.scored`).
+
+    Returns the focal tree (its segments, its wood, the measures of a tree alone) with
+    ``meta["stand"]`` the positions ``[x, z]`` (focal first) and ``meta["neighbours"]``
+    the neighbours placed at their positions, one plant's arrays (``start``, ``end``,
+    ``radius``, ``parent``, ``order``, ``kind`` and ``plant``, each segment's position
+    index, 1 to ``k``): what :func:`growsim.objectives.light.mixture_stand` joins into the
+    stand. A wrong number of neighbours raises :class:`growsim.errors.UserInputError`
+    naming ``environment.stand.neighbours``.
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> env = Environment.parse({"stand": {"mode": "mixture", "neighbours": 2,
+    ...                                    "spacing": 30.0}})
+    >>> t = mixture(PRESETS["zelkova"], [PRESETS["ginkgo"], PRESETS["plane"]], env=env)
+    >>> t.n_stems, t.meta["stand"]
+    (125, [[0.0, 0.0], [0.0, -30.0], [-30.0, 0.0]])
+    >>> sorted(set(t.meta["neighbours"]["plant"].tolist()))
+    [1, 2]
+    """
+    from growsim.env import Environment
+
+    env = env if env is not None else Environment()
+    focal = develop(params, seed=seed, draws=draws)  # alone: env plays no part in growth
+    k = env.stand.neighbours
+    if neighbours is None:
+        others = [focal] * k
+    else:
+        neighbours = list(neighbours)
+        if len(neighbours) != k:
+            raise UserInputError(
+                f"environment.stand.neighbours = {k}: {len(neighbours)} neighbours given"
+            )
+        others = [develop(nb) for nb in neighbours]
+    xz = env.stand.mixture_xz(3)
+    at = np.stack([xz[1:, 0], np.zeros(k), xz[1:, 1]], axis=1)
+    placed = Plant.concat(others, offsets=at)
+    which = np.repeat(np.arange(1, k + 1), [o.n_segments for o in others])
+    nb = {
+        "start": placed.start, "end": placed.end, "radius": placed.radius,
+        "parent": placed.parent, "order": placed.order, "kind": placed.kind, "plant": which,
+    }  # fmt: skip
+    meta = {**focal.meta, "stand": xz.tolist(), "neighbours": nb}
+    return Plant._unchecked(
+        focal.start, focal.end, focal.radius, focal.parent, focal.order, focal.kind,
+        focal.data, meta,
+    )  # fmt: skip
+
+
 class Honda(Model):
     """Honda's tree under the model contract (:class:`growsim.models.base.Model`):
     :data:`PARAMS`, :data:`PRESETS` and :func:`develop` of this module.
@@ -338,7 +399,7 @@ class Honda(Model):
 
     name = NAME
     phenotype = "plant"
-    capabilities = frozenset({"draws"})
+    capabilities = frozenset({"draws", "mixture"})
     params = PARAMS
     presets = PRESETS
 
@@ -349,6 +410,10 @@ class Honda(Model):
     def draws(self, params=None, *, seed=None) -> np.ndarray:
         """See :func:`draws` (a capability: ``growsim.fitting.setups.arrange`` fits them)."""
         return draws(params, seed=seed)
+
+    def mixture(self, params, neighbours, *, seed=None, env=None, draws=None) -> Plant:
+        """See :func:`mixture` (the focal tree with its neighbours attached)."""
+        return mixture(params, neighbours, seed=seed, env=env, draws=draws)
 
 
 #: The registered model (``growsim.models.MODELS["honda"]``).

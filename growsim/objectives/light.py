@@ -48,7 +48,13 @@ the plant's among its neighbours:
   :meth:`growsim.env.stand.Stand.xz` (one genome; a model that does not grow plants
   together places them), all in one shadow map, every tree's leaves judged, shaded by
   all; ``light``, ``leaf_area`` and ``wood_volume`` are the stand's sums. A phenotype that
-  is a stand already (``data["plant"]``, the hormone model's) is scored as it is.
+  is a stand already (``data["plant"]``, the hormone model's) is scored as it is;
+- ``mode = "mixture"``: the phenotype is the focal tree carrying its neighbours (other
+  genomes drawn from the population, ``meta["neighbours"]``:
+  :func:`growsim.models.honda.mixture`); :func:`mixture_stand` joins them into one
+  shadow map, only the focal tree's leaves are judged (shaded by itself and them) and
+  the wood is its own. A phenotype carrying neighbours is scored among them whatever
+  the stand; one without them in a mixture is refused (:class:`ConfigError`).
 
 One shadow map per light spans the whole stand (the plant and its copies). So that each
 crown keeps its ``resolution`` pixels across, as alone, the map gets
@@ -91,7 +97,9 @@ from growsim.env.light import Direction, Intensity
 from growsim.errors import ConfigError
 from growsim.objectives.base import Objective, ObjectiveOptions
 
-__all__ = ["LightObjective", "LightOptions", "saturating_response", "stand_resolution"]
+__all__ = [
+    "LightObjective", "LightOptions", "mixture_stand", "saturating_response", "stand_resolution",
+]  # fmt: skip
 
 #: the finest shadow map a stand gets (pixels across)
 STAND_RESOLUTION_MAX = 4096
@@ -118,6 +126,38 @@ def stand_resolution(resolution: int, crown: float, lattice: float) -> int:
         if size >= want - 1e-9:
             return int(min(STAND_RESOLUTION_MAX, size))
     return STAND_RESOLUTION_MAX
+
+
+def mixture_stand(plant):
+    """The stand a mixture phenotype stands in: ``plant`` (the focal tree, at the origin)
+    joined with the neighbours it carries (``meta["neighbours"]``, one plant's arrays
+    placed at their positions with ``plant`` their position index, as
+    :func:`growsim.models.honda.mixture` attaches them) into one
+    :class:`growsim.phenotypes.plant.Plant` whose ``data["plant"]`` is 0 on the focal
+    tree's segments; ``meta["stand"]`` the positions. The focal tree first, so its
+    segments keep their indices.
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> from growsim.models import honda
+    >>> env = Environment.parse({"stand": {"mode": "mixture", "neighbours": 2,
+    ...                                    "spacing": 30.0}})
+    >>> t = honda.mixture(honda.PRESETS["zelkova"], None, env=env)
+    >>> s = mixture_stand(t)
+    >>> s.n_segments == 3 * t.n_segments, np.bincount(s.data["plant"]).tolist()
+    (True, [407, 407, 407])
+    """
+    from growsim.phenotypes.plant import Plant
+
+    nb = plant.meta["neighbours"]
+    others = Plant(*(np.asarray(nb[k]) for k in ("start", "end", "radius", "parent")),
+                   np.asarray(nb["order"]), np.asarray(nb["kind"]))  # fmt: skip
+    joined = Plant.concat([plant.subset(np.ones(plant.n_segments, bool)), others])
+    which = np.concatenate([np.zeros(plant.n_segments, np.int64), np.asarray(nb["plant"])])
+    meta = {k: v for k, v in plant.meta.items() if k != "neighbours"}
+    return Plant(joined.start, joined.end, joined.radius, joined.parent, joined.order,
+                 joined.kind, {"plant": which}, meta)  # fmt: skip
 
 
 def saturating_response(light, half_saturation: float):
@@ -192,8 +232,8 @@ class LightObjective(Objective):
     the light travels, y up), ``intensity`` and ``resolution`` (16..4096; each defaults to
     ``environment.light``'s), ``wood_cost`` (per unit^3 of wood, >= 0, default 0.02). The
     formulas: :mod:`growsim.objectives.light`. With ``[environment.stand]`` it scores the
-    plant among its copies (``periodic``) or the stand of copies (``explicit``):
-    :meth:`scored`.
+    plant among its copies (``periodic``), the stand of copies (``explicit``) or the
+    focal tree among the neighbours it carries (``mixture``): :meth:`scored`.
 
     Examples
     --------
@@ -247,11 +287,6 @@ class LightObjective(Objective):
         stand = self.env.stand
         #: the stand the plant is scored in (None: alone)
         self.stand = None if stand.mode == "alone" else stand
-        if self.stand is not None and self.stand.mode not in ("periodic", "explicit"):
-            raise ConfigError(
-                f"objective light: environment.stand.mode = {stand.mode!r} is not scored by "
-                "the light objective; use 'alone', 'periodic' or 'explicit'"
-            )
         if self.stand is not None and self.shading == "projection":
             raise ConfigError(
                 f"objective light: shading = 'projection' cannot score a plant in a stand "
@@ -264,9 +299,11 @@ class LightObjective(Objective):
         ``"periodic"``: the plant and its copies' offsets ``(k, 3)``; ``"explicit"``: the
         stand of copies of the plant at the stand's positions (one
         :class:`growsim.phenotypes.plant.Plant`, ``data["plant"]`` each segment's tree)
-        and ``None``. In a stand the light has :func:`stand_resolution` pixels (the crown
-        keeps its ``resolution``); a stand phenotype (grown together) is scored as it is,
-        by :attr:`light`.
+        and ``None``; a mixture phenotype (``meta["neighbours"]``): the stand of the focal
+        tree and its neighbours (:func:`mixture_stand`, the focal tree ``plant == 0``) and
+        ``None``. In a stand the light has :func:`stand_resolution` pixels (the crown
+        keeps its ``resolution``; in a mixture, the focal crown over the whole stand's
+        extent); a stand phenotype (grown together) is scored as it is, by :attr:`light`.
 
         Examples
         --------
@@ -283,9 +320,25 @@ class LightObjective(Objective):
         >>> stand, _, _ = LightObjective(env=env).scored(one)
         >>> stand.n_segments, stand.data["plant"].tolist()
         (3, [0, 1, 2])
+        >>> from growsim.models import honda
+        >>> env = Environment.parse({"stand": {"mode": "mixture", "neighbours": 8,
+        ...                                    "spacing": 20.0}})
+        >>> tree = honda.mixture(honda.PRESETS["zelkova"], None, env=env)
+        >>> stand, _, light = LightObjective(env=env).scored(tree)
+        >>> stand.n_segments == 9 * tree.n_segments, light.resolution
+        (True, 128)
         """
+        if "neighbours" in plant.meta:  # a mixture: the focal tree among its neighbours
+            stand = mixture_stand(plant)
+            return stand, None, self._stand_light(plant, None, stand)
         if self.stand is None or "plant" in plant.data:  # alone, or a stand already
             return plant, None, self.light
+        if self.stand.mode == "mixture":
+            raise ConfigError(
+                f"objective light: environment.stand.mode = 'mixture': the phenotype "
+                f"(model {plant.meta.get('model', '?')!r}) carries no neighbours to be "
+                "scored among (a model whose mixture attaches them: honda)"
+            )
         if self.stand.mode == "periodic":
             from growsim.kernels.stand import periodic_shifts
 
@@ -304,11 +357,12 @@ class LightObjective(Objective):
         )  # fmt: skip
         return stand, None, self._stand_light(plant, at)
 
-    def _stand_light(self, plant, moves):
+    def _stand_light(self, plant, moves, stand=None):
         """:attr:`light` with :func:`stand_resolution` pixels for ``plant`` (one crown)
-        moved by each row of ``moves`` ``(k, 3)``: the crown's and the stand's widths as
-        the map of the light's direction frames them (the larger of their extents across
-        it, widened by the largest radius)."""
+        moved by each row of ``moves`` ``(k, 3)`` (or, given ``stand``, the plants of a
+        mixture: ``plant`` keeps its pixels in the map spanning ``stand``): the crown's
+        and the stand's widths as the map of the light's direction frames them (the
+        larger of their extents across it, widened by the largest radius)."""
         from growsim.env.light import view_basis
 
         if plant.n_segments == 0:
@@ -317,7 +371,12 @@ class LightObjective(Objective):
         rim = 2.0 * float(plant.radius.max())
         across = view_basis(self.light.direction)
         crown = max(float(np.ptp(ends @ a)) for a in across) + rim
-        stand = max(float(np.ptp(ends @ a) + np.ptp(moves @ a)) for a in across) + rim
+        if stand is None:
+            stand = max(float(np.ptp(ends @ a) + np.ptp(moves @ a)) for a in across) + rim
+        else:
+            every = np.concatenate([stand.start, stand.end])
+            rim = max(rim, 2.0 * float(stand.radius.max()))
+            stand = max(float(np.ptp(every @ a)) for a in across) + rim
         res = stand_resolution(self.light.resolution, crown, stand - crown)
         if res == self.light.resolution:
             return self.light
@@ -359,8 +418,13 @@ class LightObjective(Objective):
         else:
             from growsim.phenotypes.plant import leaf_light
 
+            focal = plant
             plant, shifts, lit = self.scored(plant)
-            if shifts is None:
+            if "neighbours" in focal.meta:  # a mixture: the focal tree's leaves and wood
+                judged = plant.data["plant"] == 0
+                light, area = leaf_light(plant, lit, self.respond, judged=judged)
+                plant = focal
+            elif shifts is None:
                 light, area = leaf_light(plant, lit, self.respond)
             else:
                 light, area = leaf_light(plant, lit, self.respond, shifts=shifts)

@@ -39,11 +39,11 @@ def _which(stand: Plant) -> np.ndarray:
 def plant_table(stand: Plant) -> pd.DataFrame:
     """One row per plant of ``stand`` (index ``plant``), the columns of
     :data:`PLANT_COLUMNS`: its position, segments, height (top above the stand's ground,
-    ``meta["ground"]``), crown width (the wider of its x and z extents),
-    height-to-width ratio (inf for a zero width), branch angle
-    (:meth:`Plant.branch_angle`, degrees), leaf area and light captured (see the module),
-    light per leaf area and its share of the stand's light captured. A plain plant (no
-    ``data["plant"]``) is a stand of one at its own position.
+    ``meta["ground"]``), crown width (the wider of its x and z extents), height-to-width
+    ratio (inf for a zero width), branch angle (:meth:`Plant.branch_angle`, degrees; NaN for
+    an unbranched plant), leaf area and light captured (see the module), light per leaf area
+    and its share of the stand's light captured. A plain plant (no ``data["plant"]``) is a
+    stand of one at its own position.
 
     Examples
     --------
@@ -81,7 +81,8 @@ def plant_table(stand: Plant) -> pd.DataFrame:
             width = float(max(b[1, 0] - b[0, 0], b[1, 2] - b[0, 2]))
             angle = one.branch_angle()
         else:
-            height = width = angle = 0.0
+            height = width = 0.0
+            angle = float("nan")
         x, z = xz[i] if i < len(xz) else (np.nan, np.nan)
         rows.append({
             "x": float(x), "z": float(z), "segments": int(mask.sum()), "height": height,

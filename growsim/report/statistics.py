@@ -188,6 +188,10 @@ def pair_test(x: np.ndarray, y: np.ndarray) -> dict[str, Any]:
     return {**row, "note": "; ".join(notes)}
 
 
+#: how :func:`growsim.files.jsonable` writes non-finite floats (JSON has none)
+NON_FINITE = ("nan", "inf", "-inf")
+
+
 def quantities(run: RunRecord) -> dict[str, float]:
     """Best fitness, the numeric measures and every objective's score and terms.
 
@@ -198,10 +202,16 @@ def quantities(run: RunRecord) -> dict[str, float]:
     ...            "terms": {"light": {"score": 3.5, "leaf_area": 2.0}}}
     >>> quantities(RunRecord(Path("r"), {}, {"fitness": 3.5}, summary))
     {'best_fitness': 3.5, 'height': 12.0, 'light.score': 3.5, 'light.leaf_area': 2.0}
+
+    A measure undefined for the run's plant (``"nan"`` in its JSON, e.g. an unbranched
+    plant's branch angle) stays a measure, as NaN; the tests leave it out:
+
+    >>> quantities(RunRecord(Path("r"), {}, {"fitness": 1.0}, {"measures": {"branch_angle": "nan"}}))
+    {'best_fitness': 1.0, 'branch_angle': nan}
     """
 
     def num(v):
-        return isinstance(v, (int, float)) and not isinstance(v, bool)
+        return isinstance(v, (int, float)) and not isinstance(v, bool) or v in NON_FINITE
 
     out = {"best_fitness": run.best_fitness}
     s = run.summary or {}

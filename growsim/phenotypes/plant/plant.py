@@ -299,7 +299,8 @@ class Plant(Phenotype):
     def branch_angle(self) -> float:
         """Mean over the branch points (:attr:`n_branch_points`) of the widest angle, in
         degrees, between a STEM child's axis and its parent's: how far laterals diverge
-        (0 when there are no branch points).
+        (NaN when there are no branch points: an unbranched plant has no branch angle, and
+        comparisons leave it out rather than count it as 0 degrees).
 
         Examples
         --------
@@ -307,6 +308,8 @@ class Plant(Phenotype):
         ...                       [-1, 0, 0], [-1, 0, 1, 1])  # a stem forks: up and 45 deg
         >>> round(p.branch_angle(), 6)
         45.0
+        >>> Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0]).branch_angle()
+        nan
         """
         c = self.stem_children_count()
         axis = self.end - self.start
@@ -315,7 +318,7 @@ class Plant(Phenotype):
         kids = np.flatnonzero((self.parent >= 0) & (self.kind == STEM))
         kids = kids[(self.kind[self.parent[kids]] == STEM) & (c[self.parent[kids]] >= 2)]
         if not len(kids):
-            return 0.0
+            return float("nan")
         cos = np.clip(np.einsum("ij,ij->i", unit[kids], unit[self.parent[kids]]), -1.0, 1.0)
         widest = np.full(self.n_segments, -1.0)
         np.maximum.at(widest, self.parent[kids], np.degrees(np.arccos(cos)))
@@ -605,7 +608,7 @@ class LeafLight(NamedTuple):
     area: float
 
 
-def leaf_light(plant: Plant, light, response=None, shifts=None) -> LeafLight:
+def leaf_light(plant: Plant, light, response=None, shifts=None, judged=None) -> LeafLight:
     """The light a plant's leaves receive from a shadow-map light, weighted by blade area.
 
     ``light`` is a :class:`growsim.env.Light` (``environment.light``, or a copy with other
@@ -621,6 +624,8 @@ def leaf_light(plant: Plant, light, response=None, shifts=None) -> LeafLight:
     the light objective (:mod:`growsim.objectives.light`) both use it. A plant without
     leaves gives ``(0.0, 0.0)``. ``shifts`` ``(k, 3)``: the plant is also shaded by its
     copies moved by these offsets (a periodic stand; :meth:`growsim.env.Light.segment_light`).
+    ``judged`` ``(n,)`` bool: only these segments' leaves are summed, every segment casting
+    shadows (a mixture's focal tree among its neighbours).
 
     Examples
     --------
@@ -633,6 +638,8 @@ def leaf_light(plant: Plant, light, response=None, shifts=None) -> LeafLight:
     0.5
     """
     sel = plant.kind == LEAF
+    if judged is not None:
+        sel &= np.asarray(judged, dtype=bool)
     if not sel.any():
         return LeafLight(0.0, 0.0)
     extra = {} if shifts is None else {"shifts": shifts}
