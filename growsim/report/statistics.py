@@ -206,12 +206,13 @@ def quantities(run: RunRecord) -> dict[str, float]:
     A measure undefined for the run's plant (``"nan"`` in its JSON, e.g. an unbranched
     plant's branch angle) stays a measure, as NaN; the tests leave it out:
 
-    >>> quantities(RunRecord(Path("r"), {}, {"fitness": 1.0}, {"measures": {"branch_angle": "nan"}}))
+    >>> unbranched = {"measures": {"branch_angle": "nan"}}
+    >>> quantities(RunRecord(Path("r"), {}, {"fitness": 1.0}, unbranched))
     {'best_fitness': 1.0, 'branch_angle': nan}
     """
 
     def num(v):
-        return isinstance(v, (int, float)) and not isinstance(v, bool) or v in NON_FINITE
+        return (isinstance(v, (int, float)) and not isinstance(v, bool)) or v in NON_FINITE
 
     out = {"best_fitness": run.best_fitness}
     s = run.summary or {}
