@@ -175,3 +175,19 @@ def test_growsim_run_refuses_a_mixture_larger_than_the_population(tmp_path):
     code, err = _run(tmp_path, "mixture", "neighbours = 8")  # a population of 6
     assert code == 2 and "stand.neighbours" in err and len(err.strip().splitlines()) == 1, err
     assert not (tmp_path / "mixture").exists()
+
+
+def test_grow_json_gives_each_placed_tree_its_light_in_the_stand(capsys):
+    """``growsim grow honda --stand N --json``: each tree's light captured is its
+    segments' light in the stand's one shadow map (the middle of a row of three, shaded
+    from both sides, gets the least), and the shares sum to 1."""
+    import json
+
+    from growsim.cli import main
+
+    assert main(["grow", "honda", "--preset", "zelkova", "--stand", "3", "--spacing", "20",
+                 "--light-direction", "0.3", "-1", "0", "--json"]) == 0  # fmt: skip
+    plants = json.loads(capsys.readouterr().out)["plants"]
+    light = [p["light_captured"] for p in plants]
+    assert min(light) > 0.0 and light[1] == min(light)
+    assert sum(p["light_share"] for p in plants) == pytest.approx(1.0)

@@ -325,32 +325,36 @@ def _stand_plants(args: argparse.Namespace, model, params, n: int) -> list[dict]
     return [each[i % len(each)] for i in range(n)]
 
 
-def _placed_copies(plant, stand):
-    """A stand of copies of ``plant`` at ``stand.xz()``, or of the plants of the list
+def _placed_copies(plant, env):
+    """A stand of copies of ``plant`` at ``env.stand.xz()``, or of the plants of the list
     ``plant``, one a position (a model that does not grow plants together: each grew
-    alone; the light on them, ``--color light``, is the stand's).
+    alone). ``data["light"]`` is each segment's light in the stand (``env.light``, one
+    shadow map for all: :meth:`growsim.env.Light.segment_light`), what ``--color light``
+    paints and the per-plant measures (light captured, share) sum.
 
     Examples
     --------
-    >>> from growsim.env.stand import Stand
+    >>> from growsim.env import Environment
     >>> from growsim.phenotypes.plant import Plant
     >>> one = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
-    >>> s = _placed_copies(one, Stand.parse({"mode": "explicit", "layout": "row", "count": 2}))
-    >>> s.data["plant"].tolist(), s.meta["stand"]
-    ([0, 1], [[-0.5, 0.0], [0.5, 0.0]])
+    >>> env = Environment.parse({"stand": {"mode": "explicit", "layout": "row", "count": 2}})
+    >>> s = _placed_copies(one, env)
+    >>> s.data["plant"].tolist(), s.meta["stand"], s.data["light"].tolist()
+    ([0, 1], [[-0.5, 0.0], [0.5, 0.0]], [0.0, 0.0])
     """
     import numpy as np
 
     from growsim.phenotypes.plant import Plant
 
-    xz = stand.xz()
+    xz = env.stand.xz()
     offsets = np.stack([xz[:, 0], np.zeros(len(xz)), xz[:, 1]], axis=1)
     trees = list(plant) if isinstance(plant, list) else [plant] * len(xz)
     copies = Plant.concat(trees, offsets=offsets)
     which = np.repeat(np.arange(len(xz)), [t.n_segments for t in trees])
     meta = {**trees[0].meta, "stand": xz.tolist()}
+    light = np.asarray(env.light.segment_light(copies), dtype=np.float64)
     return Plant(copies.start, copies.end, copies.radius, copies.parent, copies.order,
-                 copies.kind, {**copies.data, "plant": which}, meta)  # fmt: skip
+                 copies.kind, {**copies.data, "plant": which, "light": light}, meta)  # fmt: skip
 
 
 def run_grow(args: argparse.Namespace) -> int:
@@ -411,11 +415,11 @@ def run_grow(args: argparse.Namespace) -> int:
     elif stand is not None and plants is not None:  # other models: each grown alone, placed
         env = stand
         frames = [_placed_copies([model.develop(q, seed=args.seed, env=env) for q in plants],
-                                 env.stand)]  # fmt: skip
+                                 env)]  # fmt: skip
     elif stand is not None:  # other models: copies of one plant placed (grown alone)
         env = stand
         steps = model.grow(params, seed=args.seed, env=env)
-        frames = [_placed_copies(p, env.stand) for p in grown(steps)]
+        frames = [_placed_copies(p, env) for p in grown(steps)]
     elif args.gif is not None:
         frames = grown(model.grow(params, seed=args.seed, env=env))
     else:
