@@ -20,7 +20,7 @@ import numpy as np
 
 from growsim.errors import UserInputError
 
-__all__ = ["atomic_path", "atomic_write", "json_default", "jsonable"]
+__all__ = ["NON_FINITE", "atomic_path", "atomic_write", "json_default", "jsonable", "number"]
 
 
 def _file_mode() -> int:
@@ -126,6 +126,22 @@ def json_default(o: Any) -> Any:
     if isinstance(o, np.ndarray):
         return o.tolist()
     raise TypeError(f"{type(o).__name__} is not JSON-able")
+
+
+#: how :func:`jsonable` writes non-finite floats (JSON has none)
+NON_FINITE = ("nan", "inf", "-inf")
+
+
+def number(v: Any) -> Any:
+    """A value read back from :func:`jsonable`'s JSON: ``"nan"``, ``"inf"`` and ``"-inf"``
+    as floats again, anything else as it is.
+
+    Examples
+    --------
+    >>> number("nan"), number("-inf"), number(2.5), number("tall")
+    (nan, -inf, 2.5, 'tall')
+    """
+    return float(v) if isinstance(v, str) and v in NON_FINITE else v
 
 
 def jsonable(x: Any) -> Any:

@@ -511,3 +511,18 @@ def test_census_counts_the_same_on_a_pool():
     warnings: list[str] = []
     pooled = _census(f, result, warnings, executor=2)
     assert list(pooled.items()) == list(serial.items()) and not warnings
+
+
+def test_a_sweep_of_unbranched_plants_keeps_their_branch_angle_as_nan(tmp_path):
+    """Plants of a few modules have no branch point, so no branch angle (NaN, written
+    ``"nan"`` in each summary): the sweep's table reads it back as a float column and
+    writes its parquet."""
+    from growsim.experiment.sweep import sweep
+
+    tiny = ["ga.population=4", "ga.generations=1", "model.params.steps=2",
+            "model.params.max_modules=4", "sweep.variants=[]"]  # fmt: skip
+    df = sweep(ROOT / "experiments/hormone_2d.toml", repeats=2, out=tmp_path / "sw",
+               overrides=tiny, progress=False)  # fmt: skip
+    assert df["best_branch_angle"].dtype == float and df["best_branch_angle"].isna().all()
+    back = pd.read_parquet(tmp_path / "sw" / "sweep.parquet")
+    assert back["best_branch_angle"].isna().all()

@@ -32,7 +32,7 @@ from growsim.experiment.plan import ExperimentPlan
 from growsim.experiment.results import RunDir, read_run, write_parquet
 from growsim.experiment.runner import default_out, run
 from growsim.experiment.schema import Config
-from growsim.files import atomic_write
+from growsim.files import atomic_write, number
 from growsim.options import key_path
 
 __all__ = ["parse_vary", "sweep"]
@@ -264,7 +264,7 @@ def _sweep_runs(variants, labels, n_rep, root, executor, workers, scheduler, pro
                 evaluations=summary["evaluations"],
                 wall_seconds=summary["wall_seconds"],
             )
-            row.update({f"best_{k}": v for k, v in summary.get("measures", {}).items()})
+            row.update({f"best_{k}": number(v) for k, v in summary.get("measures", {}).items()})
             row["out"] = str(run_dir)
             rows.append(row)
     return rows

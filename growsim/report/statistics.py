@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from growsim.experiment.results import RunRecord
+from growsim.files import number
 from growsim.report.groups import Family
 
 __all__ = [
@@ -188,10 +189,6 @@ def pair_test(x: np.ndarray, y: np.ndarray) -> dict[str, Any]:
     return {**row, "note": "; ".join(notes)}
 
 
-#: how :func:`growsim.files.jsonable` writes non-finite floats (JSON has none)
-NON_FINITE = ("nan", "inf", "-inf")
-
-
 def quantities(run: RunRecord) -> dict[str, float]:
     """Best fitness, the numeric measures and every objective's score and terms.
 
@@ -212,13 +209,13 @@ def quantities(run: RunRecord) -> dict[str, float]:
     """
 
     def num(v):
-        return (isinstance(v, (int, float)) and not isinstance(v, bool)) or v in NON_FINITE
+        return isinstance(v, (int, float)) and not isinstance(v, bool)
 
     out = {"best_fitness": run.best_fitness}
     s = run.summary or {}
     for k, v in (s.get("measures") or {}).items():
-        if num(v):
-            out[str(k)] = float(v)
+        if num(number(v)):
+            out[str(k)] = float(number(v))
     for obj, terms in (s.get("terms") or {}).items():
         for k, v in (terms or {}).items() if isinstance(terms, dict) else ():
             if num(v):
