@@ -415,8 +415,9 @@ def point_light_into(segments, targets, lights, shadow, scratch, out, shifts):
     >>> far = (np.array([[5.5, 0, 0]]), np.array([0, 1]), np.array([[0.0, 1, 0]]))
     >>> copy = np.array([[5.0, 0.0, 0.0]])  # a copy 5 m along x shades the far point
     >>> [point_light_into((s, e, r, np.array([0, 1])), far, (d[:1], u[:1], v[:1], np.ones(1)),
-    ...      (64, 0.1, False, np.empty(0)), scratch, np.empty(1), sh)[0] for sh in (alone, copy)]
-    [1.0, 0.0]
+    ...      (64, 0.1, False, np.empty(0)), scratch, np.empty(1), sh).tolist()
+    ...  for sh in (alone, copy)]
+    [[1.0], [0.0]]
     """
     start, end, radius, offsets = segments
     points, point_offsets, normals = targets
