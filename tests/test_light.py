@@ -70,6 +70,17 @@ def population(rng, k, n):
     return start, end, radius, np.arange(k + 1, dtype=np.int64) * n
 
 
+def points_near(rng, segments, m):
+    """``m`` points near each plant's segments (about their midpoints), so that many lie
+    in its shade, and their unit normals: ``(points, point_offsets, normals)``."""
+    start, end, _, offsets = segments
+    P = len(offsets) - 1
+    pick = np.concatenate([rng.integers(offsets[k], offsets[k + 1], m) for k in range(P)])
+    pts = 0.5 * (start + end)[pick] + rng.normal(scale=0.5, size=(P * m, 3))
+    nrm = rng.normal(size=(P * m, 3))
+    return pts, np.arange(P + 1) * m, nrm / np.linalg.norm(nrm, axis=1)[:, None]
+
+
 def test_segment_kernel_matches_oracle_on_random_trees():
     total = disagree = 0
     for seed in range(8):
@@ -143,15 +154,11 @@ def test_point_exposure_matches_oracle(seed):
     rng = np.random.default_rng(100 + seed)
     start, end, radius, offsets = population(rng, 2, 60)
     d = random_direction(rng)
-    m = 400
-    # points near each plant's segments, so that many are in its shade
-    pick = [rng.integers(offsets[k], offsets[k + 1], m) for k in range(2)]
-    mids = 0.5 * (start + end)
-    pts = np.concatenate([mids[i] for i in pick]) + rng.normal(scale=0.5, size=(2 * m, 3))
-    targets = (pts, np.array([0, m, 2 * m]), np.tile(-d, (2 * m, 1)))
+    segments = (start, end, radius, offsets)
+    pts, poff, _ = points_near(rng, segments, 400)
+    targets = (pts, poff, np.tile(-d, (len(pts), 1)))
     u, v = view_basis(d)
     lights = (d[None], u[None], v[None], np.ones(1))
-    segments = (start, end, radius, offsets)
     hard = (128, 1.5, False, np.empty(0))
     got = light_at_points(segments, targets, lights, hard)
     want = naive.point_light_into(segments, targets, lights, hard)
@@ -177,17 +184,11 @@ def test_points_among_copies_match_the_oracle(seed, soft):
     start, end, radius, offsets = population(rng, 2, 50)
     light = Light(direction=[0.4, -1.0, 0.1], diffuse=0.5, sky=3)
     d, u, v, w = light.passes()
-    m = 150
-    mids = 0.5 * (start + end)
-    pick = [rng.integers(offsets[k], offsets[k + 1], m) for k in range(2)]
-    pts = np.concatenate([mids[i] for i in pick]) + rng.normal(scale=0.5, size=(2 * m, 3))
-    nrm = rng.normal(size=(2 * m, 3))
-    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+    targets = points_near(rng, (start, end, radius, offsets), 150)
     spread = float(np.ptp(np.concatenate([start, end])[:, [0, 2]], axis=0).max())
     shifts = periodic_shifts(0.4 * spread, 2, 3)  # close enough for the copies to overlap
     trans = rng.uniform(0.1, 0.9, len(start))
-    args = ((start, end, radius, np.asarray(offsets, np.int64)),
-            (pts, np.array([0, m, 2 * m]), nrm), (d, u, v, w),
+    args = ((start, end, radius, np.asarray(offsets, np.int64)), targets, (d, u, v, w),
             (96, 0.5, soft, trans if soft else np.empty(0)))  # fmt: skip
     got = light_at_points(*args, shifts=shifts)
     want = naive.point_light_into(*args, shifts=shifts)
@@ -205,13 +206,7 @@ def test_point_light_sums_its_lights_as_the_oracle(soft):
     start, end, radius, offsets = population(rng, 2, 40)
     light = Light(direction=[0.3, -1.0, 0.2], diffuse=0.5, sky=5, intensity=1.5)
     d, u, v, w = light.passes()
-    m = 200
-    mids = 0.5 * (start + end)
-    pick = [rng.integers(offsets[k], offsets[k + 1], m) for k in range(2)]
-    pts = np.concatenate([mids[i] for i in pick]) + rng.normal(scale=0.5, size=(2 * m, 3))
-    nrm = rng.normal(size=(2 * m, 3))
-    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
-    poff = np.array([0, m, 2 * m])
+    pts, poff, nrm = points_near(rng, (start, end, radius, offsets), 200)
     trans = rng.uniform(0.1, 0.9, len(start))
     args = ((start, end, radius, np.asarray(offsets, np.int64)), (pts, poff, nrm), (d, u, v, w),
             (96, 0.1, soft, trans if soft else np.empty(0)))  # fmt: skip

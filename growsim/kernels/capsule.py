@@ -7,7 +7,8 @@ at the depth of the axis at the point nearest the centre. The map only keeps the
 that hold queries: a bit per such pixel in words of 64 by rows, then by columns
 (``occ``), and per pixel the head of its list of queries (``head``, ``nxt``) and, for hard
 shadows, its nearest depth and segment so far (``near_z``, ``near_id``).
-:func:`walk_capsule` visits exactly the occupied pixels a capsule covers.
+:func:`project_segment` puts a segment in a map's pixels; :func:`walk_capsule` visits
+exactly the occupied pixels its capsule covers.
 """
 
 from __future__ import annotations
@@ -20,12 +21,33 @@ from numba.cpython.unsafe.numbers import trailing_zeros
 from growsim.kernels.config import njit
 from growsim.kernels.raster import iceil, ifloor
 
-__all__ = ["walk_capsule"]
+__all__ = ["project_segment", "walk_capsule"]
 
 #: a capsule is judged over its bounding box (not line by line) when the box holds at most
 #: this many pixels, or at most ``_BOX_RATIO`` times the capsule's area
 _BOX_PIXELS = 64
 _BOX_RATIO = 3.0
+
+
+@njit(inline="always")
+def project_segment(start, end, k, u, v, d, ox, oy, inv):
+    """Segment ``k`` in a plant's frame: its ends in pixel coordinates ``(ax, ay, bx, by)``
+    (``x = (p . u - ox) * inv``, ``inv = 1 / pix``) and their depths ``(za, zb)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> e = np.eye(3)
+    >>> project_segment(np.zeros((1, 3)), np.ones((1, 3)), 0, e[0], e[2], e[1], 0.0, 0.0, 2.0)
+    (0.0, 0.0, 2.0, 2.0, 0.0, 1.0)
+    """
+    ax = (start[k, 0] * u[0] + start[k, 1] * u[1] + start[k, 2] * u[2] - ox) * inv
+    ay = (start[k, 0] * v[0] + start[k, 1] * v[1] + start[k, 2] * v[2] - oy) * inv
+    bx = (end[k, 0] * u[0] + end[k, 1] * u[1] + end[k, 2] * u[2] - ox) * inv
+    by = (end[k, 0] * v[0] + end[k, 1] * v[1] + end[k, 2] * v[2] - oy) * inv
+    za = start[k, 0] * d[0] + start[k, 1] * d[1] + start[k, 2] * d[2]
+    zb = end[k, 0] * d[0] + end[k, 1] * d[1] + end[k, 2] * d[2]
+    return ax, ay, bx, by, za, zb
 
 
 @njit(inline="always")
@@ -134,7 +156,7 @@ def _meet(px, k, z, scratch, queries, bias, soft, trans_k):
 def walk_capsule(k, ends, rr, res, scratch, queries, bias, soft, trans_k):
     """Rasterise segment ``k`` (``ends`` ``(ax, ay, bx, by, za, zb)``: its ends ``a``,
     ``b`` in pixel coordinates and their depths, as
-    :func:`growsim.kernels.light.project_segment` gives them; radius ``rr`` pixels) and let
+    :func:`project_segment` gives them; radius ``rr`` pixels) and let
     it meet (:func:`_meet`) the queries of the pixels it covers: those whose centre lies
     within the radius of the axis. Only pixels holding queries are visited: ``scratch``
     ``(head, occ, near_z, near_id)`` (:func:`growsim.kernels.light.shadow_scratch`):

@@ -63,16 +63,9 @@ every ``trans -> 0`` it is 0 when anything else lies in front: the binary map, e
 that a steep segment whose own nearest depth at the pixel is in front of an occluder does
 not shield its point here.
 
-Among copies (a periodic stand, :func:`point_light_into` with ``shifts``): copy ``j`` of a
-plant, moved by ``shifts[j]``, shades a point ``q`` exactly as the plant shades ``q -
-shifts[j]``, so the copies are never drawn: the plant's own map (its frame, as alone) is
-read at each point and at each point moved back by a shift, and the point is lit when
-every reading is (soft: the product of the readings). For hard shadows the map is filled
-whole over the box those readings fall in (:func:`_copies_hard`) and read once per point
-and copy; the cost is one plant's raster plus a lookup per copy, not a raster per copy.
-The readings agree with a map of the plant and its copies drawn together wherever the
-point lies more than a pixel from a shadow's edge (the two maps' pixels lie
-differently).
+Among copies (a periodic stand, :func:`point_light_into` with ``shifts``): the plant's own
+map is read at each point and at the point moved back by each copy's shift
+(:mod:`growsim.kernels.copies`).
 
 Plants never shade each other: each has its own map (one scratch of list heads,
 occupancy and nearest depths, a pixel's cells set up by its first query and its
@@ -85,9 +78,9 @@ import math
 
 import numpy as np
 
-from growsim.kernels.capsule import walk_capsule
+from growsim.kernels.capsule import project_segment, walk_capsule
 from growsim.kernels.config import njit
-from growsim.kernels.raster import ifloor
+from growsim.kernels.copies import among_copies, copies_hard
 
 __all__ = [
     "apply_cosines",
@@ -96,7 +89,6 @@ __all__ = [
     "module_light_into",
     "plant_frames",
     "point_light_into",
-    "project_segment",
     "segment_exposure_into",
     "shadow_scratch",
 ]
@@ -148,27 +140,6 @@ def plant_frames(start, end, radius, offsets, u, v, res):
         out[p, 1] = loy - rmax - pix
         out[p, 2] = pix
     return out
-
-
-@njit(inline="always")
-def project_segment(start, end, k, u, v, d, ox, oy, inv):
-    """Segment ``k`` in a plant's frame: its ends in pixel coordinates ``(ax, ay, bx, by)``
-    (``x = (p . u - ox) * inv``, ``inv = 1 / pix``) and their depths ``(za, zb)``.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> e = np.eye(3)
-    >>> project_segment(np.zeros((1, 3)), np.ones((1, 3)), 0, e[0], e[2], e[1], 0.0, 0.0, 2.0)
-    (0.0, 0.0, 2.0, 2.0, 0.0, 1.0)
-    """
-    ax = (start[k, 0] * u[0] + start[k, 1] * u[1] + start[k, 2] * u[2] - ox) * inv
-    ay = (start[k, 0] * v[0] + start[k, 1] * v[1] + start[k, 2] * v[2] - oy) * inv
-    bx = (end[k, 0] * u[0] + end[k, 1] * u[1] + end[k, 2] * u[2] - ox) * inv
-    by = (end[k, 0] * v[0] + end[k, 1] * v[1] + end[k, 2] * v[2] - oy) * inv
-    za = start[k, 0] * d[0] + start[k, 1] * d[1] + start[k, 2] * d[2]
-    zb = end[k, 0] * d[0] + end[k, 1] * d[1] + end[k, 2] * d[2]
-    return ax, ay, bx, by, za, zb
 
 
 @njit
@@ -393,9 +364,9 @@ def point_light_into(segments, targets, lights, shadow, scratch, out, shifts):
     copy ``j`` shades point ``q`` as the plant shades ``q - shifts[j]``, so each point is
     judged at itself and at ``q - shifts[j]`` in its plant's own map (the plant's frame
     and pixel size, as alone), and its exposure along a light is the product of those
-    answers (hard: lit when lit in all; soft: the transmissions of every copy in front).
-    A moved point outside the plant's frame is in the open and not judged
-    (:func:`_among_copies`): a plant among ``k`` copies costs its own raster and its
+    answers (hard: lit when lit in all; soft: the transmissions of every copy in front),
+    read by :mod:`growsim.kernels.copies`. A moved point outside the plant's frame is in
+    the open and not judged: a plant among ``k`` copies costs its own raster and its
     points' moved queries, not ``k`` rasters.
 
     Examples
@@ -459,10 +430,10 @@ def point_light_into(segments, targets, lights, shadow, scratch, out, shifts):
                           (0, facing[:c], facing_offsets, own[:c]), expo[:c],
                           (np.empty(0), own[:0]), scratch)  # fmt: skip
         elif not shadow[2]:
-            _copies_hard(segments, frames, (u, v, d), shadow, (facing[:c], facing_offsets),
+            copies_hard(segments, frames, (u, v, d), shadow, (facing[:c], facing_offsets),
                          shifts, scratch, expo[:c])  # fmt: skip
         else:
-            moved = _among_copies(facing[:c], facing_offsets, frames, (u, v, res), shifts)
+            moved = among_copies(facing[:c], facing_offsets, frames, (u, v, res), shifts)
             q, q_offsets, src = moved
             nobody = np.full(src.shape[0], -1, np.int64)
             got = judge_queries(segments, frames, (u, v, d), shadow, (0, q, q_offsets, nobody),
@@ -474,130 +445,6 @@ def point_light_into(segments, targets, lights, shadow, scratch, out, shifts):
         for i in range(c):
             out[which[i]] += expo[i] * cosine[i] * w
     return out
-
-
-@njit
-def _copies_hard(segments, frames, plane, shadow, targets, shifts, scratch, expo):
-    """Hard exposures of ``targets`` ``(points, point_offsets)`` among each plant's copies
-    moved by ``shifts`` (:func:`point_light_into`) into ``expo``: each plant's map is
-    drawn whole over the box its points, moved back by every shift, can fall in (every
-    pixel of the box set in ``occ``, so :func:`walk_capsule` fills the nearest depths and
-    segments it fills for queries there), then read once per point and copy: point ``q``
-    at ``x - su_j``, ``y - sv_j``, depth ``z - sd_j`` (``x, y, z`` its pixel coordinates
-    and depth, ``su_j, sv_j, sd_j`` the shift's), lit by copy ``j`` when that pixel is
-    outside the frame, empty or its nearest depth is within the bias."""
-    start, end, radius, offsets = segments
-    points, point_offsets = targets
-    u, v, d = plane
-    res, bias_pixels = shadow[0], shadow[1]
-    occ, near_z, near_id = scratch[1], scratch[2], scratch[3]
-    W = (res + 63) // 64
-    k = shifts.shape[0]
-    move = np.zeros((k + 1, 3))  # (su, sv, sd) of each copy, the plant's own first
-    for j in range(k):
-        for c in range(3):
-            axis = u if c == 0 else (v if c == 1 else d)
-            move[j + 1, c] = _dot(shifts, j, axis)
-    none = np.empty(0, np.int64)
-    unused = (none, np.empty(0), none, np.empty(0))  # hard shadows read no query list
-    for p in range(offsets.shape[0] - 1):
-        a, b = point_offsets[p], point_offsets[p + 1]
-        expo[a:b] = 1.0
-        if b <= a or offsets[p + 1] <= offsets[p]:
-            continue
-        ox, oy, inv = frames[p, 0], frames[p, 1], 1.0 / frames[p, 2]
-        bias = bias_pixels * frames[p, 2]
-        xyz = np.empty((b - a, 3))
-        for i in range(a, b):
-            for c in range(3):
-                axis = u if c == 0 else (v if c == 1 else d)
-                xyz[i - a, c] = _dot(points, i, axis)
-        lo_x = max(0, ifloor((xyz[:, 0].min() - move[:, 0].max() - ox) * inv, res))
-        hi_x = min(res - 1, ifloor((xyz[:, 0].max() - move[:, 0].min() - ox) * inv, res))
-        lo_y = max(0, ifloor((xyz[:, 1].min() - move[:, 1].max() - oy) * inv, res))
-        hi_y = min(res - 1, ifloor((xyz[:, 1].max() - move[:, 1].min() - oy) * inv, res))
-        if lo_x > hi_x or lo_y > hi_y:
-            continue
-        for yi in range(lo_y, hi_y + 1):
-            near_z[yi * res + lo_x : yi * res + hi_x + 1] = np.inf
-            near_id[yi * res + lo_x : yi * res + hi_x + 1] = -1
-        _box_bits(occ, (lo_x, hi_x, lo_y, hi_y), res, W, True)
-        for s in range(offsets[p], offsets[p + 1]):
-            ends = project_segment(start, end, s, u, v, d, ox, oy, inv)
-            walk_capsule(s, ends, radius[s] * inv, res, scratch, unused, bias, False, 1.0)
-        _box_bits(occ, (lo_x, hi_x, lo_y, hi_y), res, W, False)
-        for i in range(b - a):
-            for j in range(k + 1):
-                x = (xyz[i, 0] - move[j, 0] - ox) * inv
-                y = (xyz[i, 1] - move[j, 1] - oy) * inv
-                if x >= 0.0 and y >= 0.0 and x < res and y < res:
-                    at = int(y) * res + int(x)
-                    if near_id[at] >= 0 and xyz[i, 2] - move[j, 2] - near_z[at] > bias:
-                        expo[a + i] = 0.0
-                        break
-    return expo
-
-
-@njit(inline="always")
-def _dot(rows, i, axis):
-    """``rows[i] . axis`` (3-vectors)."""
-    return rows[i, 0] * axis[0] + rows[i, 1] * axis[1] + rows[i, 2] * axis[2]
-
-
-@njit(inline="always")
-def _box_bits(occ, box, res, W, on):
-    """Set (``on``) or clear the occupancy bits of the pixels of ``box`` ``(lo_x, hi_x,
-    lo_y, hi_y)``, by rows and by columns (:func:`shadow_scratch`)."""
-    lo_x, hi_x, lo_y, hi_y = box
-    for yi in range(lo_y, hi_y + 1):
-        for xi in range(lo_x, hi_x + 1):
-            if on:
-                occ[yi * W + (xi >> 6)] |= np.uint64(1) << np.uint64(xi & 63)
-                occ[(res + xi) * W + (yi >> 6)] |= np.uint64(1) << np.uint64(yi & 63)
-            else:
-                occ[yi * W + (xi >> 6)] = 0
-                occ[(res + xi) * W + (yi >> 6)] = 0
-
-
-@njit
-def _among_copies(points, point_offsets, frames, grid, shifts):
-    """The queries that judge ``points`` ``(c, 3)`` (plant ``p`` owning
-    ``point_offsets[p]:point_offsets[p + 1]``) among each plant's copies moved by
-    ``shifts`` ``(k, 3)`` (:func:`point_light_into`): each point itself, then ``point -
-    shifts[j]`` for each copy whose moved point falls in the plant's frame (``frames``,
-    ``grid`` ``(u, v, res)``; with a pixel of margin: a point outside is in the open).
-    Returns ``(queries (c', 3), query_offsets (P + 1,), src (c',))``, ``src`` the point
-    each query judges."""
-    u, v, res = grid
-    c, k = points.shape[0], shifts.shape[0]
-    P = point_offsets.shape[0] - 1
-    su = np.empty(k)
-    sv = np.empty(k)
-    for j in range(k):
-        su[j] = shifts[j, 0] * u[0] + shifts[j, 1] * u[1] + shifts[j, 2] * u[2]
-        sv[j] = shifts[j, 0] * v[0] + shifts[j, 1] * v[1] + shifts[j, 2] * v[2]
-    queries = np.empty((c * (k + 1), 3))
-    src = np.empty(c * (k + 1), np.int64)
-    offsets = np.empty(P + 1, np.int64)
-    n = 0
-    for p in range(P):
-        offsets[p] = n
-        ox, oy, inv = frames[p, 0], frames[p, 1], 1.0 / frames[p, 2]
-        for i in range(point_offsets[p], point_offsets[p + 1]):
-            x = points[i, 0] * u[0] + points[i, 1] * u[1] + points[i, 2] * u[2]
-            y = points[i, 0] * v[0] + points[i, 1] * v[1] + points[i, 2] * v[2]
-            for j in range(k + 1):
-                if j > 0:
-                    xj = (x - su[j - 1] - ox) * inv
-                    yj = (y - sv[j - 1] - oy) * inv
-                    if xj < -1.0 or yj < -1.0 or xj > res + 1.0 or yj > res + 1.0:
-                        continue
-                for a in range(3):
-                    queries[n, a] = points[i, a] - (shifts[j - 1, a] if j > 0 else 0.0)
-                src[n] = i
-                n += 1
-    offsets[P] = n
-    return queries[:n], offsets, src[:n]
 
 
 @njit

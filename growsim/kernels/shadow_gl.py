@@ -19,8 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from growsim.kernels.capsule import project_segment
 from growsim.kernels.config import njit
-from growsim.kernels.light import project_segment
 
 __all__ = [
     "VERTEX_FLOATS",
