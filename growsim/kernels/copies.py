@@ -148,8 +148,7 @@ def among_copies(points, point_offsets, frames, grid, shifts):
     su = np.empty(k)
     sv = np.empty(k)
     for j in range(k):
-        su[j] = shifts[j, 0] * u[0] + shifts[j, 1] * u[1] + shifts[j, 2] * u[2]
-        sv[j] = shifts[j, 0] * v[0] + shifts[j, 1] * v[1] + shifts[j, 2] * v[2]
+        su[j], sv[j] = _dot(shifts, j, u), _dot(shifts, j, v)
     queries = np.empty((c * (k + 1), 3))
     src = np.empty(c * (k + 1), np.int64)
     offsets = np.empty(P + 1, np.int64)
@@ -158,8 +157,7 @@ def among_copies(points, point_offsets, frames, grid, shifts):
         offsets[p] = n
         ox, oy, inv = frames[p, 0], frames[p, 1], 1.0 / frames[p, 2]
         for i in range(point_offsets[p], point_offsets[p + 1]):
-            x = points[i, 0] * u[0] + points[i, 1] * u[1] + points[i, 2] * u[2]
-            y = points[i, 0] * v[0] + points[i, 1] * v[1] + points[i, 2] * v[2]
+            x, y = _dot(points, i, u), _dot(points, i, v)
             for j in range(k + 1):
                 if j > 0:
                     xj = (x - su[j - 1] - ox) * inv

@@ -431,7 +431,7 @@ def point_light_into(segments, targets, lights, shadow, scratch, out, shifts):
                           (np.empty(0), own[:0]), scratch)  # fmt: skip
         elif not shadow[2]:
             copies_hard(segments, frames, (u, v, d), shadow, (facing[:c], facing_offsets),
-                         shifts, scratch, expo[:c])  # fmt: skip
+                        shifts, scratch, expo[:c])  # fmt: skip
         else:
             moved = among_copies(facing[:c], facing_offsets, frames, (u, v, res), shifts)
             q, q_offsets, src = moved
