@@ -235,8 +235,12 @@ def _with_budget(argv: list[str], cwd: Path) -> list[str]:
     if sub in ("run", "species", "sweep") and "--resume" not in argv:
         extra = [*BUDGET, *NO_ARTEFACTS]
         config = next((a for a in argv[1:] if a.endswith(".toml")), None)
-        if config and "polish" in tomllib.loads((cwd / config).read_text()).get("ga", {}):
+        cfg = tomllib.loads((cwd / config).read_text()) if config else {}
+        if "polish" in cfg.get("ga", {}):
             extra += ["--set", "ga.polish.evaluations=16"]
+        neighbours = cfg.get("environment", {}).get("stand", {}).get("neighbours", 0)
+        if neighbours >= int(BUDGET[-1].split("=")[1]):  # a mixture draws from the population
+            extra += ["--set", f"ga.population={neighbours + 1}"]
         if sub == "sweep":
             extra += ["--repeats", "1"]
         return argv + extra
