@@ -38,6 +38,7 @@ BUDGETS: dict[str, list[str]] = {
         "environment.stand.spacing=1.0",
     ],
     "stand_mixture_2d": ["ga.population=6", "ga.generations=2", "model.params.steps=12"],
+    "stand_mixture_3d": ["ga.population=10", "ga.generations=2", "model.params.steps=12"],
     "ifs_fern_fit": [
         "ga.population=10",
         "ga.generations=3",
