@@ -59,9 +59,7 @@ def copies_hard(segments, frames, plane, shadow, targets, shifts, scratch, expo)
     k = shifts.shape[0]
     move = np.zeros((k + 1, 3))  # (su, sv, sd) of each copy, the plant's own first
     for j in range(k):
-        for c in range(3):
-            axis = u if c == 0 else (v if c == 1 else d)
-            move[j + 1, c] = _dot(shifts, j, axis)
+        move[j + 1] = _dot(shifts, j, u), _dot(shifts, j, v), _dot(shifts, j, d)
     none = np.empty(0, np.int64)
     unused = (none, np.empty(0), none, np.empty(0))  # hard shadows read no query list
     for p in range(offsets.shape[0] - 1):
@@ -73,9 +71,7 @@ def copies_hard(segments, frames, plane, shadow, targets, shifts, scratch, expo)
         bias = bias_pixels * frames[p, 2]
         xyz = np.empty((b - a, 3))
         for i in range(a, b):
-            for c in range(3):
-                axis = u if c == 0 else (v if c == 1 else d)
-                xyz[i - a, c] = _dot(points, i, axis)
+            xyz[i - a] = _dot(points, i, u), _dot(points, i, v), _dot(points, i, d)
         lo_x = max(0, ifloor((xyz[:, 0].min() - move[:, 0].max() - ox) * inv, res))
         hi_x = min(res - 1, ifloor((xyz[:, 0].max() - move[:, 0].min() - ox) * inv, res))
         lo_y = max(0, ifloor((xyz[:, 1].min() - move[:, 1].max() - oy) * inv, res))

@@ -33,16 +33,10 @@ def among_copies(points, point_offsets, frames, grid, shifts):
 
 def copies_hard(segments, plane, shadow, targets, shifts, tol_pixels=0.0):
     """Mirror of :func:`growsim.kernels.copies.copies_hard` (without frames, scratch and
-    ``expo``): each point's exposure along the light, the product of its own and of each
-    ``point - shifts[j]``'s (1 or 0); with ``tol_pixels > 0``, the boolean ``(m,)`` of
-    points near an edge for any of them."""
+    ``expo``): each point's hard exposure along the light among the copies
+    (:func:`naive.light.point_exposure` with ``shifts``); with ``tol_pixels > 0``, the
+    boolean ``(m,)`` of points near an edge."""
     points, point_offsets = targets
     res, bias_pixels = shadow
-    expo = np.ones(len(points))
-    edge = np.zeros(len(points), bool)
-    for move in np.vstack([np.zeros((1, 3)), shifts]):
-        args = (segments, points - move, point_offsets, plane, res, bias_pixels)
-        expo *= point_exposure(*args)
-        if tol_pixels > 0:
-            edge |= point_exposure(*args, tol_pixels=tol_pixels)
-    return edge if tol_pixels > 0 else expo
+    return point_exposure(segments, points, point_offsets, plane, res, bias_pixels,
+                          tol_pixels=tol_pixels, shifts=shifts)  # fmt: skip

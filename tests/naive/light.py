@@ -176,11 +176,19 @@ def segment_exposure_into(segments, frames, plane, samples, shadow, tol_pixels=0
 
 
 def point_exposure(segments, points, point_offsets, plane, res, bias_pixels, trans=None,
-                   tol_pixels=0.0):  # fmt: skip
+                   tol_pixels=0.0, shifts=None):  # fmt: skip
     """The exposure of each point in its plant's shadow map along one light (the part of
     :func:`point_light_into` before the cosine): 1 or 0 (hard), or the product of the
     transmissions ``trans`` of the segments in front of it (soft); with ``tol_pixels > 0``,
-    the boolean ``(m,)`` of points near an edge (as :func:`segment_exposure_into`)."""
+    the boolean ``(m,)`` of points near an edge (as :func:`segment_exposure_into`). Among
+    copies moved by ``shifts`` ``(k, 3)``: the product of the point's exposure and of each
+    ``point - shifts[j]``'s (copy ``j`` shades the point as the plant shades the point
+    moved back), an edge near any of them."""
+    if shifts is not None:
+        parts = [point_exposure(segments, points - move, point_offsets, plane, res,
+                                bias_pixels, trans, tol_pixels)
+                 for move in np.vstack([np.zeros((1, 3)), shifts])]  # fmt: skip
+        return np.logical_or.reduce(parts) if tol_pixels > 0 else np.prod(parts, axis=0)
     start, end, radius, offsets = segments
     u, v, d = plane
     out = np.ones(len(points))
@@ -215,9 +223,8 @@ def point_light_into(segments, targets, lights, shadow, tol_pixels=0.0, shifts=N
     ``out``): the sum over the lights ``(dirs, us, vs, weights)`` of
     :func:`point_exposure` times the clipped cosine ``max(0, -n . d)`` times the weight;
     with ``tol_pixels > 0``, the boolean ``(m,)`` of points near an edge along some light
-    of non-zero weight that they face. Among copies moved by ``shifts`` ``(k, 3)``: the
-    exposure is the product of the point's and of each ``point - shifts[j]``'s (copy
-    ``j`` shades the point as the plant shades the point moved back), an edge near any.
+    of non-zero weight that they face. Among copies moved by ``shifts`` ``(k, 3)``: as
+    :func:`point_exposure` judges them.
 
     Examples
     --------
@@ -237,15 +244,11 @@ def point_light_into(segments, targets, lights, shadow, tol_pixels=0.0, shifts=N
         if w == 0.0:
             continue
         cos = np.maximum(0.0, -(normals @ d))
-        moves = np.zeros((1, 3)) if shifts is None else np.vstack([np.zeros((1, 3)), shifts])
-        expo = np.ones(len(points))
-        for move in moves:
-            args = (segments, points - move, point_offsets, (u, v, d), res, bias_pixels,
-                    trans if soft else None)  # fmt: skip
-            expo *= point_exposure(*args)
-            if tol_pixels > 0:
-                edge |= point_exposure(*args, tol_pixels=tol_pixels) & (cos > 0)
-        out += expo * cos * w
+        args = (segments, points, point_offsets, (u, v, d), res, bias_pixels,
+                trans if soft else None)  # fmt: skip
+        if tol_pixels > 0:
+            edge |= point_exposure(*args, tol_pixels=tol_pixels, shifts=shifts) & (cos > 0)
+        out += point_exposure(*args, shifts=shifts) * cos * w
     return edge if tol_pixels > 0 else out
 
 
