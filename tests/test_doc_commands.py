@@ -110,7 +110,10 @@ SLOW = {
     "experiments/hormone_3d_seed_ga.toml",
 }
 
-BUDGET = ["--set", "ga.generations=2", "--set", "ga.population=8"]
+#: the small budget every run, sweep and species command gets (a mixture: a population of
+#: its neighbours + 1)
+POPULATION = 8
+BUDGET = ["--set", "ga.generations=2", "--set", f"ga.population={POPULATION}"]
 #: a run's end-of-run pictures and meshes (tested elsewhere) left out, for time
 NO_ARTEFACTS = [
     "--set",
@@ -239,7 +242,7 @@ def _with_budget(argv: list[str], cwd: Path) -> list[str]:
         if "polish" in cfg.get("ga", {}):
             extra += ["--set", "ga.polish.evaluations=16"]
         neighbours = cfg.get("environment", {}).get("stand", {}).get("neighbours", 0)
-        if neighbours >= int(BUDGET[-1].split("=")[1]):  # a mixture draws from the population
+        if neighbours >= POPULATION:  # a mixture draws its neighbours from the population
             extra += ["--set", f"ga.population={neighbours + 1}"]
         if sub == "sweep":
             extra += ["--repeats", "1"]

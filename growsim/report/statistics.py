@@ -214,8 +214,9 @@ def quantities(run: RunRecord) -> dict[str, float]:
     out = {"best_fitness": run.best_fitness}
     s = run.summary or {}
     for k, v in (s.get("measures") or {}).items():
-        if num(number(v)):
-            out[str(k)] = float(number(v))
+        v = number(v)
+        if num(v):
+            out[str(k)] = float(v)
     for obj, terms in (s.get("terms") or {}).items():
         for k, v in (terms or {}).items() if isinstance(terms, dict) else ():
             if num(v):
