@@ -25,7 +25,7 @@ from pathlib import Path
 import pyvista as pv
 
 from growsim.models import get_model
-from growsim.phenotypes.plant.mesh import plant_mesh
+from growsim.phenotypes.plant import plant_mesh
 
 BARK, LEAF = (0.40, 0.28, 0.17), (0.30, 0.55, 0.20)
 

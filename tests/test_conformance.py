@@ -124,10 +124,11 @@ def test_model_overrides_exactly_the_capabilities_it_declares(name):
     for cap in MODEL_CAPABILITIES:
         assert _overrides(type(model), Model, cap) == (cap in caps), f"{name}: {cap}"
     rows, names = _rows(model, {})
+    args = {"draws": (), "grow_stand": ({},)}  # the others take (rows, names, ...)
     for cap in sorted(set(MODEL_CAPABILITIES) - caps):
         method = getattr(model, cap)
         with pytest.raises(NotImplementedError, match=cap):
-            method() if cap == "draws" else method(rows, names)
+            method(*args.get(cap, (rows, names)))
 
 
 #: every (model, capability) it declares
@@ -173,6 +174,17 @@ def test_declared_model_capability_gives_its_documented_type(name, cap, tmp_path
         again = model.mixture(params, [params, params], env=env)
         assert same_phenotype(copies, again, tmp_path)
         assert same_phenotype(copies, model.develop(params, env=env), tmp_path)
+    elif cap == "grow_stand":  # the stand after each step, every position's plant in it
+        env = Environment.model_validate(
+            {"stand": {"mode": "explicit", "layout": "row", "count": 2, "spacing": 1.0}}
+        )
+        steps = list(model.grow_stand(params, env=env))
+        assert steps and all(isinstance(s, Phenotype) for s in steps)
+        stand = steps[-1]
+        assert stand.meta["stand"] == env.stand.xz().tolist()
+        assert set(stand.data["plant"].tolist()) == {0, 1}
+        *_, each = model.grow_stand([params, params], env=env)  # one plant a position
+        assert same_phenotype(stand, each, tmp_path)
     else:  # pragma: no cover - a capability added to CAPABILITIES needs its check here
         pytest.fail(f"no conformance check for model capability {cap!r}")
 

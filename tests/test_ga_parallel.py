@@ -47,6 +47,36 @@ def test_process_pool_matches_serial(process_pool):
 def test_dask_local_cluster_matches_serial(dask_client):
     serial = _run(None)
     _same(serial, _run(dask_client.get_executor(pure=False), batch_size=9))
+    from growsim.experiment.executors import DaskPool
+
+    _same(serial, _run(DaskPool(dask_client)))  # split by the cluster's 2 threads
+
+
+def test_pools_say_their_size(process_pool, dask_client):
+    """Where evaluations run is a :class:`growsim.ga.evaluate.Pool` that says how many
+    run at once: the process pool ``open_executor(n)`` starts, a Dask client's
+    (:class:`DaskPool`: the cluster's threads, asked of the client it holds); a bare
+    executor is wrapped, of unknown size; the evaluator splits a population in 4 tasks
+    per worker (the local CPUs when the pool cannot say)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from growsim.experiment.executors import DaskPool, executor_workers
+    from growsim.ga.evaluate import Evaluator, Pool, open_executor
+
+    assert process_pool.workers == 2 and executor_workers(process_pool) == 2
+    dask = DaskPool(dask_client)
+    assert dask.workers == 2 and executor_workers(dask) == 2 and dask.client is dask_client
+    assert dask.submit(sum, [1, 2]).result() == 3
+    assert open_executor(dask) == (dask, False)
+    with ThreadPoolExecutor(2) as ex:
+        pool, owned = open_executor(ex)
+        assert isinstance(pool, Pool) and pool.workers is None and not owned
+        assert executor_workers(ex) is None and executor_workers(3) is None
+        ev = Evaluator(sphere, executor=Pool(ex, workers=3))
+        assert ev._workers() == 3
+        assert Evaluator(sphere, executor=ex)._workers() == (os.cpu_count() or 2)
+    with pytest.raises(UserInputError, match="workers"):
+        Pool(ex, workers=0)
 
 
 def test_the_session_cluster_leaves_the_environment_alone(dask_client):

@@ -16,9 +16,8 @@ from naive.mesh import tube as tube_oracle
 from growsim.errors import UserInputError
 from growsim.kernels.mesh import mesh_counts, mesh_kernel, weld_targets
 from growsim.models import honda
-from growsim.phenotypes.plant import LEAF, STEM, Plant
+from growsim.phenotypes.plant import LEAF, STEM, Plant, cluster_leaves
 from growsim.phenotypes.plant.mesh import (
-    cluster_leaves,
     export,
     lod_meshes,
     mesh_arrays,

@@ -282,8 +282,9 @@ def _stand_plants(args: argparse.Namespace, model, params, n: int) -> list[dict]
     without it): each item a preset name of ``model`` or a JSON file (a run's
     ``best.json``, whose ``params`` are used, or a ``{name: value}`` mapping) over the
     preset's values ``params``, ``--set`` over them all, given to the positions in turn.
-    Hormone plants grow together, other models' plants each alone (then placed); bad items
-    raise :class:`growsim.errors.UserInputError` naming ``--plants``.
+    A model with the ``"grow_stand"`` capability grows them together, others each alone (then
+    placed: :func:`growsim.phenotypes.stand.place`); bad items raise
+    :class:`growsim.errors.UserInputError` naming ``--plants``.
 
     Examples
     --------
@@ -323,38 +324,6 @@ def _stand_plants(args: argparse.Namespace, model, params, n: int) -> list[dict]
         sets = parse_sets(getattr(args, "set", None))
         each.append(model.resolve({**params, **values, **sets}, where=f"--plants {item}: "))
     return [each[i % len(each)] for i in range(n)]
-
-
-def _placed_copies(plant, env):
-    """A stand of copies of ``plant`` at ``env.stand.xz()``, or of the plants of the list
-    ``plant``, one a position (a model that does not grow plants together: each grew
-    alone). ``data["light"]`` is each segment's light in the stand (``env.light``, one
-    shadow map for all: :meth:`growsim.env.Light.segment_light`), what ``--color light``
-    paints and the per-plant measures (light captured, share) sum.
-
-    Examples
-    --------
-    >>> from growsim.env import Environment
-    >>> from growsim.phenotypes.plant import Plant
-    >>> one = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
-    >>> env = Environment.parse({"stand": {"mode": "explicit", "layout": "row", "count": 2}})
-    >>> s = _placed_copies(one, env)
-    >>> s.data["plant"].tolist(), s.meta["stand"], s.data["light"].tolist()
-    ([0, 1], [[-0.5, 0.0], [0.5, 0.0]], [0.0, 0.0])
-    """
-    import numpy as np
-
-    from growsim.phenotypes.plant import Plant
-
-    xz = env.stand.xz()
-    offsets = np.stack([xz[:, 0], np.zeros(len(xz)), xz[:, 1]], axis=1)
-    trees = list(plant) if isinstance(plant, list) else [plant] * len(xz)
-    copies = Plant.concat(trees, offsets=offsets)
-    which = np.repeat(np.arange(len(xz)), [t.n_segments for t in trees])
-    meta = {**trees[0].meta, "stand": xz.tolist()}
-    light = np.asarray(env.light.segment_light(copies), dtype=np.float64)
-    return Plant(copies.start, copies.end, copies.radius, copies.parent, copies.order,
-                 copies.kind, {**copies.data, "plant": which, "light": light}, meta)  # fmt: skip
 
 
 def run_grow(args: argparse.Namespace) -> int:
@@ -400,28 +369,14 @@ def run_grow(args: argparse.Namespace) -> int:
     # models default their own seed (honda: its ``seed`` parameter); pass one only if given
     stand = _stand_env(args, model, env)
 
-    def grown(steps):  # every step's phenotype for --gif, else the last
-        if args.gif is not None:
-            return list(steps)
-        *_, last = steps
-        return [last]
-
     plants = _stand_plants(args, model, params, stand.stand.n_plants if stand else 0)
-    if stand is not None and args.model == "hormone":  # grown together, shading each other
-        from growsim.models.hormone import grow_stand
-
+    every_step = args.gif is not None  # every step's phenotype for --gif, else the last
+    if stand is not None:
         env = stand
-        frames = grown(grow_stand(params if plants is None else plants, env=env))
-    elif stand is not None and plants is not None:  # other models: each grown alone, placed
-        env = stand
-        frames = [_placed_copies([model.develop(q, seed=args.seed, env=env) for q in plants],
-                                 env)]  # fmt: skip
-    elif stand is not None:  # other models: copies of one plant placed (grown alone)
-        env = stand
-        steps = model.grow(params, seed=args.seed, env=env)
-        frames = [_placed_copies(p, env) for p in grown(steps)]
-    elif args.gif is not None:
-        frames = grown(model.grow(params, seed=args.seed, env=env))
+        frames = list(model.grow_in_stand(params if plants is None else plants,
+                                          seed=args.seed, env=env, every_step=every_step))  # fmt: skip
+    elif every_step:
+        frames = list(model.grow(params, seed=args.seed, env=env))
     else:
         frames = [model.develop(params, seed=args.seed, env=env)]
     plant = frames[-1]

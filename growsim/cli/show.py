@@ -75,16 +75,10 @@ def main(args: argparse.Namespace) -> int:
     record = read_run(args.dir, finished=False, history=False)
     phenotype = record.phenotype()
     title = window_title(args.dir, phenotype.phenotype, record.best.get("fitness"))
-    if args.color is None and not args.light_arrow:
-        from growsim.phenotypes.plant import Plant
-
+    if args.color is None and not args.light_arrow:  # the phenotype's own render
         if args.screenshot:
             phenotype.screenshot(out, view=args.view, size=size)
             print(f"wrote {out}")
-        elif isinstance(phenotype, Plant):
-            from growsim.phenotypes.plant import views as viz
-
-            viz.show(phenotype, view=args.view, title=title)
         else:
             phenotype.show(view=args.view, title=title)
         return 0

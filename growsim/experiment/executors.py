@@ -1,6 +1,8 @@
 """Where evaluations run: serially, in local processes, or on a Dask cluster.
 
 Results never depend on the choice: the GA seeds every evaluation by its global index.
+An executor with a known size is a :class:`growsim.ga.evaluate.Pool`; a Dask client's is
+a :class:`DaskPool`, which holds the client and asks it for the cluster's threads.
 """
 
 from __future__ import annotations
@@ -11,10 +13,12 @@ import re
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.ga.evaluate import Pool
 
 __all__ = [
     "QUIET_CLUSTER",
     "SCHEDULER_ADDRESS",
+    "DaskPool",
     "check_executor_args",
     "executor_workers",
     "local_cluster",
@@ -99,9 +103,40 @@ def local_cluster(workers: int = 2):
         )
 
 
+class DaskPool(Pool):
+    """The executor of a Dask ``client`` (``client.get_executor(pure=False)``) as a
+    :class:`growsim.ga.evaluate.Pool`: its :attr:`workers` are the cluster's worker
+    threads, asked of the client each time (None when the scheduler cannot say). Pass
+    one as ``executor=`` to :func:`growsim.experiment.run` (or ``GA.run``) so a
+    generation is split by the cluster's size. Shutting it down leaves the client open.
+
+    Examples
+    --------
+    >>> from dask.distributed import Client
+    >>> with local_cluster(1) as cluster, Client(cluster) as client:  # doctest: +SKIP
+    ...     pool = DaskPool(client)
+    ...     pool.submit(sum, [1, 2]).result(), pool.workers
+    (3, 1)
+    """
+
+    def __init__(self, client):
+        super().__init__(client.get_executor(pure=False))
+        #: the ``dask.distributed.Client``
+        self.client = client
+
+    @property
+    def workers(self) -> int | None:
+        """The cluster's worker threads (None: the scheduler did not answer)."""
+        try:
+            workers = self.client.scheduler_info()["workers"].values()
+            return max(1, sum(int(w.get("nthreads", 1)) for w in workers))
+        except Exception:  # an unreachable or odd scheduler: fall back to the GA's default
+            return None
+
+
 def make_executor(workers: int | None, scheduler: str | None):
     """``(executor, close)`` for :meth:`growsim.ga.GA.run`: None (serial), a process
-    count, or a Dask executor (``scheduler``: ``"local"`` starts a LocalCluster of
+    count, or a :class:`DaskPool` (``scheduler``: ``"local"`` starts a LocalCluster of
     ``workers`` processes; an address connects to a running scheduler); ``close()``
     releases what was started."""
     if scheduler is None:
@@ -129,17 +164,19 @@ def make_executor(workers: int | None, scheduler: str | None):
         except (OSError, TimeoutError) as exc:
             raise UserInputError(f"--scheduler: cannot reach {scheduler}: {exc}") from None
         close = client.close
-    return client.get_executor(pure=False), close
+    return DaskPool(client), close
 
 
 def executor_workers(executor) -> int | None:
-    """How many evaluations an executor runs at once (Dask: the cluster's threads)."""
-    client = getattr(executor, "_client", None)
-    if client is not None:
-        try:
-            workers = client.scheduler_info()["workers"].values()
-            return max(1, sum(int(w.get("nthreads", 1)) for w in workers))
-        except Exception:  # an unreachable or odd scheduler: fall back to the GA's default
-            return None
-    n = getattr(executor, "_max_workers", None)
-    return int(n) if n else None
+    """How many evaluations an executor runs at once, when it says: a
+    :class:`~growsim.ga.evaluate.Pool`'s :attr:`~growsim.ga.evaluate.Pool.workers` (a
+    :class:`DaskPool`: the cluster's threads); None for anything else (None, a process
+    count, a bare ``concurrent.futures.Executor``).
+
+    Examples
+    --------
+    >>> from concurrent.futures import ThreadPoolExecutor
+    >>> executor_workers(Pool(ThreadPoolExecutor(1), 3)), executor_workers(4)
+    (3, None)
+    """
+    return executor.workers if isinstance(executor, Pool) else None

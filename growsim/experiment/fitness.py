@@ -15,6 +15,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from growsim.ga.evaluate import GAFitness
+
 __all__ = ["Fitness", "Individual", "one_blas_thread"]
 
 
@@ -59,13 +61,14 @@ def one_blas_thread():
     return _BLAS[1].limit(limits=1, user_api="blas")
 
 
-class Fitness:
+class Fitness(GAFitness):
     """The fitness of an experiment: develop each individual, score it, weight and sum.
 
     Built from a plan (:class:`~growsim.experiment.plan.ModelPlan`: the model, its
     parameters, environment, noise and seed; the objectives and weights default to those
     of an ``ExperimentPlan``). It holds only picklable pieces, so process pools and Dask
-    workers can run it.
+    workers can run it. A :class:`growsim.ga.evaluate.GAFitness`: the GA's evaluator
+    calls :meth:`prepare` once per batch (a mixture's draw of neighbours).
     ``__call__`` takes the GA's ``(n, k)`` matrix of evolved parameters (columns in
     ``evolved`` order) and returns ``(n,)`` float64 fitness values to maximise:
     ``sum_i weight_i * sign_i * score_i`` with ``sign_i = -1`` for objectives that
@@ -139,8 +142,7 @@ class Fitness:
     def mixture(self) -> bool:
         """Whether the plants are judged among neighbours drawn from the population
         (``environment.stand.mode = "mixture"``)."""
-        stand = getattr(self.env, "stand", None)
-        return stand is not None and stand.mode == "mixture"
+        return self.env.stand.mode == "mixture"
 
     def prepare(self, x: np.ndarray, seeds: np.ndarray | None = None) -> None:
         """Called by the GA's evaluator once for each batch it evaluates (a generation's

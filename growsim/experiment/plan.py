@@ -298,8 +298,7 @@ def _objective_message(cfg: Config, i: int, text: str) -> str:
     n = len(cfg.objective)
     where = "objective" if n == 1 else f"objective[{i}]"
     tail = "" if n == 1 else f" (the {_ordinal(i + 1)} [[objective]], {options.kind})"
-    fields = options.model_dump() if hasattr(options, "model_dump") else {}
-    for key, value in fields.items():
+    for key, value in options.model_dump().items():
         if key in ("kind", "weight"):
             continue
         if text.startswith(f"{key}: "):

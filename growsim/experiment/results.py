@@ -556,11 +556,12 @@ def plot_fitness(history, path, *, title: str | None = None) -> Path:
     True
     """
     import matplotlib
+    import pandas as pd
 
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
 
-    if "generation" not in getattr(history, "columns", ()):
+    if not isinstance(history, pd.DataFrame) or "generation" not in history.columns:
         raise UserInputError("plot_fitness: history needs a 'generation' column")
     # column, how islands are pooled, line style (best so far: dashed, on top)
     styles = {

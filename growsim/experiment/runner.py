@@ -205,8 +205,10 @@ def run(
     stderr is a TTY; a text: the bar, labelled with it). ``callback(ga, row)`` is called
     after every generation (return True to stop). ``executor``: any
     ``concurrent.futures.Executor`` to evaluate on (instead of ``workers``/``scheduler``;
-    not shut down here), e.g.
-    ``Client.get_executor(pure=False)``.
+    not shut down here), e.g. a Dask client's as
+    :class:`~growsim.experiment.DaskPool` ``(client)``, whose size splits a
+    generation into 4 tasks per worker thread (a bare executor's size is unknown: the
+    local CPUs are counted).
 
     Ctrl-C stops the run at once, except while a file is being written (the end-of-run
     artefacts: meshes, renders, plots), which is finished first; then it prints
@@ -332,7 +334,7 @@ def _census(fitness, result, warnings: list[str], executor=None) -> dict[str, in
             if ex is None:
                 parts = [_stop_counts(fitness, params)]
             else:
-                tasks = min(len(params), 4 * (executor_workers(ex) or 1))
+                tasks = min(len(params), 4 * (ex.workers or 1))
                 futures = [
                     ex.submit(_stop_counts, fitness, part) for part in np.array_split(params, tasks)
                 ]

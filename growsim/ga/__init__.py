@@ -5,7 +5,9 @@
   :func:`genome_from_params`;
 - :mod:`growsim.ga.selection`, :mod:`growsim.ga.crossover`, :mod:`growsim.ga.mutation`:
   operators, registered by name in :data:`SELECTION`, :data:`CROSSOVER`, :data:`MUTATION`;
-- :mod:`growsim.ga.evaluate`: serial / process-pool / ``Executor`` (Dask) evaluation;
+- :mod:`growsim.ga.evaluate`: serial / process-pool / ``Executor`` (Dask) evaluation, and
+  the GA's contracts with what it is given: :class:`GAFitness` (a fitness with a
+  ``prepare`` per batch) and :class:`Pool` (an executor that says its size);
 - :mod:`growsim.ga.options`: :class:`GAOptions`, every option of the GA, declared once;
 - :mod:`growsim.ga.engine`: :class:`GA` (ask/tell, islands, termination, the ``run()``
   loop) and :class:`Result`;
@@ -14,7 +16,9 @@
 - :mod:`growsim.ga.state`: :class:`GAState`, everything a run changes, which is also the
   checkpoint;
 - :mod:`growsim.ga.history`: the history rows (:data:`HISTORY_COLUMNS`);
-- :mod:`growsim.ga.polish`: the local refinement ``GA.run(polish=...)`` uses.
+- :mod:`growsim.ga.polish`: the local refinement ``GA.run(polish=...)`` uses;
+- :mod:`growsim.ga.problems`: test problems as picklable fitnesses (:func:`onemax`,
+  :func:`sphere`, :func:`noisy_sphere`, :func:`rastrigin`).
 
 See ``docs/ga.md``.
 
@@ -30,7 +34,7 @@ Examples
 
 from growsim.ga.crossover import CROSSOVER, Crossover
 from growsim.ga.engine import GA
-from growsim.ga.evaluate import EvaluationError, Evaluator, evaluation_seeds
+from growsim.ga.evaluate import EvaluationError, Evaluator, GAFitness, Pool, evaluation_seeds
 from growsim.ga.generation import GENERATION_MODELS, GenerationModel
 from growsim.ga.genome import (
     OKUSA_WEIGHTS,
@@ -46,6 +50,7 @@ from growsim.ga.mutation import MUTATION, Mutation
 from growsim.ga.operator import Operator
 from growsim.ga.options import GAOptions
 from growsim.ga.polish import PolishOptions
+from growsim.ga.problems import noisy_sphere, onemax, rastrigin, sphere
 from growsim.ga.selection import SELECTION, Selection
 from growsim.ga.state import GAState
 
@@ -62,6 +67,7 @@ __all__ = [
     "Crossover",
     "EvaluationError",
     "Evaluator",
+    "GAFitness",
     "GAOptions",
     "GAState",
     "GenerationModel",
@@ -71,9 +77,14 @@ __all__ = [
     "Mutation",
     "Operator",
     "PolishOptions",
+    "Pool",
     "Real",
     "Result",
     "Selection",
     "evaluation_seeds",
     "genome_from_params",
+    "noisy_sphere",
+    "onemax",
+    "rastrigin",
+    "sphere",
 ]

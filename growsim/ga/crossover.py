@@ -86,6 +86,11 @@ class Crossover(Operator):
             c1[go], c2[go] = x1, x2
         return c1, c2
 
+    def cross(self, a, b, rng, genome):
+        """Cross every pair ``(a[i], b[i])`` -> ``(c1, c2)``, whatever ``rate`` says (the
+        caller chose the pairs that cross): the subclass's ``_cross``."""
+        return self._cross(a, b, rng, genome)
+
     def _cross(self, a, b, rng, genome):
         raise NotImplementedError
 
@@ -475,7 +480,7 @@ class Differential(Crossover):
         return kids
 
     def _cross(self, a, b, rng, genome):
-        c1, c2 = self._sbx._cross(a, b, rng, genome)
+        c1, c2 = self._sbx.cross(a, b, rng, genome)
         m = a.shape[0]
         de = rng.random(2 * m) < self.share
         if de.any():

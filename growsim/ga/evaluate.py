@@ -6,6 +6,17 @@ also receives the evaluations' seeds (``(n,)`` uint64, or one int per row), deri
 the run's seed and the evaluation's global index by :func:`evaluation_seeds`, so the result
 does not depend on how the population is split across workers.
 
+The two contracts of the GA with what it is given, declared here:
+
+- :class:`GAFitness`: a fitness the GA evaluates. Any callable is one; a fitness whose
+  values depend on the whole batch subclasses :class:`GAFitness` and overrides
+  :meth:`GAFitness.prepare` (the base's does nothing).
+- :class:`Pool`: where evaluations run, an executor together with how many evaluations
+  it runs at once (:attr:`Pool.workers`). :func:`open_executor` turns what ``GA.run``'s
+  ``executor=`` accepts (None, a process count, any ``concurrent.futures.Executor``, a
+  :class:`Pool`) into one; :class:`growsim.experiment.DaskPool` is a Dask
+  client's.
+
 Failures of the fitness never crash a run: a vectorized batch that raises is re-evaluated
 one row at a time to find the culprit(s); a row that raises or returns NaN/inf is reported
 as failed (in a worker as in the main process). A failure of the executor itself (a worker
@@ -15,11 +26,12 @@ process that died, a task Dask gave up on) stops the evaluation with an
 
 from __future__ import annotations
 
+import abc
 import inspect
 import logging
 import math
 import os
-from concurrent.futures import Executor
+from concurrent.futures import Executor, Future
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -30,6 +42,8 @@ __all__ = [
     "EvalOutcome",
     "EvaluationError",
     "Evaluator",
+    "GAFitness",
+    "Pool",
     "evaluate_batch",
     "evaluation_seeds",
     "open_executor",
@@ -155,28 +169,103 @@ def evaluate_batch(fitness, x, seeds, vectorized: bool, with_seeds: bool):
     return values, errors
 
 
-def open_executor(executor) -> tuple[Executor | None, bool]:
-    """``(executor, owned)`` for an executor argument: None (serial) and any
-    ``concurrent.futures.Executor`` pass through (``owned`` False); an int ``n`` starts a
-    local process pool of ``n`` workers that the caller shuts down (``owned`` True).
+class GAFitness(abc.ABC):
+    """A fitness the GA evaluates, with what it may declare beyond being callable.
+
+    Any callable ``f(x) -> values`` (``f(x, seeds=...)`` to receive the evaluations'
+    seeds; ``vectorized=False``: one row -> one float) is a fitness: the GA calls nothing
+    else on it. A fitness whose values depend on the whole batch being evaluated (plants
+    judged among neighbours drawn from the population) subclasses this class and
+    overrides :meth:`prepare`, which the evaluator calls once per batch, in its own
+    process, before splitting the batch between workers, so every worker judges with
+    the same draw (:class:`growsim.experiment.fitness.Fitness` is one).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> class Shifted(GAFitness):
+    ...     shift = 0.0
+    ...     def __call__(self, x):
+    ...         return x.sum(axis=1) + self.shift
+    ...     def prepare(self, x, seeds):
+    ...         self.shift = float(x.mean())
+    >>> Evaluator(Shifted())(np.ones((2, 2)), None).values.tolist()
+    [3.0, 3.0]
+    """
+
+    @abc.abstractmethod
+    def __call__(self, x: np.ndarray, *args, **kwargs):
+        """``(n, p)`` decoded parameters -> ``(n,)`` values (or one row -> one float);
+        a ``seeds`` parameter in the signature receives the evaluations' seeds."""
+
+    def prepare(self, x: np.ndarray, seeds: np.ndarray | None) -> None:  # noqa: B027
+        """Called once for each batch the evaluator evaluates (a generation's new
+        individuals, a polish step), with its ``(n, p)`` parameters and ``(n,)`` seeds
+        (None when the fitness takes none), in the evaluator's process, before the batch
+        is split between workers. The default does nothing."""
+
+
+class Pool(Executor):
+    """Where a GA's evaluations run: an executor, and how many evaluations it runs at
+    once (:attr:`workers`; None when it cannot say, and the evaluator counts the local
+    CPUs). A ``concurrent.futures.Executor`` itself (``submit``, ``map``, ``shutdown``,
+    ``with``), delegating to the executor it holds; ``shutdown`` shuts that executor
+    down, which only the pool's opener does (:func:`open_executor`'s ``owned``).
+
+    Examples
+    --------
+    >>> from concurrent.futures import ThreadPoolExecutor
+    >>> with Pool(ThreadPoolExecutor(2), workers=2) as pool:
+    ...     list(pool.map(abs, [-1, 2])), pool.workers
+    ([1, 2], 2)
+    """
+
+    def __init__(self, executor: Executor, workers: int | None = None):
+        if workers is not None and (isinstance(workers, bool) or int(workers) < 1):
+            raise UserInputError(f"workers must be None or an integer >= 1, got {workers!r}")
+        self._executor = executor
+        self._workers = None if workers is None else int(workers)
+
+    @property
+    def workers(self) -> int | None:
+        """How many evaluations run at once (None: unknown)."""
+        return self._workers
+
+    def submit(self, fn, /, *args, **kwargs) -> Future:
+        """``fn(*args, **kwargs)`` on the executor."""
+        return self._executor.submit(fn, *args, **kwargs)
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        """Shut the executor down."""
+        self._executor.shutdown(wait=wait, cancel_futures=cancel_futures)
+
+
+def open_executor(executor) -> tuple[Pool | None, bool]:
+    """``(pool, owned)`` for an executor argument: None (serial) passes through; a
+    :class:`Pool` passes through; any other ``concurrent.futures.Executor`` is wrapped in
+    a :class:`Pool` of unknown size (``owned`` False: the caller's to shut down); an int
+    ``n`` starts a local process pool of ``n`` workers that the caller shuts down
+    (``owned`` True).
 
     Examples
     --------
     >>> ex, owned = open_executor(2)
-    >>> ex.submit(sum, [1, 2]).result(), owned
-    (3, True)
+    >>> ex.submit(sum, [1, 2]).result(), ex.workers, owned
+    (3, 2, True)
     >>> ex.shutdown()
     >>> open_executor(None)
     (None, False)
     """
-    if executor is None or isinstance(executor, Executor):
+    if executor is None or isinstance(executor, Pool):
         return executor, False
+    if isinstance(executor, Executor):
+        return Pool(executor), False
     if isinstance(executor, (int, np.integer)) and not isinstance(executor, bool):
         if executor < 1:
             raise UserInputError(f"executor: need >= 1 worker processes, got {executor}")
         from concurrent.futures import ProcessPoolExecutor
 
-        return ProcessPoolExecutor(int(executor)), True
+        return Pool(ProcessPoolExecutor(int(executor)), int(executor)), True
     raise UserInputError(
         "executor must be None, a number of processes or a "
         f"concurrent.futures.Executor, got {executor!r}"
@@ -238,17 +327,17 @@ class Evaluator:
 
     Parameters
     ----------
-    fitness : callable, picklable for process pools and Dask
+    fitness : callable (a :class:`GAFitness` or any callable), picklable for process
+        pools and Dask
     vectorized : bool
     executor : None (serial), int (a local process pool of that many workers, owned and
-        shut down by :meth:`close`) or a ``concurrent.futures.Executor`` (e.g. Dask's
-        ``Client.get_executor(pure=False)``)
+        shut down by :meth:`close`), a :class:`Pool` or any ``concurrent.futures.Executor``
+        (e.g. Dask's ``Client.get_executor(pure=False)``)
     batch_size : rows per task; default: the population split into 4 tasks per worker
+        (:attr:`Pool.workers`; the local CPUs when the pool cannot say)
 
-    A fitness whose values depend on the whole batch (plants judged among neighbours
-    drawn from the population) has a ``prepare(x, seeds)`` method: the evaluator calls
-    it once per batch, in its own process, before splitting the batch between workers,
-    so every worker judges with the same draw
+    A :class:`GAFitness`'s :meth:`~GAFitness.prepare` is called once per batch, in this
+    process, before the batch is split between workers
     (:meth:`growsim.experiment.fitness.Fitness.prepare`).
 
     Examples
@@ -265,23 +354,27 @@ class Evaluator:
         self.fitness = fitness
         self.vectorized = bool(vectorized)
         self.with_seeds = wants_seeds(fitness)
+        self._prepare = fitness.prepare if isinstance(fitness, GAFitness) else None
         self.executor, self._own = open_executor(executor)
+        self._n_workers: int | None = None
         if batch_size is not None and (int(batch_size) != batch_size or batch_size < 1):
             raise UserInputError(f"batch_size must be an integer >= 1, got {batch_size}")
         self.batch_size = None if batch_size is None else int(batch_size)
 
     def _workers(self) -> int:
-        n = getattr(self.executor, "_max_workers", None)
-        return int(n) if n else (os.cpu_count() or 2)
+        """The pool's workers (asked once), else the local CPUs."""
+        if self._n_workers is None:
+            n = self.executor.workers
+            self._n_workers = int(n) if n else (os.cpu_count() or 2)
+        return self._n_workers
 
     def __call__(self, x: np.ndarray, seeds: np.ndarray | None) -> EvalOutcome:
         """Evaluate ``x`` ``(n, p)`` with ``seeds`` ``(n,)`` uint64 (None when the fitness
         takes none) -> :class:`EvalOutcome`."""
         n = x.shape[0]
         s = seeds if self.with_seeds else None
-        prepare = getattr(self.fitness, "prepare", None)
-        if callable(prepare) and n:  # a fitness that depends on the batch (a mixture)
-            prepare(x, s)
+        if self._prepare is not None and n:  # a fitness that depends on the batch
+            self._prepare(x, s)
         if self.executor is None or n == 0:
             v, err = evaluate_batch(self.fitness, x, s, self.vectorized, self.with_seeds)
             return EvalOutcome(v, err)

@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
@@ -34,6 +35,7 @@ __all__ = [
     "Categorical",
     "Genome",
     "Integer",
+    "ParamLike",
     "Real",
     "genome_from_params",
 ]
@@ -543,8 +545,21 @@ def _weighted_sums(weights: tuple) -> np.ndarray:
     return t
 
 
+class ParamLike(Protocol):
+    """What :func:`genome_from_params` reads of a parameter (the GA knows no model:
+    :class:`growsim.models.base.Param` is one)."""
+
+    #: the field's name
+    name: str
+    #: the range ``[low, high]``
+    low: float
+    high: float
+    #: ``"real"`` or ``"int"``
+    kind: str
+
+
 def genome_from_params(
-    params: Sequence, coding: str = "real", bits: int = 8, bit_coding: str = "binary"
+    params: Sequence[ParamLike], coding: str = "real", bits: int = 8, bit_coding: str = "binary"
 ) -> Genome:
     """A genome for a model's parameter spec (a list of :class:`growsim.models.base.Param`).
 
@@ -565,7 +580,7 @@ def genome_from_params(
         raise UserInputError(f"genome coding must be 'real' or 'bits', got {coding!r}")
     fields: list[Field] = []
     for p in params:
-        if getattr(p, "kind", "real") == "int":
+        if p.kind == "int":
             fields.append(Integer(p.name, int(p.low), int(p.high)))
         elif coding == "real":
             fields.append(Real(p.name, p.low, p.high))

@@ -89,10 +89,10 @@ class Operators:
     mutation: Any
 
     def check(self, genome) -> None:
-        """Raise :class:`UserInputError` if crossover or mutation cannot handle ``genome``."""
+        """Raise :class:`UserInputError` if crossover or mutation (each an
+        :class:`Operator`) cannot handle ``genome``."""
         for op in (self.crossover, self.mutation):
-            if hasattr(op, "check"):
-                op.check(genome)
+            op.check(genome)
 
     def mate(self, pop, strategy, parents_a, parents_b, n_off: int, genome, rng) -> tuple:
         """Crossover + mutation of the pairs ``(pop[parents_a], pop[parents_b])`` ->

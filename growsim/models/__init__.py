@@ -1,14 +1,15 @@
 """Models: what turns evolved parameters into a phenotype (a plant, a point cloud, a
 trajectory).
 
-Every model is a :class:`growsim.models.base.Model` (name, phenotype kind, parameter
-spec, presets, ``develop``, optional ``grow``), registered below by name.
-:func:`get_model` finds one. To add a model, see ``docs/extending.md``.
+Every model is a :class:`Model` (name, phenotype kind, parameter spec of :class:`Param`,
+presets, ``develop``, optional ``grow``; both from :mod:`growsim.models.base`),
+registered below by name. :func:`get_model` finds one. To add a model, see
+``docs/extending.md``.
 """
 
 from __future__ import annotations
 
-from growsim.models.base import Model
+from growsim.models.base import Model, Param
 from growsim.registry import Registry
 
 #: registry name -> the model (``"module:MODEL"``, imported on first use). One line per model.
@@ -23,7 +24,7 @@ MODELS: Registry[Model] = Registry(
     },
 )
 
-__all__ = ["MODELS", "get_model"]
+__all__ = ["MODELS", "Model", "Param", "get_model"]
 
 
 def get_model(name: str) -> Model:

@@ -15,7 +15,7 @@ A model is a :class:`Model` (one instance per model, registered by name in
 - the optional capabilities it implements, declared by name in :attr:`Model.capabilities`
   (one of :data:`CAPABILITIES` each; the base methods refuse): :meth:`Model.population`,
   :meth:`Model.map_groups`, :meth:`Model.collisions`, :meth:`Model.draws`,
-  :meth:`Model.mixture`. Callers ask
+  :meth:`Model.mixture`, :meth:`Model.grow_stand`. Callers ask
   ``"population" in model.capabilities``, never ``getattr``. The conformance suite
   (``tests/test_conformance.py``) checks that a model overrides exactly the methods it
   declares and that each gives what its docstring says.
@@ -32,12 +32,13 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.phenotypes.stand import place
 
 __all__ = ["CAPABILITIES", "Model", "Param", "resolve_params"]
 
 #: the optional capabilities a model may declare (:attr:`Model.capabilities`), each the
 #: name of the :class:`Model` method that implements it
-CAPABILITIES = ("population", "map_groups", "collisions", "draws", "mixture")
+CAPABILITIES = ("population", "map_groups", "collisions", "draws", "mixture", "grow_stand")
 
 
 @dataclass(frozen=True)
@@ -190,6 +191,43 @@ class Model(abc.ABC):
         """Yield the phenotype after each growth step (a one-shot model: once, grown)."""
         yield self.develop(params, seed=seed, env=env)
 
+    def grow_in_stand(
+        self, params, *, seed: int | None = None, env, every_step: bool = True
+    ) -> Iterator[Any]:
+        """Grow the plants of ``env``'s explicit stand (``env.stand.xz()``): copies of
+        ``params`` (a mapping) or one plant per position (a sequence of mappings),
+        yielding the stand (one phenotype, as :func:`growsim.phenotypes.stand.place`
+        builds it) after every step, or only the last (``every_step=False``).
+
+        A model with the ``"grow_stand"`` capability grows them together, each shading
+        the others (:meth:`grow_stand`); any other grows each plant alone and places it,
+        the stand lit by ``env.light`` (one plant per position: grown once, one stand).
+
+        Examples
+        --------
+        >>> from growsim.env import Environment
+        >>> from growsim.models import get_model
+        >>> env = Environment.parse({"stand": {"mode": "explicit", "layout": "row", "count": 2}})
+        >>> honda = get_model("honda")
+        >>> *_, s = honda.grow_in_stand(honda.resolve({}), env=env, every_step=False)
+        >>> sorted(set(s.data["plant"].tolist())), s.meta["stand"]
+        ([0, 1], [[-0.5, 0.0], [0.5, 0.0]])
+        """
+        xz = env.stand.xz()
+        if "grow_stand" in self.capabilities:
+            steps = self.grow_stand(params, env=env)
+        elif not isinstance(params, Mapping):
+            grown = [self.develop(q, seed=seed, env=env) for q in params]
+            yield place(grown, xz, light=env.light)
+            return
+        else:
+            steps = self.grow(params, seed=seed, env=env)
+        if not every_step:
+            *_, last = steps
+            steps = [last]
+        for plant in steps:
+            yield plant if "grow_stand" in self.capabilities else place(plant, xz, light=env.light)
+
     def _missing(self, capability: str):
         raise NotImplementedError(
             f"model {self.name!r} has no {capability!r} capability "
@@ -227,6 +265,16 @@ class Model(abc.ABC):
         None: copies of ``params``) in ``env``'s mixed stand (``environment.stand.mode =
         "mixture"``), scored as the focal plant among them."""
         self._missing("mixture")
+
+    def grow_stand(self, params, *, seed=None, env=None) -> Iterator[Any]:
+        """Capability ``"grow_stand"``: grow the plants of ``env``'s explicit stand together
+        (``environment.stand.mode = "explicit"``, at ``env.stand.xz()``), each shading the
+        others, yielding the stand after every step (one phenotype: ``data["plant"]`` each
+        segment's plant, ``meta["stand"]`` the positions, as
+        :func:`growsim.phenotypes.stand.place` builds one of plants grown alone): copies
+        of ``params`` (a mapping), or one plant per position (a sequence of mappings).
+        A model without it grows each plant alone (:meth:`grow`) and places them."""
+        self._missing("grow_stand")
 
     def __repr__(self) -> str:
         return f"<growsim model {self.name!r} ({self.phenotype})>"

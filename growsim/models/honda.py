@@ -30,6 +30,7 @@ from growsim.kernels.honda import (
 )
 from growsim.models.base import Model, Param, resolve_params
 from growsim.phenotypes.plant import LEAF, Plant
+from growsim.phenotypes.stand import place
 
 __all__ = [
     "MAX_SEGMENTS",
@@ -373,12 +374,11 @@ def mixture(params, neighbours=None, *, seed=None, env=None, draws=None) -> Plan
             )
         others = [develop(nb) for nb in neighbours]
     xz = env.stand.mixture_xz(3)
-    at = np.stack([xz[1:, 0], np.zeros(k), xz[1:, 1]], axis=1)
-    placed = Plant.concat(others, offsets=at)
-    which = np.repeat(np.arange(1, k + 1), [o.n_segments for o in others])
+    placed = place(others, xz[1:])  # the neighbours at positions 1 to k
     nb = {
         "start": placed.start, "end": placed.end, "radius": placed.radius,
-        "parent": placed.parent, "order": placed.order, "kind": placed.kind, "plant": which,
+        "parent": placed.parent, "order": placed.order, "kind": placed.kind,
+        "plant": placed.data["plant"] + 1,
     }  # fmt: skip
     meta = {**focal.meta, "stand": xz.tolist(), "neighbours": nb}
     return Plant._unchecked(

@@ -587,7 +587,7 @@ class Hormone(Model):
 
     name = NAME
     phenotype = "plant"
-    capabilities = frozenset({"population", "mixture"})
+    capabilities = frozenset({"population", "mixture", "grow_stand"})
     params = PARAMS
     presets = PRESETS
     preset_environments = PRESET_ENVIRONMENTS
@@ -610,6 +610,11 @@ class Hormone(Model):
         unused)."""
         *_, last = grow_mixture(params, neighbours, env=env)
         return last
+
+    def grow_stand(self, params, *, seed=None, env=None) -> Iterator[Plant]:
+        """See :func:`grow_stand` (the plants of ``env.stand`` grown together; ``seed``
+        unused)."""
+        return grow_stand(params, env=env)
 
 
 #: The registered model (``growsim.models.MODELS["hormone"]``).

@@ -1,14 +1,14 @@
 """Objectives: score a phenotype. Objectives combine by weights in an experiment.
 
-Every objective is a :class:`growsim.objectives.base.Objective` (name, maximize, the
-phenotype kinds it accepts, its options' declaration, ``__call__``, optional ``terms``
-and ``batch``), registered below by name. :func:`get_objective` finds one. To add an
-objective, see ``docs/extending.md``.
+Every objective is an :class:`Objective` (name, maximize, the phenotype kinds it accepts,
+its options' declaration, an :class:`ObjectiveOptions`, ``__call__``, optional ``terms``
+and ``batch``; both from :mod:`growsim.objectives.base`), registered below by name.
+:func:`get_objective` finds one. To add an objective, see ``docs/extending.md``.
 """
 
 from __future__ import annotations
 
-from growsim.objectives.base import Objective
+from growsim.objectives.base import Objective, ObjectiveOptions
 from growsim.registry import Registry
 
 #: registry name -> objective class (``"module:Class"``, imported on first use). One line
@@ -25,7 +25,7 @@ OBJECTIVES: Registry[type[Objective]] = Registry(
     },
 )
 
-__all__ = ["OBJECTIVES", "get_objective"]
+__all__ = ["OBJECTIVES", "Objective", "ObjectiveOptions", "get_objective"]
 
 
 def get_objective(name: str) -> type[Objective]:

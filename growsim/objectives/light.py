@@ -345,17 +345,10 @@ class LightObjective(Objective):
             dims = int(plant.meta.get("params", {}).get("dims", 3))
             shifts = periodic_shifts(self.stand.spacing, self.stand.rings, dims)
             return plant, shifts, self._stand_light(plant, shifts)
-        from growsim.phenotypes.plant import Plant
+        from growsim.phenotypes.stand import ground_offsets, place
 
         xz = self.stand.xz()
-        at = np.stack([xz[:, 0], np.zeros(len(xz)), xz[:, 1]], axis=1)
-        stand = Plant.concat([plant] * len(xz), offsets=at)
-        which = np.repeat(np.arange(len(xz)), plant.n_segments)
-        stand = Plant(
-            stand.start, stand.end, stand.radius, stand.parent, stand.order, stand.kind,
-            {**stand.data, "plant": which}, {**plant.meta, "stand": xz.tolist()},
-        )  # fmt: skip
-        return stand, None, self._stand_light(plant, at)
+        return place(plant, xz), None, self._stand_light(plant, ground_offsets(xz))
 
     def _stand_light(self, plant, moves, stand=None):
         """:attr:`light` with :func:`stand_resolution` pixels for ``plant`` (one crown)

@@ -1,9 +1,13 @@
-"""Measures of a stand: several plants in one :class:`growsim.phenotypes.plant.Plant`.
+"""A stand: several plants in one :class:`growsim.phenotypes.plant.Plant`; its placing
+and its measures.
 
-A stand (:func:`growsim.models.hormone.grow_stand`) is a ``Plant`` whose ``data["plant"]``
-gives each segment's plant and whose ``meta["stand"]`` holds the positions ``[x, z]``; it
-saves, loads and renders as any plant (all plants on one ground). :func:`plant_table`
-measures each plant, :func:`stand_measures` the stand.
+A stand (:func:`growsim.models.hormone.grow_stand`, or :func:`place`) is a ``Plant`` whose
+``data["plant"]`` gives each segment's plant and whose ``meta["stand"]`` holds the
+positions ``[x, z]``; it saves, loads and renders as any plant (all plants on one ground).
+A model that grows the plants of a stand together (the ``"grow_stand"`` capability,
+:meth:`growsim.models.base.Model.grow_stand`) yields it; plants grown each alone are put in
+their places by :func:`place` (:func:`ground_offsets`). :func:`plant_table` measures each
+plant, :func:`stand_measures` the stand.
 
 Areas: a segment's leaf area is its silhouette ``2 r L`` weighted by its chlorophyll (green
 tissue; wood counts nothing); the light it captures is its light (``data["light"]``, the
@@ -17,17 +21,73 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
     import pandas as pd
 
     from growsim.phenotypes.plant import Plant
 
-__all__ = ["PLANT_COLUMNS", "plant_table", "stand_measures"]
+__all__ = ["PLANT_COLUMNS", "ground_offsets", "place", "plant_table", "stand_measures"]
 
 #: the columns of :func:`plant_table`
 PLANT_COLUMNS = (
     "x", "z", "segments", "height", "crown_width", "height_to_width", "branch_angle",
     "leaf_area", "light_captured", "light_per_leaf_area", "light_share",
 )  # fmt: skip
+
+
+def ground_offsets(xz) -> np.ndarray:
+    """The ``(N, 3)`` moves ``(x, 0, z)`` that put a plant at each position ``[x, z]`` of
+    ``xz`` ``(N, 2)`` on the ground.
+
+    Examples
+    --------
+    >>> ground_offsets([[1.0, 2.0], [-0.5, 0.0]]).tolist()
+    [[1.0, 0.0, 2.0], [-0.5, 0.0, 0.0]]
+    """
+    xz = np.asarray(xz, dtype=np.float64).reshape(-1, 2)
+    return np.stack([xz[:, 0], np.zeros(len(xz)), xz[:, 1]], axis=1)
+
+
+def place(plants: Plant | Sequence[Plant], xz, *, light=None) -> Plant:
+    """A stand of plants each grown alone: copies of ``plants`` (one ``Plant``) at every
+    position ``[x, z]`` of ``xz`` ``(N, 2)``, or the plants of the sequence ``plants``,
+    one a position, in that order (:meth:`Plant.concat`, moved by
+    :func:`ground_offsets`; the ``data`` keys all of them share). ``data["plant"]`` is
+    each segment's position index, ``meta`` the first plant's with ``meta["stand"]`` the
+    positions. Given ``light`` (a :class:`growsim.env.Light`, the environment's),
+    ``data["light"]`` is each segment's light in the stand, one shadow map for all
+    (:meth:`growsim.env.Light.segment_light`): what ``--color light`` paints and the
+    per-plant measures (light captured, share) sum.
+
+    A wrong number of plants for the positions raises
+    :class:`growsim.errors.UserInputError`.
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> from growsim.phenotypes.plant import Plant
+    >>> one = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
+    >>> s = place(one, [[-0.5, 0.0], [0.5, 0.0]], light=Environment().light)
+    >>> s.data["plant"].tolist(), s.meta["stand"], s.data["light"].tolist()
+    ([0, 1], [[-0.5, 0.0], [0.5, 0.0]], [0.0, 0.0])
+    >>> s.start[:, 0].tolist()
+    [-0.5, 0.5]
+    """
+    from growsim.errors import UserInputError
+    from growsim.phenotypes.plant import Plant
+
+    xz = np.asarray(xz, dtype=np.float64).reshape(-1, 2)
+    trees = [plants] * len(xz) if isinstance(plants, Plant) else list(plants)
+    if len(trees) != len(xz):
+        raise UserInputError(f"place: {len(trees)} plants for {len(xz)} positions")
+    joined = Plant.concat(trees, offsets=ground_offsets(xz))
+    data = {**joined.data, "plant": np.repeat(np.arange(len(xz)), [t.n_segments for t in trees])}
+    if light is not None:
+        data["light"] = np.asarray(light.segment_light(joined), dtype=np.float64)
+    meta = {**(trees[0].meta if trees else {}), "stand": xz.tolist()}
+    return Plant(joined.start, joined.end, joined.radius, joined.parent, joined.order,
+                 joined.kind, data, meta)  # fmt: skip
 
 
 def _which(stand: Plant) -> np.ndarray:

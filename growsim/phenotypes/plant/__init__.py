@@ -3,7 +3,12 @@
 views, screenshots and animations (:mod:`~growsim.phenotypes.plant.views`) and its colours by
 the environment (:mod:`~growsim.phenotypes.plant.colors`).
 
-Importing the package loads only the skeleton (no pyvista).
+Importing the package loads only the skeleton (no pyvista): :func:`plant_mesh` and
+:func:`render_grid` are exported lazily, imported on first use. The modules import downwards
+only: ``plant`` (the class, and :func:`cluster_leaves`, which builds one) -> ``views`` ->
+``mesh`` -> ``colors``; the lower three take a plant by its arrays and never import
+``plant``, and ``plant`` imports ``views`` and ``mesh`` inside the methods that draw (they
+load numba and pyvista).
 
 Examples
 --------
@@ -12,6 +17,41 @@ Examples
 2.0
 """
 
-from growsim.phenotypes.plant.plant import LEAF, STEM, LeafLight, Plant, leaf_light
+from growsim.phenotypes.plant.plant import (
+    LEAF,
+    STEM,
+    LeafLight,
+    Plant,
+    cluster_leaves,
+    leaf_light,
+)
 
-__all__ = ["LEAF", "STEM", "LeafLight", "Plant", "leaf_light"]
+__all__ = [
+    "LEAF",
+    "STEM",
+    "LeafLight",
+    "Plant",
+    "cluster_leaves",
+    "leaf_light",
+    "plant_mesh",
+    "render_grid",
+]
+
+# Lazy exports: the drawing modules load numba and pyvista, so they are imported on
+# first use (``from growsim.phenotypes.plant import render_grid``). name -> module
+_LAZY = {
+    "plant_mesh": "growsim.phenotypes.plant.mesh",
+    "render_grid": "growsim.phenotypes.plant.views",
+}
+
+
+def __getattr__(name: str):
+    if name in _LAZY:
+        import importlib
+
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'growsim.phenotypes.plant' has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted([*globals(), *_LAZY])

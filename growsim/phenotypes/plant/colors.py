@@ -19,7 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from growsim.errors import UserInputError
-from growsim.phenotypes.plant.plant import LEAF, Plant
+from growsim.phenotypes.base import Phenotype
+from growsim.skeleton import LEAF
 
 __all__ = [
     "ARROW_RGB",
@@ -182,7 +183,8 @@ def segment_colors(plant, color: str, env=None) -> np.ndarray:
     """
 
     scale = color_scale(color, env)
-    if not isinstance(plant, Plant):
+    # a plant: a phenotype of kind "plant" (the Plant class's module sits above this one)
+    if not (isinstance(plant, Phenotype) and plant.phenotype == "plant"):
         raise UserInputError(
             f"color {color!r}: colouring needs a Plant (its segments), got {type(plant).__name__}"
         )

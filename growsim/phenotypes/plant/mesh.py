@@ -14,6 +14,11 @@
 
 The tube and leaf geometry follow the seed "C G による枝ぶり生成法" (section 4.3); the hot
 loop is :func:`growsim.kernels.mesh.mesh_kernel`.
+
+A plant (:class:`growsim.phenotypes.plant.Plant`) is read here through its arrays and
+methods (``start``, ``end``, ``radius``, ``parent``, ``kind``, ``data``, ``meta``,
+``radius_end()``, ``subset()``, ``cluster_leaves()``) and recognised by :func:`is_plant`:
+this module does not import the class, whose module imports this one.
 """
 
 from __future__ import annotations
@@ -27,16 +32,17 @@ import numpy as np
 from growsim.errors import UserInputError
 from growsim.files import atomic_path, atomic_write
 from growsim.kernels.mesh import LEAF_TRIS, mesh_kernel, weld_targets
+from growsim.phenotypes.base import Phenotype
 from growsim.phenotypes.plant.colors import tissue_rgb
-from growsim.phenotypes.plant.plant import LEAF, Plant
+from growsim.skeleton import LEAF
 
 __all__ = [
     "BARK_RGB",
     "DEFAULT_LODS",
     "LEAF_RGB",
-    "cluster_leaves",
     "export",
     "ground_mesh",
+    "is_plant",
     "leaf_modules",
     "lod_meshes",
     "mesh_arrays",
@@ -63,8 +69,21 @@ DEFAULT_LODS: tuple[dict, ...] = (
 )
 
 
-def _check_plant(plant) -> Plant:
-    if not isinstance(plant, Plant):
+def is_plant(obj) -> bool:
+    """Whether ``obj`` is a plant: a phenotype of kind ``"plant"``
+    (:class:`growsim.phenotypes.plant.Plant`), checked without importing the class.
+
+    Examples
+    --------
+    >>> from growsim.phenotypes.plant import Plant
+    >>> is_plant(Plant.empty()), is_plant("a tree")
+    (True, False)
+    """
+    return isinstance(obj, Phenotype) and obj.phenotype == "plant"
+
+
+def _check_plant(plant):
+    if not is_plant(plant):
         raise UserInputError(f"expected a growsim Plant, got {type(plant).__name__}")
     return plant
 
@@ -75,14 +94,15 @@ def module_plant(plant) -> bool:
 
     Examples
     --------
+    >>> from growsim.phenotypes.plant import Plant
     >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
     >>> module_plant(p)
     False
     """
-    return isinstance(plant, Plant) and {"chlorophyll", "lignin"} <= set(plant.data)
+    return is_plant(plant) and {"chlorophyll", "lignin"} <= set(plant.data)
 
 
-def leaf_modules(plant: Plant) -> np.ndarray:
+def leaf_modules(plant) -> np.ndarray:
     """``(n,)`` bool: the modules of a :func:`module_plant` that act as leaves, drawn with
     a blade. In the hormone model every module photosynthesises in proportion to its
     chlorophyll (``docs/models/hormone.md``, step 4) and lignin turns it to wood: a module
@@ -91,6 +111,7 @@ def leaf_modules(plant: Plant) -> np.ndarray:
 
     Examples
     --------
+    >>> from growsim.phenotypes.plant import Plant
     >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0], [0, 2, 0]], [-1, 0], [-1, 0, 1],
     ...                       data={"chlorophyll": [0.2, 0.9], "lignin": [0.8, 0.1]})
     >>> leaf_modules(p).tolist()
@@ -103,7 +124,7 @@ def leaf_modules(plant: Plant) -> np.ndarray:
     return (plant.kind != LEAF) & (c >= LEAF_CHLOROPHYLL) & (g < LEAF_LIGNIN)
 
 
-def _blades(plant: Plant, idx: np.ndarray):
+def _blades(plant, idx: np.ndarray):
     """Leaf blades along modules ``idx``: a flat hexagon from the module's start to its
     end (7 vertices, 6 triangles, as the mesh kernel's leaves), half as wide as the
     module's wall is round (``pi r``, at most a third of its length: one side of the
@@ -151,9 +172,7 @@ def ground_mesh(bounds, height: float):
     return pv.Box((cx - half, cx + half, height - thick, height, cz - half, cz + half))
 
 
-def mesh_arrays(
-    plant: Plant, sides: int = 6, segments: int = 1, leaves: bool = True, merge: bool = False
-):
+def mesh_arrays(plant, sides: int = 6, segments: int = 1, leaves: bool = True, merge: bool = False):
     """The raw mesh of ``plant``: ``points`` ``(N, 3)`` float32, ``tris`` ``(M, 3)``
     int64, ``kind`` ``(N,)`` uint8 (0 bark, 1 leaf). See :func:`plant_mesh`; a
     :func:`module_plant` gets a leaf blade (``kind`` 1) after its tubes for each module of
@@ -161,6 +180,7 @@ def mesh_arrays(
 
     Examples
     --------
+    >>> from growsim.phenotypes.plant import Plant
     >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
     >>> pts, tris, kind = mesh_arrays(p, sides=4, segments=1)
     >>> pts.shape, tris.shape
@@ -194,7 +214,7 @@ def mesh_arrays(
     return pts, tris, kind
 
 
-def triangle_segments(plant: Plant, sides: int = 6, segments: int = 1, leaves: bool = True):
+def triangle_segments(plant, sides: int = 6, segments: int = 1, leaves: bool = True):
     """``(M,)`` int64: the segment of ``plant`` each triangle of its mesh belongs to (the
     mesh of :func:`plant_mesh` / :func:`mesh_arrays` with the same ``sides``, ``segments``
     and ``leaves``; ``merge`` changes vertices, not triangles). The mesh kernel lays out
@@ -204,6 +224,7 @@ def triangle_segments(plant: Plant, sides: int = 6, segments: int = 1, leaves: b
 
     Examples
     --------
+    >>> from growsim.phenotypes.plant import Plant
     >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0], [1, 1, 0], [0, 2, 0]],  # stem, leaf,
     ...                       [-1, 0, 0], [-1, 0, 1, 1], kind=[0, 1, 0])   # stem
     >>> t = triangle_segments(p, sides=3)
@@ -222,7 +243,7 @@ def triangle_segments(plant: Plant, sides: int = 6, segments: int = 1, leaves: b
 
 
 def plant_mesh(
-    plant: Plant,
+    plant,
     sides: int = 6,
     segments: int = 1,
     leaves: bool = True,
@@ -251,6 +272,7 @@ def plant_mesh(
 
     Examples
     --------
+    >>> from growsim.phenotypes.plant import Plant
     >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
     >>> m = plant_mesh(p, sides=6, segments=2)
     >>> m.n_points, int(m.point_data["kind"].sum())
@@ -289,66 +311,14 @@ def plant_mesh(
     return mesh
 
 
-def cluster_leaves(plant: Plant) -> Plant:
-    """The plant with the leaves of each branch merged into one leaf of the same total
-    blade area (radius and length scaled by ``sqrt(k)`` for ``k`` leaves), centred on
-    their mean centre and pointing their mean direction. Stems are unchanged.
-
-    Examples
-    --------
-    >>> from growsim.models import honda
-    >>> t = honda.develop(honda.PRESETS["zelkova"])
-    >>> c = cluster_leaves(t)
-    >>> c.n_leaves * 3 == t.n_leaves, c.n_stems == t.n_stems
-    (True, True)
-    """
-    plant = _check_plant(plant)
-    leaf = plant.kind == LEAF
-    if not leaf.any():
-        return plant
-    idx = np.flatnonzero(leaf)
-    groups, inv, counts = np.unique(plant.parent[idx], return_inverse=True, return_counts=True)
-    g = groups.size
-    mid = 0.5 * (plant.start[idx] + plant.end[idx])
-    d = plant.end[idx] - plant.start[idx]
-    c = np.zeros((g, 3))
-    dd = np.zeros((g, 3))
-    for ax in range(3):
-        c[:, ax] = np.bincount(inv, mid[:, ax], g) / counts
-        dd[:, ax] = np.bincount(inv, d[:, ax], g)
-    L = np.linalg.norm(d, axis=1)
-    lsum = np.bincount(inv, L, g) / counts
-    rsum = np.bincount(inv, plant.radius[idx], g) / counts
-    unit = dd / np.maximum(np.linalg.norm(dd, axis=1, keepdims=True), 1e-12)
-    scale = np.sqrt(counts)
-    half = 0.5 * lsum * scale
-    stems = plant.subset(~leaf)
-    remap = np.full(plant.n_segments, -1, np.int64)
-    remap[~leaf] = np.arange(stems.n_segments)
-    pick = np.zeros(g, np.int64)
-    pick[inv[::-1]] = idx[::-1]  # the first leaf of each group lends its order and data
-    data = {k: np.concatenate([stems.data[k], v[pick]]) for k, v in plant.data.items()}
-    if "radius_end" in data:
-        data["radius_end"][stems.n_segments :] = rsum * scale
-    return Plant(
-        np.concatenate([stems.start, c - half[:, None] * unit]),
-        np.concatenate([stems.end, c + half[:, None] * unit]),
-        np.concatenate([stems.radius, rsum * scale]),
-        np.concatenate([stems.parent, remap[groups]]),
-        np.concatenate([stems.order, plant.order[pick]]),
-        np.concatenate([stems.kind, np.full(g, LEAF, np.int8)]),
-        data=data,
-        meta=dict(plant.meta),
-    )
-
-
-def lod_meshes(plant: Plant, levels: Sequence[dict] = DEFAULT_LODS) -> list:
+def lod_meshes(plant, levels: Sequence[dict] = DEFAULT_LODS) -> list:
     """Meshes of one skeleton at falling levels of detail, finest first.
 
     ``levels``: dicts with ``sides``, ``segments`` and optional ``merge`` (consecutive
     segments of an axis share joint rings, see :func:`plant_mesh`) and ``cluster`` (merge
-    each branch's leaves into one, :func:`cluster_leaves`). The skeleton is shared, so every
-    level keeps the plant's silhouette; only vertex counts fall.
+    each branch's leaves into one, :func:`growsim.phenotypes.plant.cluster_leaves`). The
+    skeleton is shared, so every level keeps the plant's silhouette; only vertex counts
+    fall.
 
     Examples
     --------
@@ -368,7 +338,7 @@ def lod_meshes(plant: Plant, levels: Sequence[dict] = DEFAULT_LODS) -> list:
         p = plant
         if lv.get("cluster", False):
             if clustered is None:
-                clustered = cluster_leaves(plant)
+                clustered = plant.cluster_leaves()
             p = clustered
         out.append(
             plant_mesh(
@@ -417,6 +387,7 @@ def export(plant_or_mesh, path: str | os.PathLike, **mesh_options) -> Path:
     Examples
     --------
     >>> import tempfile, pathlib
+    >>> from growsim.phenotypes.plant import Plant
     >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0])
     >>> f = export(p, pathlib.Path(tempfile.mkdtemp()) / "t.vtp")
     >>> f.suffix
@@ -430,7 +401,7 @@ def export(plant_or_mesh, path: str | os.PathLike, **mesh_options) -> Path:
         raise UserInputError(
             f"{path}: unknown mesh format {suffix!r}; use .vtp, .ply, .obj or .glb"
         )
-    if isinstance(plant_or_mesh, Plant):
+    if is_plant(plant_or_mesh):
         mesh = plant_mesh(plant_or_mesh, **mesh_options)
     elif isinstance(plant_or_mesh, pv.PolyData):
         mesh = plant_or_mesh

@@ -35,7 +35,7 @@ from growsim.files import atomic_write, json_default
 from growsim.phenotypes.base import Phenotype
 from growsim.skeleton import LEAF, STEM, checked_array, radius_end
 
-__all__ = ["LEAF", "STEM", "LeafLight", "Plant", "leaf_light"]
+__all__ = ["LEAF", "STEM", "LeafLight", "Plant", "cluster_leaves", "leaf_light"]
 
 
 def _as_array(name: str, value, dtype, shape_tail: tuple[int, ...], n: int | None) -> np.ndarray:
@@ -254,6 +254,11 @@ class Plant(Phenotype):
             data={k: v[mask] for k, v in self.data.items()},
             meta=dict(self.meta),
         )
+
+    def cluster_leaves(self) -> Plant:
+        """The plant with each branch's leaves merged into one: :func:`cluster_leaves`
+        (what :func:`growsim.phenotypes.plant.mesh.lod_meshes` asks of a plant)."""
+        return cluster_leaves(self)
 
     # ------------------------------------------------------------------ topology
     @property
@@ -649,3 +654,57 @@ def leaf_light(plant: Plant, light, response=None, shifts=None, judged=None) -> 
     if response is not None:
         received = np.asarray(response(received), dtype=np.float64)
     return LeafLight(float(area @ received), float(area.sum()))
+
+
+def cluster_leaves(plant: Plant) -> Plant:
+    """The plant with the leaves of each branch merged into one leaf of the same total
+    blade area (radius and length scaled by ``sqrt(k)`` for ``k`` leaves), centred on
+    their mean centre and pointing their mean direction. Stems are unchanged.
+
+    Examples
+    --------
+    >>> from growsim.models import honda
+    >>> t = honda.develop(honda.PRESETS["zelkova"])
+    >>> c = cluster_leaves(t)
+    >>> c.n_leaves * 3 == t.n_leaves, c.n_stems == t.n_stems
+    (True, True)
+    """
+    if not isinstance(plant, Plant):
+        raise UserInputError(f"expected a growsim Plant, got {type(plant).__name__}")
+    leaf = plant.kind == LEAF
+    if not leaf.any():
+        return plant
+    idx = np.flatnonzero(leaf)
+    groups, inv, counts = np.unique(plant.parent[idx], return_inverse=True, return_counts=True)
+    g = groups.size
+    mid = 0.5 * (plant.start[idx] + plant.end[idx])
+    d = plant.end[idx] - plant.start[idx]
+    c = np.zeros((g, 3))
+    dd = np.zeros((g, 3))
+    for ax in range(3):
+        c[:, ax] = np.bincount(inv, mid[:, ax], g) / counts
+        dd[:, ax] = np.bincount(inv, d[:, ax], g)
+    L = np.linalg.norm(d, axis=1)
+    lsum = np.bincount(inv, L, g) / counts
+    rsum = np.bincount(inv, plant.radius[idx], g) / counts
+    unit = dd / np.maximum(np.linalg.norm(dd, axis=1, keepdims=True), 1e-12)
+    scale = np.sqrt(counts)
+    half = 0.5 * lsum * scale
+    stems = plant.subset(~leaf)
+    remap = np.full(plant.n_segments, -1, np.int64)
+    remap[~leaf] = np.arange(stems.n_segments)
+    pick = np.zeros(g, np.int64)
+    pick[inv[::-1]] = idx[::-1]  # the first leaf of each group lends its order and data
+    data = {k: np.concatenate([stems.data[k], v[pick]]) for k, v in plant.data.items()}
+    if "radius_end" in data:
+        data["radius_end"][stems.n_segments :] = rsum * scale
+    return Plant(
+        np.concatenate([stems.start, c - half[:, None] * unit]),
+        np.concatenate([stems.end, c + half[:, None] * unit]),
+        np.concatenate([stems.radius, rsum * scale]),
+        np.concatenate([stems.parent, remap[groups]]),
+        np.concatenate([stems.order, plant.order[pick]]),
+        np.concatenate([stems.kind, np.full(g, LEAF, np.int8)]),
+        data=data,
+        meta=dict(plant.meta),
+    )

@@ -43,8 +43,7 @@ from growsim.phenotypes.plant.colors import (
     light_arrow_mesh,
     segment_colors,
 )
-from growsim.phenotypes.plant.mesh import ground_mesh, plant_mesh
-from growsim.phenotypes.plant.plant import Plant
+from growsim.phenotypes.plant.mesh import ground_mesh, is_plant, plant_mesh
 from growsim.render import (
     check_size,
     frames_writer,
@@ -73,7 +72,7 @@ _LEGEND_MARGIN = 0.16  # share of the image height kept free for the scalar bar
 def _mesh_of(plant_or_mesh, sides=6, segments=1):
     import pyvista as pv
 
-    if isinstance(plant_or_mesh, Plant):
+    if is_plant(plant_or_mesh):
         return plant_mesh(plant_or_mesh, sides=sides, segments=segments)
     if isinstance(plant_or_mesh, pv.DataSet):
         return plant_or_mesh
@@ -342,7 +341,7 @@ def turntable(
 
 
 def growth_animation(
-    plants: Sequence[Plant], path, *, view="front", size=(400, 400), fps: int = 4
+    plants: Sequence, path, *, view="front", size=(400, 400), fps: int = 4
 ) -> Path:
     """Animate a list of plants (e.g. one per generation) in one fixed frame (GIF/MP4).
 
