@@ -24,6 +24,7 @@ from pathlib import Path
 
 import pyvista as pv
 
+from growsim.experiment import load_run
 from growsim.models import get_model
 from growsim.phenotypes.plant import plant_mesh
 
@@ -70,8 +71,6 @@ def main(argv=None) -> Path:
     parser.add_argument("--out", default="plant.png", help="the PNG written off-screen")
     args = parser.parse_args(argv)
     if args.run:
-        from growsim.experiment import load_run
-
         plant = load_run(args.run).best_plant
     else:
         plant = grow_preset()

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.kernels.gravity import radius_end_kernel
 
 __all__ = ["LEAF", "STEM", "checked_array", "radius_end", "skeleton_arrays"]
 
@@ -80,7 +81,6 @@ def radius_end(parent: np.ndarray, kind: np.ndarray, radius: np.ndarray) -> np.n
     >>> radius_end(np.array([-1, 0]), np.zeros(2, np.int8), np.array([0.2, 0.1])).tolist()
     [0.1, 0.1]
     """
-    from growsim.kernels.gravity import radius_end_kernel
 
     parent = np.ascontiguousarray(parent, dtype=np.int64)
     kind = np.ascontiguousarray(kind, dtype=np.int8)

@@ -547,8 +547,9 @@ def test_module_light_in_2d_is_each_walls_own_light():
     normals = np.stack([R[:, :, 0], -R[:, :, 0]], axis=1)  # (n, 2, 3)
     mid = 0.5 * (start + end)
     points = (mid[:, None] + radius[:, None, None] * normals).reshape(-1, 3)
-    per_wall = light_at_points((start, end, radius, offsets),
-                               (points, 2 * offsets, normals.reshape(-1, 3)), lights, shadow)
+    per_wall = light_at_points(
+        (start, end, radius, offsets), (points, 2 * offsets, normals.reshape(-1, 3)), lights, shadow
+    )
     shared = module_light((start, end, radius, offsets), (R, cs), lights, shadow)
     np.testing.assert_allclose(shared.reshape(-1), per_wall, rtol=1e-12, atol=1e-14)
     assert np.ptp(per_wall) > 0.5 and np.mean(per_wall == 0) > 0.02  # shaded and lit walls
@@ -609,8 +610,17 @@ def test_walls_sharing_their_modules_light_grow_the_same_plants_within_tolerance
     np.testing.assert_allclose(b[4], a[4], rtol=0.05)
     # random 3D genomes (a first generation), through the population path
     rng = np.random.default_rng(0)
-    rows = [hormone.resolve_params(hormone.PARAMS, {"dims": 3, "steps": 30, **{
-        p.name: float(rng.uniform(p.low, p.high)) for p in hormone.GENES}}) for _ in range(100)]
+    rows = [
+        hormone.resolve_params(
+            hormone.PARAMS,
+            {
+                "dims": 3,
+                "steps": 30,
+                **{p.name: float(rng.uniform(p.low, p.high)) for p in hormone.GENES},
+            },
+        )
+        for _ in range(100)
+    ]
     x, names = np.array([list(r.values()) for r in rows]), list(rows[0])
     ta, tb = (hormone.population(x, names, e) for e in (exact, module))
     na, nb = ta.total_nutrient.to_numpy(), tb.total_nutrient.to_numpy()

@@ -499,11 +499,14 @@ def test_fit_image_resumes_an_interrupted_fit(photo, tmp_path, monkeypatch, caps
     if where == "second GA":  # the runs side by side on two processes: the same fit
         apart = fitting.fit_image(path, out=tmp_path / "apart", **{**kw, "workers": 2})
         assert apart.params == whole.params and drop(apart.stages) == drop(whole.stages)
-        assert apart.summary["leaves"] == {**whole.summary["leaves"],
-                                           "run": apart.summary["leaves"]["run"],
-                                           "runs": apart.summary["leaves"]["runs"]}
-    name, real = ("evolve", runs.evolve) if where == "second GA" else (
-        "size_stages", runs.size_stages)
+        assert apart.summary["leaves"] == {
+            **whole.summary["leaves"],
+            "run": apart.summary["leaves"]["run"],
+            "runs": apart.summary["leaves"]["runs"],
+        }
+    name, real = (
+        ("evolve", runs.evolve) if where == "second GA" else ("size_stages", runs.size_stages)
+    )
     calls = []
 
     def cut(*a, **k):

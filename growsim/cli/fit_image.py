@@ -133,8 +133,14 @@ _OPTIONS = ("model", "budget", "sizes", "size", "segmentation", "threshold", "po
 
 
 #: the parser's defaults of :data:`_OPTIONS` (an option given beside --resume is refused)
-_DEFAULTS = {k: None for k in _OPTIONS} | {"model": "auto", "budget": 1.0, "segmentation": "auto",
-                                          "threshold": "otsu", "polarity": "auto", "seed": 0}
+_DEFAULTS = {k: None for k in _OPTIONS} | {
+    "model": "auto",
+    "budget": 1.0,
+    "segmentation": "auto",
+    "threshold": "otsu",
+    "polarity": "auto",
+    "seed": 0,
+}
 
 
 def _main(args) -> int:

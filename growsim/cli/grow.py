@@ -373,8 +373,8 @@ def run_grow(args: argparse.Namespace) -> int:
     every_step = args.gif is not None  # every step's phenotype for --gif, else the last
     if stand is not None:
         env = stand
-        frames = list(model.grow_in_stand(params if plants is None else plants,
-                                          seed=args.seed, env=env, every_step=every_step))  # fmt: skip
+        which = params if plants is None else plants
+        frames = list(model.grow_in_stand(which, seed=args.seed, env=env, every_step=every_step))
     elif every_step:
         frames = list(model.grow(params, seed=args.seed, env=env))
     else:

@@ -7,6 +7,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from growsim.env.shadow_gl import segment_exposure_gl
+from growsim.kernels import light as kernels
+
 __all__ = ["copies_exposure", "copies_frames"]
 
 
@@ -37,7 +40,6 @@ def copies_exposure(segments, shifts, plane, samples, shadow, trans, backend, sc
     ...                 shadow_scratch(64)).tolist()
     [0.0]
     """
-    from growsim.kernels import light as kernels
 
     s, e, r, off = segments
     u, v, d = plane
@@ -74,8 +76,6 @@ def copies_exposure(segments, shifts, plane, samples, shadow, trans, backend, sc
     all_off = np.asarray(kept_off, np.int64)
     own = np.concatenate(own).astype(np.int64) if own else np.empty(0, np.int64)
     if backend == "moderngl" and not soft:
-        from growsim.env.shadow_gl import segment_exposure_gl
-
         every = segment_exposure_gl(all_s, all_e, all_r, all_off, frames, u, v, d, res, bias,
                                     samples)  # fmt: skip
         return np.ascontiguousarray(every[own])
@@ -105,7 +105,6 @@ def copies_frames(s, e, r, blocks, moves, u, v, res) -> np.ndarray:
     >>> copies_frames(s, e, r, [(0, 1)], moves, u, v, 64).shape
     (1, 3)
     """
-    from growsim.kernels import light as kernels
 
     cand, radii, offsets = [], [], [0]
     for a, b in blocks:

@@ -19,6 +19,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+import pandas as pd
 from pydantic import Field, model_validator
 
 from growsim.env.gravity import Gravity
@@ -28,6 +30,7 @@ from growsim.env.stand import Stand
 from growsim.env.tank import Tank
 from growsim.env.water import Water
 from growsim.options import Options
+from growsim.skeleton import skeleton_arrays
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -106,10 +109,6 @@ class Environment(Options):
         >>> bool(table.light[x < 0].mean() > table.light[x > 0].mean())
         True
         """
-        import numpy as np
-        import pandas as pd
-
-        from growsim.skeleton import skeleton_arrays
 
         arrays = skeleton_arrays(plant, "segment_table")
         n = arrays["start"].shape[0]

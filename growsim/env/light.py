@@ -28,7 +28,11 @@ import numpy as np
 from pydantic import AfterValidator, Field
 
 from growsim.env.copies import copies_exposure
+from growsim.env.shadow_gl import point_exposure_gl, segment_exposure_gl
 from growsim.errors import UserInputError
+from growsim.kernels import light as kernels
+from growsim.kernels.light import shadow_scratch
+from growsim.kernels.raster import draw_segments
 from growsim.options import Options
 from growsim.skeleton import LEAF, checked_array, skeleton_arrays
 
@@ -308,7 +312,6 @@ def projected_area(start, end, radius, direction=(0.0, -1.0, 0.0), resolution: i
     >>> round(projected_area(a, b, np.array([0.5]), resolution=512), 1)  # 4 x 1 + pi/4
     4.8
     """
-    from growsim.kernels.raster import draw_segments
 
     d = np.asarray(direction, dtype=np.float64)
     if d.shape != (3,) or not np.all(np.isfinite(d)) or np.linalg.norm(d) == 0:
@@ -448,8 +451,6 @@ def _scratch(res: int) -> tuple:
     if cache is None:
         cache = _SCRATCH.maps = {}
     if res not in cache:
-        from growsim.kernels.light import shadow_scratch
-
         cache[res] = shadow_scratch(res)
     return cache[res]
 
@@ -539,7 +540,6 @@ def segment_light(
     >>> segment_light(start[2:], end[2:], r[2:], shifts=[[-5.0, 2, 0]]).tolist()  # a copy
     [0.0]
     """
-    from growsim.kernels import light as kernels
 
     where = "segment_light"
     d, u, v, intensity, res, bias = _shadow_settings(
@@ -570,8 +570,6 @@ def segment_light(
         return kernels.apply_cosines(s, e, normal, use, d, intensity, out)
     frames = kernels.plant_frames(s, e, r, off, u, v, res)
     if backend == "moderngl" and shadows == "hard":
-        from growsim.env.shadow_gl import segment_exposure_gl
-
         out = segment_exposure_gl(s, e, r, off, frames, u, v, d, res, bias, samples)
     else:
         soft = shadows == "soft"
@@ -627,7 +625,6 @@ def point_light(
     ...             intensity=[1.0, 0.5]).round(3).tolist()  # two lights
     [0.354, 1.354]
     """
-    from growsim.kernels import light as kernels
 
     where = "point_light"
     d, u, v, w = _shadow_passes(where, direction, intensity)
@@ -658,7 +655,6 @@ def point_light(
             (s, e, r, off), (pts, poff, nrm), (d, u, v, w), (res, bias, soft, trans),
             _scratch(res), np.empty(m), np.zeros((0, 3)),
         )  # fmt: skip
-    from growsim.env.shadow_gl import point_exposure_gl
 
     out = np.zeros(m)
     for k in range(len(d)):

@@ -33,6 +33,8 @@ from typing import Literal
 import numpy as np
 from pydantic import Field, model_validator
 
+from growsim.errors import ConfigError
+from growsim.kernels.stand import nearest_shifts
 from growsim.options import Options
 
 __all__ = ["MODES", "Stand"]
@@ -96,7 +98,6 @@ class Stand(Options):
 
     @model_validator(mode="after")
     def _check(self):
-        from growsim.errors import ConfigError
 
         if self.positions is not None:
             bad = [p for p in self.positions if len(p) != 2]
@@ -178,7 +179,6 @@ class Stand(Options):
         >>> Stand.parse({"mode": "mixture", "neighbours": 2, "spacing": 1.5}).mixture_xz(2).tolist()
         [[0.0, 0.0], [-1.5, 0.0], [1.5, 0.0]]
         """
-        from growsim.kernels.stand import nearest_shifts
 
         shifts = nearest_shifts(self.spacing, self.neighbours, dims)
         return np.vstack([np.zeros((1, 2)), shifts[:, [0, 2]]])

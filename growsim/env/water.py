@@ -47,6 +47,7 @@ import numpy as np
 from pydantic import Field
 
 from growsim.errors import UserInputError
+from growsim.kernels.water import transport_kernel  # numba only when water flows
 from growsim.options import Options
 from growsim.skeleton import LEAF, checked_array, skeleton_arrays
 
@@ -138,7 +139,6 @@ def transport(
     >>> w.met.round(3).tolist()
     [1.0, 0.812, 0.812]
     """
-    from growsim.kernels.water import transport_kernel  # numba only when water flows
 
     arrs = _arrays(plant)
     n = arrs["start"].shape[0]

@@ -6,6 +6,7 @@ python -m growsim.experiment --docs             # prints docs/configs.md
 
 from __future__ import annotations
 
+import argparse
 import re
 import sys
 import types
@@ -14,6 +15,8 @@ from pathlib import Path
 from typing import Annotated, Any, Literal, Union, get_args, get_origin
 
 from growsim.experiment.schema import SECTIONS
+from growsim.files import atomic_write
+from growsim.objectives import OBJECTIVES
 from growsim.options import fields_of, option_classes
 
 __all__ = ["PAGES", "config_docs", "config_pages", "main"]
@@ -241,7 +244,6 @@ def _table(header: str, path: str, cls) -> list[str]:
 
 def _objective_tables() -> list[str]:
     """One table per registered objective: its options."""
-    from growsim.objectives import OBJECTIVES
 
     lines = [
         "## `[[objective]]`",
@@ -260,9 +262,6 @@ def _objective_tables() -> list[str]:
 def main(argv: Sequence[str] | None = None) -> int:
     """``python -m growsim.experiment --docs [DIR]``: print ``docs/configs.md``, or write
     every generated page (:func:`config_pages`) under ``DIR`` (the ``docs`` directory)."""
-    import argparse
-
-    from growsim.files import atomic_write
 
     p = argparse.ArgumentParser(prog="python -m growsim.experiment")
     p.add_argument(

@@ -9,11 +9,13 @@ of :mod:`growsim.experiment` (``plan`` builds a Fitness; ``load`` compiles plans
 
 from __future__ import annotations
 
+import hashlib
 import sys
 from collections.abc import Mapping, Sequence
 from typing import Any, NamedTuple
 
 import numpy as np
+from threadpoolctl import ThreadpoolController
 
 from growsim.ga.evaluate import GAFitness
 
@@ -55,8 +57,6 @@ def one_blas_thread():
     # the BLAS libraries loaded so far, found again after any import (scipy brings its
     # own OpenBLAS; a controller made before it was loaded would leave it at 2 threads)
     if _BLAS is None or _BLAS[0] != len(sys.modules):
-        from threadpoolctl import ThreadpoolController
-
         _BLAS = (len(sys.modules), ThreadpoolController())
     return _BLAS[1].limit(limits=1, user_api="blas")
 
@@ -165,7 +165,6 @@ class Fitness(GAFitness):
         """
         if not self.mixture:
             return
-        import hashlib
 
         full = self.full_params(x)
         stand = self.env.stand

@@ -21,7 +21,10 @@ from growsim.env import Environment
 from growsim.errors import ConfigError, GrowsimError, UserInputError
 from growsim.experiment.fitness import Fitness
 from growsim.experiment.schema import Config
-from growsim.models.base import Model, Param
+from growsim.ga import GA, genome_from_params
+from growsim.models import get_model
+from growsim.models.base import Model, Param, resolve_params
+from growsim.objectives import get_objective
 
 __all__ = ["ExperimentPlan", "ModelPlan", "compile_plan", "plan_model"]
 
@@ -93,7 +96,6 @@ class ExperimentPlan(ModelPlan):
     @property
     def genome(self):
         """The :class:`growsim.ga.Genome` of the evolved parameters (``[ga]`` coding)."""
-        from growsim.ga import genome_from_params
 
         g = self.config.ga
         return genome_from_params(
@@ -112,7 +114,6 @@ class ExperimentPlan(ModelPlan):
 
     def build_ga(self, fitness, batch_size: int | None = None):
         """The :class:`growsim.ga.GA` of the plan evolving ``fitness``."""
-        from growsim.ga import GA
 
         overrides = {} if batch_size is None else {"batch_size": batch_size}
         return GA(self.genome, fitness, self.config.ga, maximize=True, seed=self.seed, **overrides)
@@ -138,8 +139,6 @@ def plan_model(cfg: Config) -> ModelPlan:
     >>> plan_model(load_config("experiments/quickstart.toml")).fixed["generations"]
     10.0
     """
-    from growsim.models import get_model
-    from growsim.models.base import resolve_params
 
     try:
         model = get_model(cfg.model.kind)
@@ -263,7 +262,6 @@ def _resolved(cfg: Config, mp: ModelPlan) -> Config:
 
 
 def _build_objective(cfg: Config, i: int, mp: ModelPlan):
-    from growsim.objectives import get_objective
 
     options = cfg.objective[i]
     where = f"objective[{i}]"

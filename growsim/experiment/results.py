@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import fcntl
 import json
 import logging
 import os
@@ -37,12 +38,15 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pandas as pd
 
+from growsim import __version__
 from growsim.errors import UserInputError
 from growsim.experiment.load import validate
 from growsim.experiment.plan import plan_model
 from growsim.experiment.schema import Config
 from growsim.files import atomic_path, atomic_write, jsonable
+from growsim.phenotypes import load_phenotype
 
 __all__ = [
     "RunDir",
@@ -130,7 +134,6 @@ class RunDir:
         >>> rd.lock_path.exists()
         False
         """
-        import fcntl
 
         try:
             self.path.mkdir(parents=True, exist_ok=True)
@@ -304,7 +307,6 @@ class RunDir:
         >>> s["generations"], s["best_fitness"], rd.is_complete()
         (2, 2.0, True)
         """
-        from growsim import __version__
 
         summary = {
             "experiment": config.experiment.name,
@@ -429,7 +431,6 @@ class RunRecord:
         is built) by :meth:`growsim.experiment.fitness.Fitness.phenotype_of`."""
         if self._phenotype is not _UNREAD and self._phenotype is not None:
             return self._phenotype
-        from growsim.phenotypes import load_phenotype
 
         kind = self.best.get("phenotype", "plant")
         saved = RunDir(self.path).phenotype_path(kind)
@@ -466,8 +467,6 @@ def read_run(path: str | Path, *, finished: bool = True, history: bool = True) -
     summary = _read_json(rd.summary_path) if rd.summary_path.is_file() else None
     frame = None
     if history and rd.history_path.is_file():
-        import pandas as pd
-
         try:
             frame = pd.read_parquet(rd.history_path)
         except (OSError, ValueError) as exc:
@@ -556,7 +555,6 @@ def plot_fitness(history, path, *, title: str | None = None) -> Path:
     True
     """
     import matplotlib
-    import pandas as pd
 
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt

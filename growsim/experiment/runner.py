@@ -22,12 +22,13 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from tqdm.auto import tqdm
 
 from growsim.errors import ConfigError, UserInputError
 from growsim.experiment.executors import check_executor_args, executor_workers, make_executor
 from growsim.experiment.load import load_plan
 from growsim.experiment.plan import ExperimentPlan
-from growsim.experiment.results import RunDir, RunRecord, plot_fitness
+from growsim.experiment.results import RunDir, RunRecord, plot_fitness, read_run
 from growsim.experiment.schema import Config
 from growsim.ga.evaluate import EvaluationError, open_executor
 
@@ -136,8 +137,6 @@ class Progress:
         self.t0 = time.perf_counter()
         self.evals0: int | None = None
         if enabled:
-            from tqdm.auto import tqdm
-
             self.bar = tqdm(
                 total=total, unit="gen", file=sys.stderr, dynamic_ncols=True, desc=label
             )
@@ -244,8 +243,6 @@ def run(
         elif seed is not None and seed != plan.seed:
             raise ConfigError(f"--seed {seed}: the run in {rd.path} has seed {plan.seed}")
         if rd.is_complete():  # finished: nothing to resume; its outputs stay as they are
-            from growsim.experiment.results import read_run
-
             log.info("%s: the run is finished; nothing to resume", rd.path)
             return read_run(rd.path)
     else:
@@ -379,9 +376,7 @@ def _run_locked(
 
     x = result.best.params
     individual = fitness.phenotype_of(x, grow=False)
-    best_params = {
-        n: round(v) if n in plan.int_names else v for n, v in individual.params.items()
-    }
+    best_params = {n: round(v) if n in plan.int_names else v for n, v in individual.params.items()}
     history = result.history
     # every file of the end of the run is finished before a Ctrl-C stops it
     with interrupts_deferred():

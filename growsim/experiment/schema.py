@@ -14,6 +14,7 @@ import math
 import re
 from typing import Annotated, Any, Literal, Union
 
+import tomli_w
 from pydantic import Field, StrictFloat, StrictInt, field_validator, model_validator
 from pydantic.dataclasses import dataclass as pydantic_dataclass
 
@@ -413,7 +414,6 @@ class Config(Options):
 
     def to_toml(self) -> str:
         """The config as TOML text (what ``config.toml`` of a run holds)."""
-        import tomli_w
 
         return tomli_w.dumps(self.to_dict())
 

@@ -8,6 +8,7 @@ terms and pictures (the seed's Fig. 2-3); ``growsim species CONFIG`` is the comm
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 
 from growsim.errors import UserInputError
 from growsim.experiment.load import load_plan
@@ -68,7 +69,6 @@ def evolve_species(config, *, out=None, seed: int | None = None, overrides=(), p
     >>> list(table.columns[:3])  # doctest: +SKIP
     ['generation', 'fitness', 'phototropism']
     """
-    import pandas as pd
 
     plan = load_plan(config, overrides)
     if seed is not None:

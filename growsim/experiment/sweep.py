@@ -16,6 +16,8 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+import pandas as pd
+
 from growsim.errors import GrowsimError, UserInputError
 from growsim.experiment.executors import check_executor_args, make_executor
 from growsim.experiment.load import (
@@ -131,7 +133,6 @@ def sweep(
     >>> len(df)  # doctest: +SKIP
     4
     """
-    import pandas as pd
 
     check_executor_args(workers, scheduler)
     base = read_config(config, overrides)  # each variant is compiled below, once

@@ -12,6 +12,7 @@ from pathlib import Path
 
 from growsim.errors import UserInputError
 from growsim.fitting.setups import FIT_SETUPS, LEAF_MARGIN, LEAF_MODES, SIZES
+from growsim.pictures.images import classify_picture
 
 __all__ = [
     "SEGMENTATIONS",
@@ -62,7 +63,6 @@ def picture_kind(front, side, segmentation) -> tuple[bool, dict]:
     """Whether the pictures are drawings, and the ``segmentation`` choice (``"auto"``: the
     threshold when every picture is a drawing,
     :func:`~growsim.pictures.images.classify_picture`, else the photo segmentation)."""
-    from growsim.pictures.images import classify_picture
 
     if segmentation == "auto":
         kinds = [(p, *classify_picture(p)) for p in (front, side) if p is not None]
@@ -146,8 +146,21 @@ def fit_settings(name: str, drawing: bool, given: dict, budget: float) -> dict:
     >>> st["restarts"], st["sizes"], st["leaves"]
     (2, (64, 128, 256), 'auto')
     """
-    given = {k: given.get(k) for k in ("line_width", "sizes", "size", "leaves", "evaluations",
-                                       "refine", "arrange", "blur", "restarts", "carry")}
+    given = {
+        k: given.get(k)
+        for k in (
+            "line_width",
+            "sizes",
+            "size",
+            "leaves",
+            "evaluations",
+            "refine",
+            "arrange",
+            "blur",
+            "restarts",
+            "carry",
+        )
+    }
     setup = FIT_SETUPS.get(name)
     choices = model_choices(setup, drawing, given["line_width"], given["sizes"], given["size"],
                        given["leaves"])  # fmt: skip

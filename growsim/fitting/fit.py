@@ -54,6 +54,7 @@ from typing import Any
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.experiment import load_plan
 from growsim.files import atomic_write, jsonable
 from growsim.fitting.choices import (
     SEGMENTATIONS,
@@ -64,6 +65,10 @@ from growsim.fitting.choices import (
 )
 from growsim.fitting.runs import FitRun, RunJob, run_job, run_jobs
 from growsim.fitting.setups import FIT_SETUPS, search_score
+from growsim.objectives.silhouette import phenotype_views
+from growsim.phenotypes.plant.mesh import export
+from growsim.pictures.images import silhouette_image, unframe
+from growsim.pictures.photo import load_rgb
 from growsim.render import save_png
 
 __all__ = ["FitResult", "fit_image"]
@@ -126,10 +131,10 @@ AUTO_ENOUGH = 0.95
 #: a fit's state in its ``--out``: the options it was started with (``--resume``)
 FIT_STATE = "fit-state.json"
 
+
 def _write_masks(objective, out: Path, pictures: dict) -> list[Path]:
     """The silhouettes used, at the pictures' size: ``silhouette_<view>.png`` (black tree
     on white) and ``segmentation_<view>.png`` (the picture, the tree tinted red)."""
-    from growsim.pictures.photo import load_rgb
 
     written = []
     for view, mask in objective.pictures.items():
@@ -150,8 +155,6 @@ def _write_fits(objective, fitted, phenotype, out: Path) -> tuple[list[Path], di
     the picture's resolution (a raster as large as the picture, at most 1024 px), so a
     thin branch is as thin as the picture's; thin lines take ``fitted`` (the fitted size's
     views), which frame exactly."""
-    from growsim.objectives.silhouette import phenotype_views
-    from growsim.pictures.images import unframe
 
     masks = list(objective.pictures.values())[: objective.n_views]
     if objective.line_width == "radius":
@@ -171,8 +174,6 @@ def _write_shape(phenotype, path: Path) -> None:
     if path.suffix.lower() == ".png":
         phenotype.screenshot(path, view="front")
     else:
-        from growsim.phenotypes.plant.mesh import export
-
         export(phenotype, path)
 
 
@@ -200,7 +201,6 @@ def _decide(fits, runs, settings, names, label_of, job) -> dict:
     (``judged``), the ``kept`` model and kind, and the runs ``carried`` to the finer sizes
     (the restarts of the kept kind that scored best at the first size: the score there
     foretells the final one, benchmarks/log/fitting.md)."""
-    from growsim.experiment import load_plan
 
     first_size = {label_of(*r): {"ncc": f.ncc, "score": f.score} for r, f in fits.items()}
     best_of: dict[tuple[str, str], tuple] = {}
@@ -217,8 +217,12 @@ def _decide(fits, runs, settings, names, label_of, job) -> dict:
                                        fits[r].draws)  # fmt: skip
     kept = kept_candidate(judged, names)
     ranked = sorted((r for r in runs if r[:2] == kept), key=lambda r: -fits[r].score)
-    return {"first_size": first_size, "judged": {"/".join(k): v for k, v in judged.items()},
-            "kept": list(kept), "carried": ranked[: settings[kept[0]]["carry"] or len(ranked)]}
+    return {
+        "first_size": first_size,
+        "judged": {"/".join(k): v for k, v in judged.items()},
+        "kept": list(kept),
+        "carried": ranked[: settings[kept[0]]["carry"] or len(ranked)],
+    }
 
 
 def _check_fresh(out_dir: Path) -> None:
@@ -301,9 +305,6 @@ def fit_image(
     >>> r.summary["leaves"]["chosen"], round(r.ncc, 4), r.shape.name  # doctest: +SKIP
     ('leafy', 0.8563, 'tree.glb')
     """
-    from growsim.experiment import load_plan
-    from growsim.objectives.silhouette import phenotype_views
-    from growsim.pictures.images import silhouette_image
 
     out_dir = Path(out)
     if resume:

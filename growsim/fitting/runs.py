@@ -12,13 +12,17 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from tqdm.auto import tqdm
 
+from growsim.experiment import load_plan, read_run, run
 from growsim.files import atomic_write, jsonable
 from growsim.fitting.setups import arrange as search_arrangement
 from growsim.fitting.setups import exact_score, fit_config, sweep_discrete
@@ -64,7 +68,6 @@ class FitRun:
     def restore(cls, out: Path, config) -> tuple[FitRun, int] | None:
         """The fit saved in ``out`` (:meth:`save`) and the index of the last size done, its
         plan compiled by ``config(k)``; ``None`` if nothing was saved."""
-        from growsim.experiment import load_plan
 
         path = out / RUN_STATE
         if not path.is_file():
@@ -95,10 +98,6 @@ class Bar:
     def __init__(self, label: str, total: int, enabled: bool, unit: str = "eval"):
         self.bar = None
         if enabled and total > 0:
-            import sys
-
-            from tqdm.auto import tqdm
-
             if sys.stderr.isatty():
                 tqdm.monitor_interval = 0  # no monitor thread: runs fork side by side
                 self.bar = tqdm(total=total, desc=label, unit=unit, file=sys.stderr,
@@ -125,7 +124,6 @@ def evolve(plan, size: int, out: Path, workers, progress, resume: bool = False) 
     >>> run.stages[0]["stage"], run.stages[0]["size"]  # doctest: +SKIP
     ('ga', 64)
     """
-    from growsim.experiment import read_run, run
 
     t0 = time.perf_counter()
     if resume and (out / "summary.json").is_file():
@@ -167,7 +165,6 @@ def size_stages(fit: FitRun, k: int, config, sizes, setup, budgets, seed: int,
     >>> [(s["size"], s["stage"]) for s in run.stages][-2:]  # doctest: +SKIP
     [(128, 'refine'), (128, 'arrange')]
     """
-    from growsim.experiment import load_plan
 
     refine_evaluations, arrange_evaluations, blur = budgets
     size = sizes[k]
@@ -257,7 +254,6 @@ class RunJob:
     def plan_at(self, k: int):
         """The compiled plan of the run's searches at its ``k``-th size (blurred at every
         size but the last)."""
-        from growsim.experiment import load_plan
 
         sizes = self.settings["sizes"]
         sigma = 0.0 if k == len(sizes) - 1 else self.settings["blur"] * sizes[k] / sizes[0]
@@ -276,7 +272,6 @@ def run_job(job: RunJob, plan=None) -> FitRun:
     >>> [s["stage"] for s in run.stages]  # doctest: +SKIP
     ['ga', 'arrange']
     """
-    from growsim.experiment import load_plan
 
     st = job.settings
     sizes, budgets = st["sizes"], (st["refine"], st["arrange"], st["blur"])
@@ -317,7 +312,6 @@ def run_jobs(jobs: list[RunJob], processes: int | None, label: str | None) -> li
     n = min(processes or os.cpu_count() or 1, len(jobs))
     if n <= 1:
         return [run_job(j) for j in jobs]
-    from concurrent.futures import ProcessPoolExecutor, as_completed
 
     with ProcessPoolExecutor(n) as pool:
         # every worker forked at the first job, before the bar starts a thread

@@ -13,13 +13,17 @@ itself (the chain of sizes, bare and leafy fits, the files written) is
 from __future__ import annotations
 
 import math
+import tomllib
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from importlib.resources import files
 from pathlib import Path
 
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.ga.polish import PolishOptions, polish_steps
+from growsim.models.ifs2d import FIT_N_MAPS, fit_tables
 from growsim.registry import Registry
 
 __all__ = [
@@ -123,8 +127,6 @@ def best_setup() -> dict:
     >>> setup["ga"]["evaluations"], setup["ga"]["polish"]["evaluations"]
     (50000, 35000)
     """
-    import tomllib
-    from importlib.resources import files
 
     return tomllib.loads((files("growsim") / "data" / BEST_SETUP).read_text(encoding="utf-8"))
 
@@ -219,7 +221,6 @@ def _honda_tables() -> dict:
 
 
 def _ifs2d_tables() -> dict:
-    from growsim.models.ifs2d import FIT_N_MAPS, fit_tables
 
     return fit_tables(FIT_N_MAPS)
 
@@ -415,7 +416,6 @@ def refine(
     >>> score >= start
     True
     """
-    from growsim.ga.polish import PolishOptions, polish_steps
 
     fitness = _Scorer(plan, draws)
     genome = plan.genome
@@ -525,10 +525,7 @@ class _Scorer:
         f = self.fitness
         plant = self.develop(np.asarray(x, dtype=np.float64), draws)
         return float(
-            sum(
-                w * s * float(o.exact(plant))
-                for o, w, s in zip(f.objectives, f.weights, f.signs)
-            )
+            sum(w * s * float(o.exact(plant)) for o, w, s in zip(f.objectives, f.weights, f.signs))
         )
 
     def score(self, phenotype) -> float:

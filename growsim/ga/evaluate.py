@@ -31,7 +31,8 @@ import inspect
 import logging
 import math
 import os
-from concurrent.futures import Executor, Future
+from concurrent.futures import Executor, Future, ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -263,7 +264,6 @@ def open_executor(executor) -> tuple[Pool | None, bool]:
     if isinstance(executor, (int, np.integer)) and not isinstance(executor, bool):
         if executor < 1:
             raise UserInputError(f"executor: need >= 1 worker processes, got {executor}")
-        from concurrent.futures import ProcessPoolExecutor
 
         return Pool(ProcessPoolExecutor(int(executor)), int(executor)), True
     raise UserInputError(
@@ -291,7 +291,6 @@ class EvaluationError(GrowsimError):
 def _executor_failure(exc: BaseException, n: int, tasks: int) -> str:
     """The message of an :class:`EvaluationError` for ``exc``, raised by an executor's
     future while ``n`` individuals were evaluated in ``tasks`` tasks."""
-    from concurrent.futures.process import BrokenProcessPool
 
     what = f"{type(exc).__name__}: {exc}".rstrip(": ")
     if isinstance(exc, BrokenProcessPool):

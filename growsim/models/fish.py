@@ -26,8 +26,11 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from growsim.env.tank import Tank
 from growsim.errors import ResourceError
+from growsim.kernels.fish import population_collisions, swim_path
 from growsim.models.base import Model, Param, resolve_params
+from growsim.phenotypes.trajectory import Trajectory
 
 __all__ = ["MODEL", "PARAMS", "PRESETS", "FishModel", "default_tank", "develop", "fish_table"]
 
@@ -81,7 +84,6 @@ def default_tank():
     >>> default_tank().size
     [300.0, 400.0, 300.0]
     """
-    from growsim.env.tank import Tank
 
     return Tank.model_validate({"preset": "small"})
 
@@ -134,8 +136,6 @@ def develop(params: Mapping[str, float] | None = None, *, seed: int | None = Non
     >>> t.n_frames, t.positions.shape
     (500, (501, 3))
     """
-    from growsim.kernels.fish import swim_path
-    from growsim.phenotypes.trajectory import Trajectory
 
     p = resolve_params(PARAMS, params, where="fish.")
     tank = _tank(env)
@@ -191,7 +191,6 @@ class FishModel(Model):
         >>> MODEL.collisions(rows, names).shape
         (2,)
         """
-        from growsim.kernels.fish import population_collisions
 
         tank = _tank(env)
         params = np.atleast_2d(np.asarray(params, dtype=np.float64))

@@ -20,6 +20,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from growsim.env import Environment
 from growsim.errors import ResourceError, UserInputError
 from growsim.kernels.honda import (
     N_DRAWS,
@@ -359,7 +360,6 @@ def mixture(params, neighbours=None, *, seed=None, env=None, draws=None) -> Plan
     >>> sorted(set(t.meta["neighbours"]["plant"].tolist()))
     [1, 2]
     """
-    from growsim.env import Environment
 
     env = env if env is not None else Environment()
     focal = develop(params, seed=seed, draws=draws)  # alone: env plays no part in growth

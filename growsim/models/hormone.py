@@ -40,7 +40,10 @@ from collections.abc import Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
+import pandas as pd
 
+from growsim.env import Environment
+from growsim.errors import UserInputError
 from growsim.kernels import hormone as K
 from growsim.kernels import hormone_population as KP
 from growsim.kernels import stand as KS
@@ -199,7 +202,6 @@ def environment_args(env) -> K.Surroundings:
     >>> len(env), env.resolution == Environment().light.resolution, env.ground
     (17, True, 0.0)
     """
-    from growsim.errors import UserInputError
 
     light, water, gravity = env.light, env.water, env.gravity
     if light.backend != "numba":
@@ -231,7 +233,6 @@ def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Pla
     >>> len(plants), plants[-1].n_segments >= plants[0].n_segments
     (5, True)
     """
-    from growsim.env import Environment
 
     p = resolve_params(PARAMS, params, where="hormone.")
     env = env if env is not None else Environment()
@@ -279,8 +280,6 @@ def grow_stand(params=None, *, env=None, xz=None) -> Iterator[Plant]:
     >>> sorted(set(stand.data["plant"].tolist())), stand.meta["stand"]
     ([0, 1], [[-0.5, 0.0], [0.5, 0.0]])
     """
-    from growsim.env import Environment
-    from growsim.errors import UserInputError
 
     env = env if env is not None else Environment()
     xz = env.stand.xz() if xz is None else np.asarray(xz, dtype=np.float64).reshape(-1, 2)
@@ -341,7 +340,6 @@ def grow_periodic(
     >>> dense.meta["total_nutrient"] < develop(p, env=env).meta["total_nutrient"]
     True
     """
-    from growsim.env import Environment
 
     p = resolve_params(PARAMS, params, where="hormone.")
     env = env if env is not None else Environment()
@@ -386,8 +384,6 @@ def grow_mixture(params, neighbours=None, *, env=None) -> Iterator[Plant]:
     >>> among_weak.meta["total_nutrient"] > among_copies.meta["total_nutrient"]
     True
     """
-    from growsim.env import Environment
-    from growsim.errors import UserInputError
 
     env = env if env is not None else Environment()
     p = resolve_params(PARAMS, params, where="hormone.")
@@ -517,10 +513,6 @@ def population(params, names: Sequence[str], env=None) -> pd.DataFrame | None:
     >>> bool(table.total_nutrient[0] == develop(row, env=env).meta["total_nutrient"])
     True
     """
-    import pandas as pd
-
-    from growsim.env import Environment
-    from growsim.errors import UserInputError
 
     env = env if env is not None else Environment()
     if env.stand.mode != "alone":  # a stand: plant by plant (grow)

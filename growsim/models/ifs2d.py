@@ -36,8 +36,9 @@ from collections.abc import Mapping
 import numpy as np
 
 from growsim.errors import ResourceError, UserInputError
+from growsim.kernels.ifs2d import chaos_game
 from growsim.models.base import Model, Param, resolve_params
-from growsim.phenotypes.attractor import singular_values
+from growsim.phenotypes.attractor import Attractor, singular_values
 
 __all__ = [
     "DEFAULT_N_MAPS",
@@ -337,8 +338,6 @@ def develop(params: Mapping[str, float] | None = None, *, seed: int = 0, env=Non
     >>> a.points.shape, round(a.height(), 1)
     ((100000, 2), 10.0)
     """
-    from growsim.kernels.ifs2d import chaos_game
-    from growsim.phenotypes.attractor import Attractor
 
     params = dict(params or {})
     p = resolve_params(param_spec(params), params, where="ifs2d.")

@@ -27,6 +27,7 @@ Honda's leaves (:func:`growsim.kernels.honda.leaves_kernel`, cut angle :data:`LE
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Iterator, Mapping
 
 import numpy as np
@@ -336,7 +337,6 @@ def compare_maps(fitted, reference, *, azimuth_period: float = 360.0) -> dict:
     >>> compare_maps(fit, ref, azimuth_period=90)["within"]
     True
     """
-    import itertools
 
     fitted = np.asarray(fitted, dtype=np.float64)
     reference = np.asarray(reference, dtype=np.float64)

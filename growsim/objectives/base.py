@@ -29,6 +29,7 @@ from typing import Any, ClassVar
 import numpy as np
 from pydantic import Field, field_validator
 
+from growsim.env import Environment
 from growsim.options import Options
 
 __all__ = ["Objective", "ObjectiveOptions"]
@@ -80,7 +81,6 @@ class Objective(abc.ABC):
     example: ClassVar[dict[str, Any]] = {}
 
     def __init__(self, options: ObjectiveOptions | None = None, *, env=None, **values: Any):
-        from growsim.env import Environment
 
         if options is None:
             options = self.Options.parse({"kind": self.name, **values}, where=f"{self.name}.")

@@ -25,7 +25,10 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 from pydantic import Field
 
+from growsim.kernels.ifs2d import points_raster
+from growsim.kernels.views import MARGIN, frame_view, ncc
 from growsim.objectives.base import Objective, ObjectiveOptions
+from growsim.objectives.silhouette import SilhouetteObjective
 
 __all__ = ["CollageObjective", "CollageOptions", "collage"]
 
@@ -46,8 +49,6 @@ def collage(target, maps, framing, samples: int = 3) -> np.ndarray:
     >>> w[:, 4].tolist()
     [0, 0, 0, 0, 1, 1, 1, 1]
     """
-    from growsim.kernels.ifs2d import points_raster
-    from growsim.kernels.views import MARGIN, frame_view
 
     target = np.asarray(target) != 0
     S = target.shape[0]
@@ -104,7 +105,6 @@ class CollageObjective(Objective):
     example: ClassVar[dict[str, Any]] = {"target_model": "ifs2d", "target_preset": "fern"}
 
     def setup(self) -> None:
-        from growsim.objectives.silhouette import SilhouetteObjective
 
         o = self.options
         keys = {"front", "target_model", "target_preset", "target_params", "size"}
@@ -115,8 +115,6 @@ class CollageObjective(Objective):
         self.target = SilhouetteObjective(views="front", env=self.env, **values).target[0]
 
     def __call__(self, phenotype) -> float:
-        from growsim.kernels.views import ncc
-
         w = collage(self.target, phenotype.maps, phenotype.framing(self.target.shape[0]),
                     self.options.samples)  # fmt: skip
         return ncc(w[None], self.target[None])

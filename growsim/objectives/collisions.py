@@ -15,6 +15,8 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 from pydantic import Field
 
+from growsim.kernels.fish import count_collisions
+from growsim.models.fish import default_tank
 from growsim.objectives.base import Objective, ObjectiveOptions
 
 __all__ = ["CollisionsObjective", "CollisionsOptions"]
@@ -47,7 +49,6 @@ class CollisionsObjective(Objective):
 
     def setup(self) -> None:
         """The tank's arrays, once."""
-        from growsim.models.fish import default_tank
 
         tank = self.env.tank if self.env.tank is not None else default_tank()
         self.tank = tank
@@ -55,7 +56,6 @@ class CollisionsObjective(Objective):
 
     def terms(self, trajectory) -> dict[str, float]:
         """``frames_with_collision``: frames where any body point collided."""
-        from growsim.kernels.fish import count_collisions
 
         hits, _ = count_collisions(
             trajectory.positions, trajectory.angles, trajectory.body, *self._arrays
@@ -63,7 +63,6 @@ class CollisionsObjective(Objective):
         return {"frames_with_collision": float(np.count_nonzero(hits))}
 
     def __call__(self, trajectory) -> float:
-        from growsim.kernels.fish import count_collisions
 
         _, total = count_collisions(
             trajectory.positions, trajectory.angles, trajectory.body, *self._arrays

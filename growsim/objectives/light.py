@@ -93,9 +93,12 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 from pydantic import Field, model_validator
 
-from growsim.env.light import Direction, Intensity
+from growsim.env.light import Direction, Intensity, view_basis
 from growsim.errors import ConfigError
+from growsim.kernels.stand import periodic_shifts
 from growsim.objectives.base import Objective, ObjectiveOptions
+from growsim.phenotypes.plant import Plant, leaf_light
+from growsim.phenotypes.stand import ground_offsets, place
 
 __all__ = [
     "LightObjective", "LightOptions", "mixture_stand", "saturating_response", "stand_resolution",
@@ -148,7 +151,6 @@ def mixture_stand(plant):
     >>> s.n_segments == 3 * t.n_segments, np.bincount(s.data["plant"]).tolist()
     (True, [407, 407, 407])
     """
-    from growsim.phenotypes.plant import Plant
 
     nb = plant.meta["neighbours"]
     others = Plant(*(np.asarray(nb[k]) for k in ("start", "end", "radius", "parent")),
@@ -340,12 +342,9 @@ class LightObjective(Objective):
                 "scored among (a model whose mixture attaches them: honda)"
             )
         if self.stand.mode == "periodic":
-            from growsim.kernels.stand import periodic_shifts
-
             dims = int(plant.meta.get("params", {}).get("dims", 3))
             shifts = periodic_shifts(self.stand.spacing, self.stand.rings, dims)
             return plant, shifts, self._stand_light(plant, shifts)
-        from growsim.phenotypes.stand import ground_offsets, place
 
         xz = self.stand.xz()
         return place(plant, xz), None, self._stand_light(plant, ground_offsets(xz))
@@ -356,7 +355,6 @@ class LightObjective(Objective):
         mixture: ``plant`` keeps its pixels in the map spanning ``stand``): the crown's
         and the stand's widths as the map of the light's direction frames them (the
         larger of their extents across it, widened by the largest radius)."""
-        from growsim.env.light import view_basis
 
         if plant.n_segments == 0:
             return self.light
@@ -409,8 +407,6 @@ class LightObjective(Objective):
             area = float(plant.leaf_area(self.direction, resolution=self.resolution))
             light = self.intensity * area
         else:
-            from growsim.phenotypes.plant import leaf_light
-
             focal = plant
             plant, shifts, lit = self.scored(plant)
             if "neighbours" in focal.meta:  # a mixture: the focal tree's leaves and wood

@@ -19,6 +19,7 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 from pydantic import Field
 
+from growsim.kernels.hormone import total
 from growsim.objectives.base import Objective, ObjectiveOptions
 
 __all__ = ["NutrientObjective", "NutrientOptions"]
@@ -60,7 +61,6 @@ class NutrientObjective(Objective):
             return {"nutrient": 0.0, "modules": float(plant.n_segments)}
         if plant.meta.get("stopped") == "nan":
             return {"nutrient": float("nan"), "modules": float(plant.n_segments)}
-        from growsim.kernels.hormone import total
 
         nutrient = np.ascontiguousarray(plant.data["nutrient"], dtype=np.float64)
         held = float(total(nutrient, len(nutrient)))

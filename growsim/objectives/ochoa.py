@@ -39,8 +39,11 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 from pydantic import Field, field_validator, model_validator
 
+from growsim.env.light import Light
 from growsim.errors import UserInputError
+from growsim.kernels.ochoa import junctions, prune_kernel, shadow_bins
 from growsim.objectives.base import Objective, ObjectiveOptions
+from growsim.objectives.silhouette import plant_views
 
 __all__ = [
     "SPECIES",
@@ -86,8 +89,6 @@ def plane_view(phenotype, size: int = 128) -> tuple[np.ndarray, float]:
         view = phenotype.front_view(int(size))
         return np.asarray(view, dtype=np.uint8), float(phenotype.height())
     if phenotype.phenotype == "plant":
-        from growsim.objectives.silhouette import plant_views
-
         return plant_views(phenotype, int(size))[0], float(phenotype.height())
     raise UserInputError(
         f"ochoa: a {type(phenotype).__name__} has no 2D view (an attractor or a plant has)"
@@ -128,9 +129,6 @@ def ochoa_terms(
     (0.5, 0.778, 0.0, 1.0)
     """
     from skimage.morphology import skeletonize
-
-    from growsim.env.light import Light
-    from growsim.kernels.ochoa import junctions, prune_kernel, shadow_bins
 
     img = np.ascontiguousarray(np.asarray(img) != 0, dtype=np.uint8)
     if img.ndim != 2 or img.shape[0] != img.shape[1]:

@@ -47,8 +47,13 @@ import numpy as np
 from pydantic import Field, field_validator, model_validator
 
 from growsim.errors import ConfigError, GrowsimError, UserInputError
+from growsim.kernels.ifs3d import score_population
+from growsim.kernels.raster import draw_segments
+from growsim.kernels.views import blurred_ncc, frame_points, ncc, render_antialiased, render_thin
+from growsim.models import get_model
 from growsim.objectives.base import Objective, ObjectiveOptions
 from growsim.phenotypes.plant import LEAF
+from growsim.pictures.images import frame_silhouettes, picture_silhouettes
 
 # The kernels (framing, rasters, NCC: growsim.kernels.views; the IFS population scorer) are
 # imported where they are used: the config schema imports every objective's options, and a
@@ -201,8 +206,6 @@ def plant_views(
     aa = antialias and line_width == "thin"
     if plant.n_segments == 0:
         return np.zeros((views, size, size), dtype=np.float64 if aa else np.uint8)
-    from growsim.kernels.raster import draw_segments
-    from growsim.kernels.views import frame_points, render_antialiased, render_thin
 
     roots = np.flatnonzero(plant.parent < 0)
     base = plant.start[roots[0] if roots.size else 0]
@@ -452,7 +455,6 @@ class SilhouetteObjective(Objective):
             self.source = {"front": str(Path(o.front))}
             if o.side is not None:
                 self.source["side"] = str(Path(o.side))
-            from growsim.pictures.images import frame_silhouettes, picture_silhouettes
 
             pictures = ("front", "side", "threshold", "polarity", "mask_front", "mask_side")
             pictures += ("segmentation",)
@@ -472,7 +474,6 @@ class SilhouetteObjective(Objective):
                 raise UserInputError(f"silhouette: the {label} target silhouette is all foreground")
 
     def _render_target(self) -> np.ndarray:
-        from growsim.models import get_model
 
         o = self.options
         try:
@@ -506,14 +507,12 @@ class SilhouetteObjective(Objective):
 
     def view_scores(self, plant) -> list[float]:
         """The binary NCC of each scored view (front, then side), in [0, 1]."""
-        from growsim.kernels.views import ncc
 
         v = self.views(plant)
         return [ncc(v[i : i + 1], self.target[i : i + 1]) for i in range(len(v))]
 
     def __call__(self, plant) -> float:
         """Mean NCC over the scored views, in [0, 1] (blurred if ``blur > 0``)."""
-        from growsim.kernels.views import blurred_ncc, ncc
 
         shaped = self.has_shape_terms
         if self.blur > 0.0:
@@ -550,7 +549,6 @@ class SilhouetteObjective(Objective):
 
     def exact(self, plant) -> float:
         """The binary mean NCC (the seed's eq. 3 on silhouettes), whatever ``blur`` is."""
-        from growsim.kernels.views import ncc
 
         v = self.views(plant)
         return ncc(v, self.target[: len(v)], self.area_rejection)
@@ -569,7 +567,6 @@ class SilhouetteObjective(Objective):
         shaped = self.has_shape_terms
         if not fast or self.line_width != "thin" or shaped:
             return None
-        from growsim.kernels.ifs3d import score_population
 
         params = np.atleast_2d(np.asarray(params, dtype=np.float64))
         out = np.full(params.shape[0], np.nan)

@@ -23,7 +23,10 @@ import numpy as np
 
 from growsim.errors import UserInputError
 from growsim.files import atomic_write, json_default
+from growsim.kernels.ifs2d import bounds, points_raster
+from growsim.kernels.views import frame_scale, frame_view
 from growsim.phenotypes.base import Phenotype
+from growsim.render import aim_camera, check_size, scene_image, show_scene
 
 __all__ = ["Attractor", "singular_values"]
 
@@ -71,8 +74,6 @@ class Attractor(Phenotype):
     def _bounds(self) -> tuple[float, float, float, float, float]:
         """``(x_min, x_max, y_min, y_max, x_low)``, computed once (points do not change)."""
         if getattr(self, "_cached_bounds", None) is None:
-            from growsim.kernels.ifs2d import bounds
-
             self._cached_bounds = bounds(self.points)
         return self._cached_bounds
 
@@ -108,7 +109,6 @@ class Attractor(Phenotype):
         scale (pixels per unit) fits the height into ``size - 1`` pixels or the larger
         half-width about the base into ``size / 2 - 0.5``
         (:func:`growsim.kernels.views.frame_scale`)."""
-        from growsim.kernels.views import frame_scale
 
         x0, x1, y0, y1, bx = self._bounds()
         if self.n_points == 0:
@@ -126,8 +126,6 @@ class Attractor(Phenotype):
         >>> int(v[7, 4]), int(v[0, 4]), int(v.sum())
         (1, 1, 2)
         """
-        from growsim.kernels.ifs2d import points_raster
-        from growsim.kernels.views import frame_view
 
         size = int(size)
         bx, by, k = self.framing(size)
@@ -228,8 +226,6 @@ class Attractor(Phenotype):
         >>> img.shape, bool(img.min() < 100)
         ((60, 40, 3), True)
         """
-        from growsim.kernels.ifs2d import points_raster
-        from growsim.render import check_size
 
         w, h = check_size(size)
         img = np.empty((h, w, 3), np.uint8)
@@ -255,8 +251,6 @@ class Attractor(Phenotype):
     def _plotter_scene(self, pl, view) -> None:
         import pyvista as pv
 
-        from growsim.render import aim_camera
-
         pts = np.column_stack([self.points, np.zeros(self.n_points)])
         if self.n_points:
             pl.add_mesh(pv.PolyData(pts), color=tuple(_INK / 255), point_size=2.0)
@@ -281,13 +275,11 @@ class Attractor(Phenotype):
         """
         if view in ("front", "back"):
             return self.density_image(size, mirror=view == "back")
-        from growsim.render import scene_image
 
         return scene_image(lambda pl: self._plotter_scene(pl, view), size)
 
     def show(self, *, view: str = "front", title: str | None = None) -> None:
         """An interactive pyvista window of the points (needs a display), titled ``title``."""
-        from growsim.render import show_scene
 
         show_scene(lambda pl: self._plotter_scene(pl, view), title=title)
 

@@ -37,6 +37,7 @@ import numpy as np
 
 from growsim.errors import UserInputError
 from growsim.registry import Registry
+from growsim.render import save_png
 
 __all__ = ["CAPABILITIES", "PHENOTYPES", "Phenotype", "load_phenotype", "saved_kind"]
 
@@ -106,7 +107,6 @@ class Phenotype(abc.ABC):
     def screenshot(self, path: str | os.PathLike, *, view: str = "iso", size=(800, 800)) -> Path:
         """Render to a PNG file (atomically; a name not ending ``.png`` is refused before
         rendering)."""
-        from growsim.render import save_png
 
         path = Path(path)
         if path.suffix.lower() != ".png":

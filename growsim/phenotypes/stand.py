@@ -19,6 +19,10 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
+import pandas as pd
+
+from growsim.errors import UserInputError
+from growsim.phenotypes.plant import Plant
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -74,8 +78,6 @@ def place(plants: Plant | Sequence[Plant], xz, *, light=None) -> Plant:
     >>> s.start[:, 0].tolist()
     [-0.5, 0.5]
     """
-    from growsim.errors import UserInputError
-    from growsim.phenotypes.plant import Plant
 
     xz = np.asarray(xz, dtype=np.float64).reshape(-1, 2)
     trees = [plants] * len(xz) if isinstance(plants, Plant) else list(plants)
@@ -119,7 +121,6 @@ def plant_table(stand: Plant) -> pd.DataFrame:
     >>> t.height.tolist(), t.light_share.round(3).tolist()
     ([2.0, 1.0], [0.8, 0.2])
     """
-    import pandas as pd
 
     which = _which(stand)
     xz = np.asarray(stand.meta.get("stand", [[0.0, 0.0]]), dtype=np.float64).reshape(-1, 2)

@@ -22,6 +22,14 @@ import numpy as np
 from growsim.errors import UserInputError
 from growsim.files import atomic_path, atomic_write
 from growsim.phenotypes.base import Phenotype
+from growsim.render import (
+    aim_camera,
+    check_size,
+    offscreen_plotter,
+    scene_image,
+    show_scene,
+    view_vectors,
+)
 
 __all__ = ["Trajectory"]
 
@@ -283,7 +291,6 @@ class Trajectory(Phenotype):
         pl.add_mesh(pv.Sphere(radius=2 * r, center=self.positions[0]), color=_START)
 
     def _camera(self, pl, view) -> None:
-        from growsim.render import aim_camera, view_vectors
 
         centre = self.size / 2.0
         aim_camera(pl, centre, float(np.linalg.norm(self.size)) / 2.0, view)
@@ -311,13 +318,11 @@ class Trajectory(Phenotype):
         >>> develop({"frames": 200}).render_image(view="top", size=(64, 48)).shape
         (48, 64, 3)
         """
-        from growsim.render import scene_image
 
         return scene_image(lambda pl: self._scene(pl, view), size)
 
     def show(self, *, view: str = "iso", title: str | None = None) -> None:
         """An interactive pyvista window (needs a display), titled ``title``."""
-        from growsim.render import show_scene
 
         show_scene(lambda pl: self._scene(pl, view), title=title)
 
@@ -342,8 +347,6 @@ class Trajectory(Phenotype):
         """
         import imageio.v2 as imageio
         import pyvista as pv
-
-        from growsim.render import check_size, offscreen_plotter
 
         path = Path(path)
         if path.suffix.lower() != ".gif":

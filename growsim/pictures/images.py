@@ -61,7 +61,7 @@ import numpy as np
 from growsim.errors import UserInputError
 from growsim.files import atomic_write
 from growsim.kernels.views import MARGIN, frame_scale, frame_view
-from growsim.pictures.photo import segment_photo
+from growsim.pictures.photo import load_rgb, segment_photo
 from growsim.pictures.pixels import drawn_pixels
 from growsim.pictures.reading import check_silhouette, load_gray
 
@@ -407,7 +407,6 @@ def classify_picture(image) -> tuple[str, str]:
     >>> classify_picture(rgb)
     ('photo', 'a photo: 100.0 % of pixels in colour')
     """
-    from growsim.pictures.photo import load_rgb
 
     if isinstance(image, (str, os.PathLike)):
         rgb = load_rgb(image)

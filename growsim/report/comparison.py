@@ -14,13 +14,17 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import pandas as pd
 
 from growsim.errors import UserInputError
 from growsim.experiment.results import RunRecord, find_runs
+from growsim.files import atomic_write
+from growsim.report import primary as prim
 from growsim.report.figures import curves_figure, render_cells, renders_figure, save_png
+from growsim.report.garden import garden_stats, grow_in_gardens, variance_shares
 from growsim.report.groups import families as find_families
 from growsim.report.groups import run_label
-from growsim.report.html import report_html
+from growsim.report.html import garden_html, primary_html, replication_html, report_html
 from growsim.report.statistics import STATS_COLUMNS, ci95, family_stats, quantities
 
 __all__ = ["Comparison", "compare", "default_out"]
@@ -109,10 +113,6 @@ def compare(
     >>> list(c.table.columns)[:5]  # doctest: +SKIP
     ['family', 'group', 'dirs', 'runs', 'duplicates']
     """
-    import pandas as pd
-
-    from growsim.files import atomic_write
-    from growsim.report import primary as prim
 
     runs = find_runs(dirs)
     notes: list[str] = []
@@ -196,8 +196,6 @@ def compare(
     primary_df = exploratory_df = replication_df = None
     top = ""
     if spec is not None:  # primary tests first: a bad name fails before anything is written
-        from growsim.report.html import primary_html, replication_html
-
         p_rows = prim.primary_rows(families, fam_stats, spec)
         e_rows = prim.exploratory_rows(stat_rows, p_rows)
         primary_df = pd.DataFrame(p_rows, columns=prim.PRIMARY_COLUMNS)
@@ -248,9 +246,6 @@ def compare(
                 log.warning("renders.png failed: %s", exc)
     extra = ""
     if garden:
-        from growsim.report.garden import garden_stats, grow_in_gardens, variance_shares
-        from growsim.report.html import garden_html
-
         grown = grow_in_gardens(families, notes)
         g_stats, shares = garden_stats(grown), variance_shares(grown)
         files["garden"] = atomic_write(out / "garden.csv", grown.to_csv(index=False))

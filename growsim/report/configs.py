@@ -18,6 +18,7 @@ from typing import Any
 
 from growsim.experiment.load import flatten_config
 from growsim.experiment.results import RunRecord
+from growsim.models import get_model
 
 __all__ = [
     "IGNORED_KEYS",
@@ -152,8 +153,6 @@ def from_preset(configs: Sequence[dict[Path_, Any]], diff: Sequence[Path_]) -> s
     if ("model", "preset") not in diff or not params:
         return set()
     try:
-        from growsim.models import get_model
-
         expected = []
         for c in configs:
             m = get_model(c[("model", "kind")])

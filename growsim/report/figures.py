@@ -17,6 +17,11 @@ from pathlib import Path
 import numpy as np
 
 from growsim.experiment.results import RunRecord
+from growsim.files import atomic_write
+from growsim.phenotypes.plant import Plant
+from growsim.phenotypes.plant.mesh import plant_mesh
+from growsim.phenotypes.plant.views import render_image
+from growsim.render import view_vectors
 from growsim.report.groups import Family
 
 __all__ = [
@@ -231,7 +236,6 @@ def render_frame(mesh, view="front") -> Frame:
     >>> [round(v, 2) for v in f.image], [round(v, 2) for v in f.box]
     ([-1.02, 1.02, -0.02, 2.02], [0.0, 0.0, 0.0, 2.0])
     """
-    from growsim.render import view_vectors
 
     d, up = view_vectors(view)
     b = np.asarray(mesh.bounds, float).reshape(3, 2)
@@ -258,8 +262,6 @@ def save_png(fig, path: Path | None = None) -> bytes:
     """
     import matplotlib.pyplot as plt
 
-    from growsim.files import atomic_write
-
     buf = io.BytesIO()
     fig.savefig(buf, format="png", bbox_inches="tight")  # titles of any length kept
     plt.close(fig)
@@ -281,9 +283,6 @@ def render_cells(families: Sequence[Family]) -> list[list[tuple[str, np.ndarray]
     >>> render_cells([Family("f", "honda", [], [Group("a", [run], [], {})], [])])
     [[]]
     """
-    from growsim.phenotypes.plant import Plant
-    from growsim.phenotypes.plant.mesh import plant_mesh
-    from growsim.phenotypes.plant.views import render_image
 
     cells = []
     for fam in families:

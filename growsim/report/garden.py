@@ -30,7 +30,9 @@ import logging
 from typing import Any
 
 import numpy as np
+import pandas as pd
 
+from growsim.experiment.load import load_plan
 from growsim.report.groups import Family
 from growsim.report.statistics import holm, is_flat, pair_test
 
@@ -72,9 +74,6 @@ def grow_in_gardens(families: list[Family], notes: list[str]):
     >>> grow_in_gardens([], []).empty
     True
     """
-    import pandas as pd
-
-    from growsim.experiment.load import load_plan
 
     rows: list[dict[str, Any]] = []
     for fam in families:
@@ -151,7 +150,6 @@ def garden_stats(table):
     >>> s[["contrast", "within", "group_a", "group_b"]].values.tolist()[:2]
     [['genetic', 'a', 'a', 'b'], ['genetic', 'b', 'a', 'b']]
     """
-    import pandas as pd
 
     rows = []
     for fam, ft in table.groupby("family", sort=False) if len(table) else []:
@@ -199,7 +197,6 @@ def variance_shares(table):
     >>> variance_shares(t)[["origin", "garden", "interaction", "residual"]].round(3).values.tolist()
     [[0.8, 0.2, 0.0, 0.0]]
     """
-    import pandas as pd
 
     rows = []
     for fam, ft in table.groupby("family", sort=False) if len(table) else []:

@@ -17,10 +17,13 @@ from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
+from pydantic import ValidationError
 
 from growsim.errors import ConfigError, UserInputError
+from growsim.experiment.load import read_config
 from growsim.experiment.results import RunRecord
 from growsim.experiment.schema import CompareConfig
+from growsim.options import validation_message
 from growsim.report.groups import Family
 from growsim.report.statistics import STATS_COLUMNS, FamilyStats, holm, pair_test
 
@@ -108,13 +111,10 @@ def read_spec(runs: Sequence[RunRecord], source: Any = None) -> CompareConfig | 
     >>> read_spec([RunRecord(Path("r"), {}, {})]) is None
     True
     """
-    from growsim.options import validation_message
 
     if isinstance(source, CompareConfig):
         return source
     if source is not None:
-        from growsim.experiment.load import read_config
-
         cfg = read_config(source)
         if cfg.compare is None or not cfg.compare.primary:
             raise UserInputError(f"--primary {source}: the config declares no [compare] primary")
@@ -138,8 +138,6 @@ def read_spec(runs: Sequence[RunRecord], source: Any = None) -> CompareConfig | 
     try:
         spec = CompareConfig.model_validate(data)
     except Exception as exc:
-        from pydantic import ValidationError
-
         if not isinstance(exc, ValidationError):
             raise
         raise ConfigError(

@@ -64,8 +64,12 @@ def golden(name: str, out: Path) -> dict:
 
     from growsim.experiment import run
 
-    run(ROOT / "experiments" / f"{name}.toml", out=out, overrides=[*BUDGETS[name], *QUIET],
-        progress=False)
+    run(
+        ROOT / "experiments" / f"{name}.toml",
+        out=out,
+        overrides=[*BUDGETS[name], *QUIET],
+        progress=False,
+    )
     history = pd.read_parquet(out / "history.parquet").drop(columns="seconds")
     best = json.loads((out / "best.json").read_text())
     return {

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from growsim.env import Environment
 from growsim.errors import UserInputError
 from growsim.phenotypes.base import Phenotype
 from growsim.skeleton import LEAF
@@ -113,7 +114,6 @@ def check_color(color, label: str = "color") -> str | None:
 
 
 def environment_or_default(env):
-    from growsim.env import Environment
 
     if env is None:
         return Environment()

@@ -23,7 +23,9 @@ this module does not import the class, whose module imports this one.
 
 from __future__ import annotations
 
+import json
 import os
+import struct
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
@@ -442,8 +444,6 @@ def _glb_bytes(mesh) -> bytes:
     """A glTF 2.0 binary (GLB) of ``mesh``: y up like growsim, one node and material per
     part (``bark``, ``leaf``), positions, per-vertex colours (``COLOR_0``) and uint32
     triangle indices. Written directly (VTK's exporter writes text glTF only)."""
-    import json
-    import struct
 
     pts = np.asarray(mesh.points, dtype=np.float32)
     tris = mesh.regular_faces if mesh.n_cells else np.zeros((0, 3), np.int64)

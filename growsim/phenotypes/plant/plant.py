@@ -30,9 +30,12 @@ from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
+from growsim.env.light import projected_area
 from growsim.errors import UserInputError
 from growsim.files import atomic_write, json_default
 from growsim.phenotypes.base import Phenotype
+from growsim.phenotypes.plant import mesh as gmesh
+from growsim.phenotypes.plant import views as viz
 from growsim.skeleton import LEAF, STEM, checked_array, radius_end
 
 __all__ = ["LEAF", "STEM", "LeafLight", "Plant", "cluster_leaves", "leaf_light"]
@@ -444,7 +447,6 @@ class Plant(Phenotype):
         >>> Plant.from_points([[0, 0, 0], [0, 1, 0]], [-1], [-1, 0]).leaf_area()
         0.0
         """
-        from growsim.env.light import projected_area
 
         sel = self.kind == LEAF
         return projected_area(
@@ -468,7 +470,6 @@ class Plant(Phenotype):
         >>> sorted(p.measures())[:3]
         ['branch_angle', 'crown_depth', 'crown_width']
         """
-        from growsim.env.light import projected_area
 
         out = {
             "n_segments": self.n_segments,
@@ -500,7 +501,6 @@ class Plant(Phenotype):
     def artefacts(self, output) -> dict[str, Any]:
         """Meshes (``best.<format>`` for each of ``output.mesh``, one mesh shared) and
         renders (``best_<view>.png`` for each of ``output.screenshots``)."""
-        from growsim.phenotypes.plant import mesh as gmesh
 
         shared: dict[str, Any] = {}
 
@@ -516,19 +516,16 @@ class Plant(Phenotype):
     def render_image(self, *, view: str = "iso", size=(800, 800)) -> np.ndarray:
         """An ``(H, W, 3)`` render (pyvista, off-screen):
         :func:`growsim.phenotypes.plant.views.render_image`."""
-        from growsim.phenotypes.plant import views as viz
 
         return viz.render_image(self, view=view, size=size)
 
     def screenshot(self, path, *, view: str = "iso", size=(800, 800)) -> Path:
         """A PNG render: :func:`growsim.phenotypes.plant.views.screenshot`."""
-        from growsim.phenotypes.plant import views as viz
 
         return viz.screenshot(self, path, view=view, size=size)
 
     def show(self, *, view: str = "iso", title: str | None = None) -> None:
         """An interactive pyvista window: :func:`growsim.phenotypes.plant.views.show`."""
-        from growsim.phenotypes.plant import views as viz
 
         viz.show(self, view=view, title=title)
 

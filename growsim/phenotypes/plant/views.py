@@ -239,6 +239,7 @@ def render_image(
     >>> img.shape
     (64, 64, 3)
     """
+
     def draw(pl):
         bounds, framing = _scene(pl, plant_or_mesh, color, env, light_arrow, legend)
         if bounds is not None:
@@ -269,9 +270,7 @@ def screenshot(plant_or_mesh, path, **options) -> Path:
     return save_png(render_image(plant_or_mesh, **options), path)
 
 
-def show(
-    plant_or_mesh, *, view="iso", color=None, env=None, light_arrow=None, title=None
-) -> None:
+def show(plant_or_mesh, *, view="iso", color=None, env=None, light_arrow=None, title=None) -> None:
     """Open an interactive pyvista window (needs a display), titled ``title`` (default
     ``growsim``), with the keys' hint (:data:`growsim.render.VIEWER_KEYS`); ``color``,
     ``env`` and ``light_arrow`` as in :func:`render_image` (with the scalar bar).
