@@ -378,3 +378,18 @@ def test_the_cli_only_parses_calls_and_prints():
         "match args.model",
     ]
     assert cli_domain_logic(PACKAGE / "cli" / "grow.py", 'if args.model == "hormone": pass')
+
+
+def test_building_the_command_line_imports_no_heavy_module():
+    """``growsim --help`` builds every subcommand's parser: the cli's modules import the
+    library in their commands' bodies (docs/design.md, "Imports"), so building it loads
+    neither numba nor pandas nor pyvista."""
+    code = (
+        "import sys\n"
+        "from growsim.cli import build_parser\n"
+        "build_parser()\n"
+        "print(sorted(m for m in ('numba', 'pandas', 'pyvista', 'scipy') if m in sys.modules))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "[]", out.stdout

@@ -1,13 +1,15 @@
 """Command-line options shared by several subcommands: config overrides and where
 evaluations run (``run``, ``sweep``), screenshot view and size, and the colouring of a
-plant by its environment (``grow``, ``show``). Not a subcommand itself (no
-``register``)."""
+plant by its environment (``grow``, ``show``), and :class:`Later` (what the library gives
+a parser, read when first needed). Not a subcommand itself (no ``register``)."""
 
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable, Iterator, Sequence
 
 __all__ = [
+    "Later",
     "add_color_options",
     "add_environment_options",
     "add_evaluation_options",
@@ -15,6 +17,44 @@ __all__ = [
     "add_screenshot_options",
     "environment_table",
 ]
+
+
+class Later:
+    """Names the library gives a parser (a choice list, names for a help text), read the
+    first time they are needed: when a value is checked or the help printed, not when
+    the parser is built. ``growsim --help`` builds every subcommand's parser, so a
+    subcommand's module imports no library module at its top (``docs/design.md``,
+    "Imports"). As ``choices=`` it checks values; in a help text ``%(name)s`` of an
+    attribute set on the action (or ``%(choices)s``) lists the names.
+
+    Examples
+    --------
+    >>> modes = Later(lambda: ("auto", "fit"))
+    >>> "fit" in modes, str(modes), list(modes)
+    (True, 'auto, fit', ['auto', 'fit'])
+    """
+
+    def __init__(self, load: Callable[[], Sequence[str]]):
+        self._load = load
+        self._names: tuple[str, ...] | None = None
+
+    def names(self) -> tuple[str, ...]:
+        """The names, loaded once."""
+        if self._names is None:
+            self._names = tuple(self._load())
+        return self._names
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.names())
+
+    def __contains__(self, value) -> bool:
+        return value in self.names()
+
+    def __len__(self) -> int:
+        return len(self.names())
+
+    def __str__(self) -> str:
+        return ", ".join(self.names())
 
 
 def add_overrides(p: argparse.ArgumentParser, what: str = "") -> None:

@@ -13,12 +13,22 @@ from __future__ import annotations
 import argparse
 import math
 
+from growsim.cli.arguments import Later
 from growsim.errors import UserInputError
-from growsim.fitting.choices import raster_sizes
-from growsim.fitting.fit import fit_image
-from growsim.fitting.setups import FIT_SETUPS, LEAF_MODES
 
 __all__ = ["register"]
+
+
+def _setups() -> tuple[str, ...]:
+    from growsim.fitting.setups import FIT_SETUPS
+
+    return tuple(FIT_SETUPS)
+
+
+def _leaf_modes() -> tuple[str, ...]:
+    from growsim.fitting.setups import LEAF_MODES
+
+    return LEAF_MODES
 
 
 def _threshold(text: str):
@@ -36,6 +46,8 @@ def _threshold(text: str):
 
 
 def _sizes(text: str) -> tuple[int, ...]:
+    from growsim.fitting.choices import raster_sizes
+
     try:
         return raster_sizes(text)
     except UserInputError as exc:
@@ -72,13 +84,13 @@ def register(subparsers) -> None:
     p.add_argument("--out", default=None, metavar="DIR", help="results directory (new)")
     p.add_argument("--resume", default=None, metavar="DIR",
                    help="continue the interrupted fit in DIR")  # fmt: skip
-    p.add_argument(
+    model = p.add_argument(
         "--model",
         default="auto",
         metavar="NAME",
-        help="auto (each model that fits the picture's kind, the best kept), "
-        + ", ".join(FIT_SETUPS),
+        help="auto (each model that fits the picture's kind, the best kept), %(setups)s",
     )
+    model.setups = Later(_setups)
     p.add_argument(
         "--budget",
         type=float,
@@ -104,8 +116,8 @@ def register(subparsers) -> None:
                    help="raster sizes, coarse to fine")  # fmt: skip
     x.add_argument("--size", type=int, default=None, metavar="PX",
                    help="one raster size (same as --sizes PX)")  # fmt: skip
-    x.add_argument("--leaves", choices=LEAF_MODES, default=None, metavar="MODE",
-                   help=", ".join(LEAF_MODES) + " (keep: the setup's)")  # fmt: skip
+    x.add_argument("--leaves", choices=Later(_leaf_modes), default=None, metavar="MODE",
+                   help="%(choices)s (keep: the setup's)")  # fmt: skip
     x.add_argument("--no-leaves", dest="leaves", action="store_const", const="keep",
                    help="same as --leaves keep")  # fmt: skip
     for view in ("front", "side"):
@@ -144,6 +156,8 @@ _DEFAULTS = {k: None for k in _OPTIONS} | {
 
 
 def _main(args) -> int:
+    from growsim.fitting.fit import fit_image
+
     progress = not args.quiet
     if args.resume is not None:
         given = [f"--{k.replace('_', '-')}" for k in _OPTIONS
