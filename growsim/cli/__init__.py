@@ -5,7 +5,10 @@ Each subcommand lives in its own module in this package and defines
 parsed ``argparse.Namespace`` and returning an exit code). :func:`main` discovers them.
 
 Errors derived from :class:`growsim.errors.GrowsimError` are printed as
-``growsim: error: ...`` with exit code 2 and no traceback.
+``growsim: error: ...`` with exit code 2 and no traceback. Ctrl-C (SIGINT) stops a command
+with exit code 130, SIGTERM (a batch system's time limit, ``kill``) the same way with 143:
+both wait for what must not be cut (a checkpoint being written) and end the command's
+worker processes.
 """
 
 from __future__ import annotations
@@ -15,6 +18,7 @@ import importlib
 import pkgutil
 import signal
 import sys
+import threading
 
 from growsim import __version__
 from growsim.errors import GrowsimError
@@ -55,8 +59,21 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+#: set when SIGTERM stopped the command
+_terminated: list[int] = []
+
+
+def _on_sigterm(signum, frame) -> None:
+    """SIGTERM: stop as Ctrl-C does (its handler, deferred where a run holds it)."""
+    _terminated.append(signum)
+    if signal.getsignal(signal.SIGINT) in (signal.SIG_IGN, signal.SIG_DFL, None):
+        raise KeyboardInterrupt  # no Python handler of Ctrl-C to defer it: stop here
+    signal.raise_signal(signal.SIGINT)
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the exit code (0 ok, 2 bad input, 130 interrupted).
+    """Run the command line; returns the exit code (0 ok, 2 bad input, 130 interrupted by
+    Ctrl-C, 143 by SIGTERM).
 
     Examples
     --------
@@ -68,6 +85,10 @@ def main(argv: list[str] | None = None) -> int:
     if getattr(args, "func", None) is None:
         parser.print_help()
         return 0
+    main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.getsignal(signal.SIGTERM) if main_thread else None
+    if previous == signal.SIG_DFL:
+        signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         return int(args.func(args) or 0)
     except GrowsimError as exc:
@@ -76,8 +97,14 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         # a second Ctrl-C while the interpreter shuts down must not kill it by the signal
         signal.signal(signal.SIGINT, signal.SIG_IGN)
+        if _terminated:
+            print("growsim: terminated", file=sys.stderr)
+            return 143
         print("growsim: interrupted", file=sys.stderr)
         return 130
+    finally:
+        if previous == signal.SIG_DFL:
+            signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 if __name__ == "__main__":  # pragma: no cover

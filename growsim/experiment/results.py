@@ -48,6 +48,67 @@ from growsim.experiment.schema import Config
 from growsim.files import atomic_path, atomic_write, jsonable
 from growsim.phenotypes import load_phenotype
 
+#: The descriptors of the run locks this process holds. A process forked from this one
+#: (a pool's worker) closes its copies as it starts (``os.register_at_fork``), so the lock
+#: is its run's alone: it ends with the run, whatever its workers do.
+_HELD_LOCKS: set[int] = set()
+
+
+def _drop_inherited_locks() -> None:
+    for fd in _HELD_LOCKS:
+        with contextlib.suppress(OSError):
+            os.close(fd)  # this copy only: the parent's lock stays held
+    _HELD_LOCKS.clear()
+
+
+os.register_at_fork(after_in_child=_drop_inherited_locks)
+
+
+def _alive(pid: int) -> bool:
+    """True when process ``pid`` exists (ours or another user's)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    return True
+
+
+def lock_holders(path: str | Path) -> list[tuple[int, str]]:
+    """``[(pid, command line)]`` of the processes that have the file ``path`` open (read
+    from ``/proc``; ``[]`` where there is none, or nothing can be read).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> with tempfile.NamedTemporaryFile() as f:
+    ...     [pid for pid, _ in lock_holders(f.name)] == [os.getpid()]
+    True
+    """
+    try:
+        target = os.stat(path)
+        pids = [int(p) for p in os.listdir("/proc") if p.isdigit()]
+    except OSError:
+        return []
+    found = []
+    for pid in pids:
+        try:
+            fds = os.listdir(f"/proc/{pid}/fd")
+        except OSError:
+            continue
+        for fd in fds:
+            try:
+                if os.path.samestat(os.stat(f"/proc/{pid}/fd/{fd}"), target):
+                    with open(f"/proc/{pid}/cmdline", "rb") as f:
+                        cmd = f.read().replace(b"\0", b" ").decode(errors="replace").strip()
+                    found.append((pid, cmd))
+                    break
+            except OSError:
+                continue
+    return found
+
+
 __all__ = [
     "RunDir",
     "RunRecord",
@@ -56,6 +117,7 @@ __all__ = [
     "best_plant",
     "find_runs",
     "load_run",
+    "lock_holders",
     "plot_fitness",
     "read_run",
     "write_parquet",
@@ -120,9 +182,13 @@ class RunDir:
 
         The lock is an ``flock`` on ``.lock`` (which holds the pid): the kernel drops it
         when the process dies (even by SIGKILL), so a killed run leaves no stale lock to
-        clean up (a ``.lock`` left by a killed run is taken over). When the block ends the
-        file is removed while the lock is still held, then the lock released; a process
-        that opened the old file meanwhile sees it was removed and takes a new one.
+        clean up (a ``.lock`` left by a killed run is taken over, and a warning names
+        it). The lock is the run's alone: a process forked from it (a pool's worker)
+        closes its copy as it starts. A lock held though the pid it names is gone (held by
+        a process that run left behind) is refused naming the processes that hold it.
+        When the block ends the file is removed while the lock is still held, then the
+        lock released; a process that opened the old file meanwhile sees it was removed
+        and takes a new one.
 
         Examples
         --------
@@ -148,10 +214,7 @@ class RunDir:
             except BlockingIOError:
                 other = os.pread(fd, 64, 0).decode(errors="replace").strip() or "?"
                 os.close(fd)
-                hint = "wait for it to end" if resume else "choose another --out"
-                raise UserInputError(
-                    f"{self.path} is in use by another growsim run (pid {other}); {hint}"
-                ) from None
+                raise UserInputError(self._refusal(other, resume)) from None
             except BaseException:
                 os.close(fd)
                 raise
@@ -162,18 +225,39 @@ class RunDir:
             if same:
                 break
             os.close(fd)  # its holder removed it as we opened it: lock the new one
+        before = os.pread(fd, 64, 0).decode(errors="replace").strip()
+        if before.isdigit() and int(before) != os.getpid():
+            log.warning("%s: the run that held it (pid %s) is gone; taking it over", self.path,
+                        before)  # fmt: skip
         try:
             os.ftruncate(fd, 0)
             os.pwrite(fd, str(os.getpid()).encode(), 0)
             self._lock_fd = fd
+            _HELD_LOCKS.add(fd)
             yield self
         finally:
+            _HELD_LOCKS.discard(fd)
             self._lock_fd = None
             try:
                 with contextlib.suppress(FileNotFoundError):
                     os.unlink(self.lock_path)  # still locked: nobody else holds this file
             finally:
                 os.close(fd)  # closing the descriptor releases the flock
+
+    def _refusal(self, holder: str, resume: bool) -> str:
+        """Why the lock cannot be taken, ``holder`` the pid the lock file names."""
+        if holder.isdigit() and not _alive(int(holder)):
+            others = [(p, c) for p, c in lock_holders(self.lock_path) if p != os.getpid()]
+            named = "; ".join(f"pid {p} ({c[:80]})" for p, c in others) or "a process not shown"
+            pids = " ".join(str(p) for p, _ in others)
+            end = f"end them (kill {pids}), then " if pids else "end it, then "
+            return (
+                f"{self.path}: the run that held it (pid {holder}) is gone, but its lock is "
+                f"still held by {named}, left behind by that run; {end}"
+                f"{'resume' if resume else 'start again'}"
+            )
+        hint = "wait for it to end" if resume else "choose another --out"
+        return f"{self.path} is in use by another growsim run (pid {holder}); {hint}"
 
     def read_config(self) -> dict[str, Any]:
         """The resolved config saved in ``config.toml``, as data.

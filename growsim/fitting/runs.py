@@ -14,7 +14,7 @@ import json
 import os
 import sys
 import time
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -27,6 +27,7 @@ from growsim.files import atomic_write, jsonable
 from growsim.fitting.setups import arrange as search_arrangement
 from growsim.fitting.setups import exact_score, fit_config, sweep_discrete
 from growsim.fitting.setups import refine as refine_fit
+from growsim.ga import WorkerPool
 
 __all__ = ["RUN_STATE", "FitRun", "RunJob", "evolve", "run_job", "run_jobs", "size_stages"]
 
@@ -313,7 +314,7 @@ def run_jobs(jobs: list[RunJob], processes: int | None, label: str | None) -> li
     if n <= 1:
         return [run_job(j) for j in jobs]
 
-    with ProcessPoolExecutor(n) as pool:
+    with WorkerPool(n) as pool:
         # every worker forked at the first job, before the bar starts a thread
         futures = [pool.submit(_run_apart, replace(j, label=None, workers=None)) for j in jobs]
         bar = Bar(label or "", len(jobs), label is not None, unit="run")
@@ -322,8 +323,7 @@ def run_jobs(jobs: list[RunJob], processes: int | None, label: str | None) -> li
                 future.result()
                 bar(1)
         except BaseException:
-            for future in futures:
-                future.cancel()
+            pool.terminate()  # its workers end now, not after the runs they hold
             raise
         finally:
             bar.close()

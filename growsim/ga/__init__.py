@@ -53,6 +53,7 @@ from growsim.ga.polish import PolishOptions
 from growsim.ga.problems import noisy_sphere, onemax, rastrigin, sphere
 from growsim.ga.selection import SELECTION, Selection
 from growsim.ga.state import GAState
+from growsim.ga.workers import WorkerPool, bind_to_parent
 
 __all__ = [
     "CROSSOVER",
@@ -81,6 +82,8 @@ __all__ = [
     "Real",
     "Result",
     "Selection",
+    "WorkerPool",
+    "bind_to_parent",
     "evaluation_seeds",
     "genome_from_params",
     "noisy_sphere",

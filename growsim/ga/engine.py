@@ -551,8 +551,10 @@ class GA:
                 )
                 if checkpoint is not None:
                     self.save_checkpoint(checkpoint, stop_reason=reason, polished=True)
-        finally:
-            evaluator.close()
+        except BaseException:
+            evaluator.close(abort=True)  # a stopped run ends its workers at once
+            raise
+        evaluator.close()
         st = self.state
         return Result(
             best=self.best,

@@ -31,13 +31,14 @@ import inspect
 import logging
 import math
 import os
-from concurrent.futures import Executor, Future, ProcessPoolExecutor
+from concurrent.futures import Executor, Future
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from growsim.errors import GrowsimError, UserInputError
+from growsim.ga.workers import WorkerPool
 
 __all__ = [
     "EvalOutcome",
@@ -221,9 +222,10 @@ class Pool(Executor):
     ([1, 2], 2)
     """
 
-    def __init__(self, executor: Executor, workers: int | None = None):
+    def __init__(self, executor: Executor, workers: int | None = None, *, terminate=None):
         if workers is not None and (isinstance(workers, bool) or int(workers) < 1):
             raise UserInputError(f"workers must be None or an integer >= 1, got {workers!r}")
+        self._terminate = terminate
         self._executor = executor
         self._workers = None if workers is None else int(workers)
 
@@ -239,6 +241,15 @@ class Pool(Executor):
     def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
         """Shut the executor down."""
         self._executor.shutdown(wait=wait, cancel_futures=cancel_futures)
+
+    def terminate(self) -> None:
+        """End the pool now, for a stopped run: the ``terminate`` it was given (a
+        :class:`~growsim.ga.workers.WorkerPool`'s: its workers killed), else a shutdown
+        that cancels what has not started and does not wait."""
+        if self._terminate is not None:
+            self._terminate()
+        else:
+            self.shutdown(wait=False, cancel_futures=True)
 
 
 def open_executor(executor) -> tuple[Pool | None, bool]:
@@ -265,7 +276,8 @@ def open_executor(executor) -> tuple[Pool | None, bool]:
         if executor < 1:
             raise UserInputError(f"executor: need >= 1 worker processes, got {executor}")
 
-        return Pool(ProcessPoolExecutor(int(executor)), int(executor)), True
+        pool = WorkerPool(int(executor))
+        return Pool(pool, int(executor), terminate=pool.terminate), True
     raise UserInputError(
         "executor must be None, a number of processes or a "
         f"concurrent.futures.Executor, got {executor!r}"
@@ -405,9 +417,14 @@ class Evaluator:
             raise EvaluationError(_executor_failure(exc, n, len(futs))) from exc
         return EvalOutcome(values, errors)
 
-    def close(self) -> None:
-        """Shut down a process pool this evaluator created."""
+    def close(self, abort: bool = False) -> None:
+        """Shut down a process pool this evaluator created: after its running tasks, or
+        at once (``abort``: a run stopped by an exception, Ctrl-C or SIGTERM; its workers
+        killed, :meth:`Pool.terminate`)."""
         if self._own and self.executor is not None:
-            self.executor.shutdown(wait=True, cancel_futures=True)
+            if abort:
+                self.executor.terminate()
+            else:
+                self.executor.shutdown(wait=True, cancel_futures=True)
             self.executor = None
             self._own = False
