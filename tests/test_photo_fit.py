@@ -143,7 +143,7 @@ def test_segmentation_generalises_to_new_pictures(picture):
 @pytest.mark.parametrize(
     "case, message",
     [
-        ("clutter", "not a plain sky"),
+        ("clutter", "no sky along the top"),
         ("cut", "touches the picture's top edge"),
         ("floating", "no tree stands on the ground"),
         ("two", "other objects beside the tree"),
@@ -260,9 +260,12 @@ def test_fit_image_one_photo_coarse_to_fine(photo, tmp_path, capsys):
     stages = [(s["size"], s["stage"]) for s in fit["stages"] if s["stage"] != "discrete"]
     assert stages == [(32, "ga"), (32, "arrange"), (64, "refine"), (64, "arrange")]
     assert fit["size"] == 64
-    # a leafy tree's count of leaves (0-8) is swept at every size, before the arrangement
+    # a leafy tree's count of leaves a twig (the setup's range) is swept at every size, before
+    # the arrangement
     swept = [(s["size"], s["evaluations"]) for s in fit["stages"] if s["stage"] == "discrete"]
-    assert swept == ([(32, 9), (64, 9)] if fit["leaves"]["chosen"] == "leafy" else [])
+    lo, hi = FIT_SETUPS["honda"].leaves["leaves"]
+    n = hi - lo + 1  # every count of leaves a twig of the setup's range
+    assert swept == ([(32, n), (64, n)] if fit["leaves"]["chosen"] == "leafy" else [])
     # a photo's searches score the shape score (blurred at the first size) and report the
     # binary NCC beside it; no search ends worse than it starts
     for st in fit["stages"][1:]:

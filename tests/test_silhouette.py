@@ -36,7 +36,7 @@ def test_registered_and_scores_table1(table1_obj):
                if ln.startswith("| Kuwahara: Table 2's estimates"))  # fmt: skip
     m = re.search(r"GA (0\.\d{3}), gradient (0\.\d{3})", row)
     assert m, row
-    for name, doc in zip(("seed_ga", "seed_gradient"), m.groups()):
+    for name, doc in zip(("paper_ga", "paper_gradient"), m.groups()):
         s = table1_obj(ifs3d.develop(ifs3d.PRESETS[name]))
         assert s == pytest.approx(float(doc), abs=5e-4), (name, s, doc)
 
@@ -73,7 +73,7 @@ def test_one_view_batch_equals_call(blur):
     rng = np.random.default_rng(4)
     rows = np.array([[rng.uniform(p.low, p.high) for p in ifs3d.PARAMS] for _ in range(6)])
     rows[:, NAMES.index("leaves")] = 0  # bare: every row through the kernel
-    rows = np.vstack([rows, _row(ifs3d.PRESETS["table1"]), _row(ifs3d.PRESETS["seed_ga"])])
+    rows = np.vstack([rows, _row(ifs3d.PRESETS["table1"]), _row(ifs3d.PRESETS["paper_ga"])])
     rows[:, 0], rows[:, 1] = 5, 5
     got = obj.batch(ifs3d.MODEL, rows, NAMES)
     want = [obj(ifs3d.develop(dict(zip(NAMES, r)))) for r in rows]
@@ -86,7 +86,7 @@ def test_blur_option_batch_equals_call_and_exact_is_binary(table1_obj):
     rng = np.random.default_rng(3)
     rows = np.array([[rng.uniform(p.low, p.high) for p in ifs3d.PARAMS] for _ in range(4)])
     rows[:, NAMES.index("leaves")] = np.round(rows[:, NAMES.index("leaves")])
-    rows = np.vstack([rows, _row(ifs3d.PRESETS["table1"]), _row(ifs3d.PRESETS["seed_ga"])])
+    rows = np.vstack([rows, _row(ifs3d.PRESETS["table1"]), _row(ifs3d.PRESETS["paper_ga"])])
     rows[:, 0], rows[:, 1] = 5, 5
     got = obj.batch(ifs3d.MODEL, rows, NAMES)
     plants = [ifs3d.develop(dict(zip(NAMES, r))) for r in rows]
@@ -216,7 +216,7 @@ def test_picture_target_round_trip(tmp_path):
     obj = SilhouetteObjective(front=str(paths[0]), side=str(paths[1]))
     assert ncc(obj.target, views) > 0.9
     assert obj(tree) > 0.9
-    assert obj(tree) > obj(ifs3d.develop(ifs3d.PRESETS["seed_ga"])) + 0.2
+    assert obj(tree) > obj(ifs3d.develop(ifs3d.PRESETS["paper_ga"])) + 0.2
 
 
 def test_bad_pictures(tmp_path):

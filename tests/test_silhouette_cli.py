@@ -159,7 +159,7 @@ def test_fit_image_bad_picture_fails_before_evolution(pictures, tmp_path, capsys
     Image.fromarray(noise).save(tmp_path / "noise.png")
     for bad, what in (
         ("dot.png", "the silhouette is too small"),
-        ("noise.png", "is not a plain sky"),
+        ("noise.png", "no sky along the top"),
     ):
         code = main(["fit-image", pictures[0], str(tmp_path / bad), "--out", str(out)])
         err = capsys.readouterr().err

@@ -45,6 +45,29 @@ def _threshold(text: str):
     return value
 
 
+def _numbers(n: int, form: str):
+    """An argparse type: ``n`` numbers separated by commas (``form`` shows them), pixels
+    of the picture as given; argparse names the flag in its error."""
+
+    def parse(text: str) -> tuple[float, ...]:
+        try:
+            values = tuple(float(v) for v in text.replace(" ", "").split(","))
+        except ValueError:
+            values = ()
+        if len(values) != n or not all(math.isfinite(v) for v in values):
+            raise argparse.ArgumentTypeError(
+                f"expected {form} (pixels of the picture, separated by commas), got {text!r}"
+            )
+        if n == 4 and not (values[0] < values[2] and values[1] < values[3]):
+            raise argparse.ArgumentTypeError(
+                f"expected {form} with x0 < x1 and y0 < y1 (left, top, right, bottom), got {text!r}"
+            )
+        return values
+
+    parse.__name__ = form  # argparse's message for a failed type names it
+    return parse
+
+
 def _sizes(text: str) -> tuple[int, ...]:
     from growsim.fitting.choices import raster_sizes
 
@@ -118,11 +141,19 @@ def register(subparsers) -> None:
                    help="one raster size (same as --sizes PX)")  # fmt: skip
     x.add_argument("--leaves", choices=Later(_leaf_modes), default=None, metavar="MODE",
                    help="%(choices)s (keep: the setup's)")  # fmt: skip
-    x.add_argument("--no-leaves", dest="leaves", action="store_const", const="keep",
-                   help="same as --leaves keep")  # fmt: skip
     for view in ("front", "side"):
         x.add_argument(f"--mask-{view}", default=None, metavar="PIC",
                        help="only its white part may be tree")  # fmt: skip
+    for flag, dest in (("--box", "box"), ("--box-side", "box_side")):
+        p.add_argument(flag, dest=dest, type=_numbers(4, "x0,y0,x1,y1"), default=None,
+                       metavar="X0,Y0,X1,Y1",
+                       help="a photo: the tree is in this box (pixels; where several trees "
+                       "stand, or a tree in front of a wood)" if dest == "box"
+                       else "the same for the side picture")  # fmt: skip
+    for flag, dest in (("--point", "point"), ("--point-side", "point_side")):
+        p.add_argument(flag, dest=dest, type=_numbers(2, "x,y"), default=None, metavar="X,Y",
+                       help="a photo: a pixel on the tree (instead of --box)" if dest == "point"
+                       else "the same for the side picture")  # fmt: skip
     x.add_argument("--evaluations", type=int, default=None, metavar="N",
                    help="evaluations of the first stage")  # fmt: skip
     x.add_argument("--refine", type=int, default=None, metavar="N",
@@ -140,8 +171,9 @@ def register(subparsers) -> None:
 
 #: the options passed on to :func:`growsim.fitting.fit.fit_image` as they are
 _OPTIONS = ("model", "budget", "sizes", "size", "segmentation", "threshold", "polarity",
-            "line_width", "leaves", "mask_front", "mask_side", "evaluations", "refine",
-            "arrange", "blur", "seed", "restarts", "carry", "workers")  # fmt: skip
+            "line_width", "leaves", "mask_front", "mask_side", "box", "point", "box_side",
+            "point_side", "evaluations", "refine", "arrange", "blur", "seed", "restarts",
+            "carry", "workers")  # fmt: skip
 
 
 #: the parser's defaults of :data:`_OPTIONS` (an option given beside --resume is refused)
@@ -189,6 +221,18 @@ def _main(args) -> int:
     for st in result.stages:
         print(f"  {st['size']:4d} px {st['stage']:6s} {st['evaluations']:6d} evaluations "
               f"{st['seconds']:7.1f} s  NCC {st['ncc']:.4f}")  # fmt: skip
+    for view, found in summary.get("segmentation", {}).items():
+        hint = found["hint"]
+        hint = (
+            ""
+            if not hint
+            else ", "
+            + ", ".join(f"--{k} {','.join(f'{v:g}' for v in vs)}" for k, vs in hint.items())
+        )
+        ground = "no ground" if found["horizon"] is None else f"horizon at row {found['horizon']}"
+        print(f"  {view} picture: the tree found by {found['method']}{hint}, {ground}, "
+              f"contrast {found['contrast']:.0f} Delta E, confidence {found['confidence']:.2f} "
+              f"(segmentation_{view}.png)")  # fmt: skip
     for name, choice in summary["choices"].items():
         value = choice["value"]
         value = ",".join(map(str, value)) if isinstance(value, list) else value

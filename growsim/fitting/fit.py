@@ -38,8 +38,12 @@ every candidate's score and which was kept; ``area_ratio``), the fitted tree
 ``attractor.png``), ``silhouette_<view>.png`` (the silhouette used, at the picture's
 size), ``fit_<view>.png`` (the fitted tree framed as it: same size and placement,
 :func:`~growsim.pictures.images.unframe`, to score it any way),
-``segmentation_<view>.png`` (the silhouette over the picture) and ``silhouettes.png``
-(target and fit, framed, at the final size).
+``segmentation_<view>.png`` (a photo's: the tree's outline over it beside the sky,
+ground, clutter and standing objects found,
+:func:`~growsim.pictures.photo.segmentation_picture`; a drawing's: the silhouette over
+it) and ``silhouettes.png``
+(target and fit, framed, at the final size). ``fit.json``'s ``segmentation``: how each
+photo's tree was found (:meth:`~growsim.pictures.photo.Segmentation.record`).
 """
 
 from __future__ import annotations
@@ -67,8 +71,8 @@ from growsim.fitting.runs import FitRun, RunJob, run_job, run_jobs
 from growsim.fitting.setups import FIT_SETUPS, search_score
 from growsim.objectives.silhouette import phenotype_views
 from growsim.phenotypes.plant.mesh import export
-from growsim.pictures.images import silhouette_image, unframe
-from growsim.pictures.photo import load_rgb
+from growsim.pictures.images import photo_segmentations, silhouette_image, unframe
+from growsim.pictures.photo import load_rgb, segmentation_picture
 from growsim.render import save_png
 
 __all__ = ["FitResult", "fit_image"]
@@ -132,19 +136,38 @@ AUTO_ENOUGH = 0.95
 FIT_STATE = "fit-state.json"
 
 
-def _write_masks(objective, out: Path, pictures: dict) -> list[Path]:
+def _write_masks(objective, out: Path, pictures: dict, found: dict) -> list[Path]:
     """The silhouettes used, at the pictures' size: ``silhouette_<view>.png`` (black tree
-    on white) and ``segmentation_<view>.png`` (the picture, the tree tinted red)."""
+    on white) and ``segmentation_<view>.png``: for a photo, what its segmentation found
+    (:func:`~growsim.pictures.photo.segmentation_picture`: the tree's outline over the
+    photo beside the sky, ground and clutter it told apart; ``found``: each view's
+    :class:`~growsim.pictures.photo.Segmentation`), else the picture with the tree tinted
+    red."""
 
     written = []
     for view, mask in objective.pictures.items():
         path = save_png(np.where(mask, 0, 255).astype(np.uint8), out / f"silhouette_{view}.png")
         rgb = load_rgb(pictures[view])
-        over = 0.35 * rgb + 0.65  # washed out, the tree in red over it
-        over[mask] = 0.4 * rgb[mask] + 0.6 * np.array([1.0, 0.0, 0.0])
-        over = np.round(255 * over).astype(np.uint8)
+        if view in found:
+            over = segmentation_picture(found[view], rgb)
+        else:
+            over = 0.35 * rgb + 0.65  # washed out, the tree in red over it
+            over[mask] = 0.4 * rgb[mask] + 0.6 * np.array([1.0, 0.0, 0.0])
+            over = np.round(255 * over).astype(np.uint8)
         written += [path, save_png(over, out / f"segmentation_{view}.png")]
     return written
+
+
+def _found(pictures: dict, front, side, n_views: int) -> dict:
+    """Each photo's :class:`~growsim.pictures.photo.Segmentation` (``{}`` for a drawing's
+    threshold), as the objective read it (remembered: no second segmentation)."""
+    if pictures["segmentation"] != "photo":
+        return {}
+    keys = ("mask_front", "mask_side", "box_front", "point_front", "box_side", "point_side")
+    hints = {k: pictures[k] for k in keys}
+    segs = photo_segmentations(front, side if n_views > 1 else None, segmentation="photo",
+                               **hints)  # fmt: skip
+    return dict(zip(("front", "side"), segs))
 
 
 def _write_fits(objective, fitted, phenotype, out: Path) -> tuple[list[Path], dict[str, float]]:
@@ -180,7 +203,8 @@ def _write_shape(phenotype, path: Path) -> None:
 #: the options of :func:`fit_image` a fit is started with, kept in its :data:`FIT_STATE`
 _SAVED = ("front", "side", "model", "budget", "sizes", "size", "segmentation", "threshold",
           "polarity", "line_width", "leaves", "mask_front", "mask_side", "evaluations",
-          "refine", "arrange", "blur", "seed", "restarts", "carry")  # fmt: skip
+          "refine", "arrange", "blur", "seed", "restarts", "carry", "box", "point",
+          "box_side", "point_side")  # fmt: skip
 
 
 def _state(out_dir: Path) -> dict:
@@ -255,6 +279,10 @@ def fit_image(
     leaves: str | None = None,
     mask_front: str | os.PathLike | None = None,
     mask_side: str | os.PathLike | None = None,
+    box=None,
+    point=None,
+    box_side=None,
+    point_side=None,
     evaluations: int | None = None,
     refine: int | None = None,
     arrange: int | None = None,
@@ -282,7 +310,10 @@ def fit_image(
     refinement); ``line_width`` (``"radius"`` or ``"thin"``); ``leaves``
     (:data:`~growsim.fitting.setups.LEAF_MODES`); ``None`` for these three: chosen by the
     picture (:func:`~growsim.fitting.choices.model_choices`); ``mask_front``, ``mask_side``:
-    mask pictures (only their white part may be tree); ``evaluations``: of the first stage
+    mask pictures (only their white part may be tree); ``box``, ``point`` (``box_side``,
+    ``point_side``): a photo's hint where its tree is, a box ``(x0, y0, x1, y1)`` around it
+    or a point ``(x, y)`` on it, in pixels of the picture as given (for a photo where
+    one tree cannot be told apart: the refusal names the hint); ``evaluations``: of the first stage
     (>= 100; the setup's polish share kept); ``refine``, ``arrange``: evaluations of the
     refinement at each finer size and of each arrangement search (0: none); ``blur``: sigma
     of the searches at the first size (pixels, scaled with the size; 0 at the last size);
@@ -316,7 +347,7 @@ def fit_image(
         saved = _state(out_dir)["options"]
         (front, side, model, budget, sizes, size, segmentation, threshold, polarity, line_width,
          leaves, mask_front, mask_side, evaluations, refine, arrange, blur, seed, restarts,
-         carry) = (saved[k] for k in _SAVED)  # fmt: skip
+         carry, box, point, box_side, point_side) = (saved.get(k) for k in _SAVED)  # fmt: skip
     elif front is None:
         raise UserInputError("no picture given (or --resume DIR to continue a fit)")
     here = locals()
@@ -324,6 +355,17 @@ def fit_image(
     for k in ("front", "side", "mask_front", "mask_side"):
         if options[k] is not None:
             options[k] = str(Path(options[k]).absolute())
+    for k, n in (("box", 4), ("point", 2), ("box_side", 4), ("point_side", 2)):
+        if options[k] is not None:
+            flag = "--" + k.replace("_", "-")
+            try:
+                options[k] = [float(v) for v in options[k]]
+            except (TypeError, ValueError):
+                options[k] = []
+            if len(options[k]) != n or not all(np.isfinite(options[k])):
+                raise UserInputError(f"{flag}: expected {n} numbers, got {here[k]!r}")
+    box, point, box_side, point_side = (options[k] for k in ("box", "point", "box_side",
+                                                             "point_side"))  # fmt: skip
     if segmentation not in SEGMENTATIONS:
         raise UserInputError(
             f"--segmentation: expected one of {', '.join(SEGMENTATIONS)}, got {segmentation!r}"
@@ -350,7 +392,8 @@ def fit_image(
     if not resume:  # the options are sound: one directory, one fit
         _check_fresh(out_dir)
     pictures = dict(threshold=threshold, polarity=polarity, mask_front=mask_front,
-                    mask_side=mask_side, segmentation=segmentation)  # fmt: skip
+                    mask_side=mask_side, segmentation=segmentation, box_front=box,
+                    point_front=point, box_side=box_side, point_side=point_side)  # fmt: skip
     runs = [(m, mode, seed + r) for m in names for mode in settings[m]["modes"]
             for r in range(settings[m]["restarts"])]  # fmt: skip
     processes = 1 if len(runs) == 1 else workers  # a single run's GA takes the workers
@@ -448,7 +491,8 @@ def fit_image(
     panels = [a for i in range(objective.n_views) for a in (objective.target[i], fitted[i])]
     silhouette_image(panels, out / "silhouettes.png", titles=titles[: len(panels)], scale=2)
     paths = {"front": front, "side": side}
-    written = _write_masks(objective, out, paths)
+    found = _found(pictures, front, side, objective.n_views)
+    written = _write_masks(objective, out, paths, found)
     fit_files, areas = _write_fits(objective, fitted, tree.phenotype, out)
     written += fit_files
     choices = {"segmentation": seg_choice, "model": model_choice, **st["choices"]}
@@ -471,6 +515,8 @@ def fit_image(
         # what was chosen for the user (segmentation, model, line width, sizes, leaves)
         # and why
         "choices": choices,
+        # how each photo's tree was found (method, hint, horizon, skyline, contrast, ...)
+        "segmentation": {view: seg.record() for view, seg in found.items()},
         "params": params,
         # the arrangement of the branches fitted to the picture (None: the model's own):
         # model.develop(params, draws=np.array(draws)) grows the fitted tree

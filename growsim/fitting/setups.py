@@ -287,6 +287,10 @@ def fit_config(
     polarity: str = "auto",
     mask_front=None,
     mask_side=None,
+    box_front=None,
+    point_front=None,
+    box_side=None,
+    point_side=None,
     line_width: str | None = None,
     evaluations: int | None = None,
     seed: int = 0,
@@ -306,11 +310,12 @@ def fit_config(
     budget and keeps the polish's share of it (ifs3d: 70 %, honda: 20 %), with enough
     generations for the GA's share. ``line_width``: ``"thin"`` or ``"radius"``; ``None``,
     the setup's. ``segmentation``: ``"photo"`` or ``"threshold"`` (with ``threshold`` and
-    ``polarity``). ``blur``: the search's score is the NCC of views blurred by this sigma
-    (pixels; the silhouette objective's ``blur``: partial credit for a branch near its
-    place), 0 the binary NCC. ``score``: more options of the silhouette objective (its
-    shape terms, ``scales`` and ``area_band``). Picture paths are made absolute, so the
-    config runs from any directory.
+    ``polarity``); ``box_front``, ``point_front``, ``box_side``, ``point_side``: a photo's
+    hints where the tree is (the silhouette objective's). ``blur``: the search's score is
+    the NCC of views blurred by this sigma (pixels; the silhouette objective's ``blur``:
+    partial credit for a branch near its place), 0 the binary NCC. ``score``: more
+    options of the silhouette objective (its shape terms, ``scales`` and ``area_band``).
+    Picture paths are made absolute, so the config runs from any directory.
 
     Examples
     --------
@@ -357,6 +362,17 @@ def fit_config(
         if side is None:
             raise UserInputError("--mask-side: there is no side picture")
         objective["mask_side"] = str(Path(mask_side).absolute())
+    # a photo's hints, where the tree is (--box, --point; the side picture's)
+    for key, value in (("box_front", box_front), ("point_front", point_front),
+                       ("box_side", box_side), ("point_side", point_side)):  # fmt: skip
+        if value is None:
+            continue
+        flag = "--" + key.replace("_front", "").replace("_", "-")
+        if segmentation != "photo":
+            raise UserInputError(f"{flag}: it applies to the photo segmentation, not the threshold")
+        if key.endswith("side") and side is None:
+            raise UserInputError(f"{flag}: there is no side picture")
+        objective[key] = [float(v) for v in value]
     tables = setup.tables()
     model_cfg, ga, output = tables["model"], tables["ga"], tables["output"]
     leaves = {True: "fit", False: "keep"}.get(leaves, leaves)

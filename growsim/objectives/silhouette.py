@@ -7,7 +7,7 @@ plant's projection ``F`` and the target silhouette ``G``; on binary images it is
     NCC = |F and G| / sqrt(|F| |G|)
 
 (1 when they coincide, 0 when disjoint). growsim reports the mean over the two views, in
-``[0, 1]`` (the seed summed them). The seed's area-ratio rejection (a plant whose total
+``[0, 1]`` (the paper summed them). The paper's area-ratio rejection (a plant whose total
 projected area is not within 0.5x-2x of the target's scores 0) is the option
 ``area_rejection``.
 
@@ -18,13 +18,13 @@ tighter), the trunk base at the horizontal centre, the lowest point on the botto
 photo of any size and margin can be a target, and the score ignores the plant's absolute
 size.
 
-Plants are drawn as thin (1-pixel supercover) lines by default, the seed's rendering; with
+Plants are drawn as thin (1-pixel supercover) lines by default, the paper's rendering; with
 ``line_width = "radius"`` each segment is as wide as its tube.
 
 ``blur = sigma`` (pixels, default 0) scores a smoother landscape for the search: the plant
 is drawn anti-aliased (each line sample's ink spread bilinearly, so the image moves
 continuously with the parameters), both it and the target are blurred by a Gaussian of
-``sigma`` pixels, and the score is the NCC of these grey-level images (the seed's eq. 3 in
+``sigma`` pixels, and the score is the NCC of these grey-level images (the paper's eq. 3 in
 its general form, ``<F, G> / (|F| |G|)``): a branch one pixel off still earns partial
 credit. :meth:`SilhouetteObjective.exact` always gives the binary NCC, the figure to report.
 
@@ -297,6 +297,25 @@ class SilhouetteOptions(ObjectiveOptions):
     )
     mask_front: str | None = Field(None, description="mask picture of the front view")
     mask_side: str | None = Field(None, description="mask picture of the side view")
+    box_front: list[float] | None = Field(
+        None,
+        min_length=4,
+        max_length=4,
+        description="[x0, y0, x1, y1]: the tree of a photo's front picture lies in this box "
+        "(pixels of the picture as given)",
+    )
+    point_front: list[float] | None = Field(
+        None,
+        min_length=2,
+        max_length=2,
+        description="[x, y]: a pixel of the photo's front picture on the tree",
+    )
+    box_side: list[float] | None = Field(
+        None, min_length=4, max_length=4, description="box_front of the side picture"
+    )
+    point_side: list[float] | None = Field(
+        None, min_length=2, max_length=2, description="point_front of the side picture"
+    )
     threshold: Literal["otsu"] | float = Field(
         "otsu", description="'otsu' or a grey level in (0, 1) that splits tree from background"
     )
@@ -345,6 +364,13 @@ class SilhouetteOptions(ObjectiveOptions):
             raise ValueError(f"expected [lo, hi] with 0 < lo <= 1 <= hi, got {list(v)}")
         return v
 
+    @field_validator("box_front", "box_side")
+    @classmethod
+    def _check_box(cls, v):
+        if v is not None and not (v[0] < v[2] and v[1] < v[3]):
+            raise ValueError(f"expected [x0, y0, x1, y1] with x0 < x1 and y0 < y1, got {list(v)}")
+        return v
+
     @field_validator("threshold")
     @classmethod
     def _check_threshold(cls, v):
@@ -367,6 +393,10 @@ class SilhouetteOptions(ObjectiveOptions):
             )
         if rendered and (self.mask_front is not None or self.mask_side is not None):
             raise ValueError("mask_front/mask_side: masks apply to pictures only")
+        hints = ("box_front", "point_front", "box_side", "point_side")
+        given = [h for h in hints if getattr(self, h) is not None]
+        if given and (rendered or self.segmentation != "photo"):
+            raise ValueError(f"{'/'.join(given)}: they apply to segmentation = 'photo' only")
         if not rendered and (
             self.target_preset is not None or self.target_params is not None or self.target_seed
         ):
@@ -379,8 +409,12 @@ class SilhouetteOptions(ObjectiveOptions):
                         f"{label}: the {label} view is missing (both front and side pictures "
                         "are needed; views = 'front' fits the front picture alone)"
                     )
-            if self.views == "front" and (self.side is not None or self.mask_side is not None):
-                raise ValueError("side/mask_side: views = 'front' fits the front picture alone")
+            side_only = (self.side, self.mask_side, self.box_side, self.point_side)
+            if self.views == "front" and any(v is not None for v in side_only):
+                raise ValueError(
+                    "side/mask_side/box_side/point_side: views = 'front' fits the front "
+                    "picture alone"
+                )
             if self.segmentation == "photo" and (
                 self.threshold != "otsu" or self.polarity != "auto"
             ):
@@ -395,17 +429,20 @@ class SilhouetteObjective(Objective):
 
     The target is either two pictures (``front`` and ``side`` paths, optional masks) or
     rendered from a model (``target_model`` with ``target_preset`` and/or
-    ``target_params``; the seed's test case is ``target_model = "ifs3d"``,
+    ``target_params``; the paper's test case is ``target_model = "ifs3d"``,
     ``target_preset = "table1"``). Options (:class:`SilhouetteOptions`, all keyword, as in
     a config table):
 
     ``front``, ``side`` : paths of the two pictures (both, or neither);
     ``mask_front``, ``mask_side`` : optional mask pictures (white = look here);
+    ``box_front``, ``point_front``, ``box_side``, ``point_side`` : a photo's hints, where
+    the tree is (a box ``[x0, y0, x1, y1]`` around it, a point ``[x, y]`` on it; pixels of
+    the picture as given), for a picture where one tree cannot be told apart;
     ``threshold`` : ``"otsu"`` (default) or a grey level in (0, 1);
     ``polarity`` : ``"auto"`` (default), ``"dark"`` (dark tree on light) or ``"light"``;
     ``target_model``, ``target_preset``, ``target_params``, ``target_seed`` : a rendered target;
-    ``size`` : raster size in pixels, 8..1024 (default 64, the seed's);
-    ``area_rejection`` : the seed's 0.5x-2x area rule (default false);
+    ``size`` : raster size in pixels, 8..1024 (default 64, the paper's);
+    ``area_rejection`` : the paper's 0.5x-2x area rule (default false);
     ``line_width`` : ``"thin"`` (default) or ``"radius"``;
     ``views`` : ``"both"`` (default: front and side) or ``"front"`` (one picture, or the
     rendered target's front: the side is left free, see :func:`plant_views`);
@@ -424,7 +461,7 @@ class SilhouetteObjective(Objective):
     >>> obj = SilhouetteObjective(target_model="ifs3d", target_preset="table1")
     >>> obj(ifs3d.develop(ifs3d.PRESETS["table1"]))
     1.0
-    >>> round(obj(ifs3d.develop(ifs3d.PRESETS["seed_gradient"])), 2) < 1.0
+    >>> round(obj(ifs3d.develop(ifs3d.PRESETS["paper_gradient"])), 2) < 1.0
     True
     """
 
@@ -457,7 +494,7 @@ class SilhouetteObjective(Objective):
                 self.source["side"] = str(Path(o.side))
 
             pictures = ("front", "side", "threshold", "polarity", "mask_front", "mask_side")
-            pictures += ("segmentation",)
+            pictures += ("segmentation", "box_front", "point_front", "box_side", "point_side")
             masks = picture_silhouettes(**o.model_dump(include=set(pictures)))
             self.pictures = dict(zip(("front", "side"), masks))
             # framed as the plant will be drawn
@@ -548,7 +585,7 @@ class SilhouetteObjective(Objective):
         return [float(v[i].sum()) / float(self.target[i].sum()) for i in range(len(v))]
 
     def exact(self, plant) -> float:
-        """The binary mean NCC (the seed's eq. 3 on silhouettes), whatever ``blur`` is."""
+        """The binary mean NCC (the paper's eq. 3 on silhouettes), whatever ``blur`` is."""
 
         v = self.views(plant)
         return ncc(v, self.target[: len(v)], self.area_rejection)

@@ -3,7 +3,9 @@
 A user's front and side pictures (PNG, JPEG, ... any size) become binary silhouettes:
 
 1. :func:`~growsim.pictures.reading.load_gray`: the picture as grey levels in ``[0, 1]``
-   (transparent pixels count as white background);
+   as a viewer shows it (any format Pillow reads, transparent pixels over white, turned
+   by its EXIF orientation), at the working size
+   (:data:`~growsim.pictures.reading.WORK_SIZE`, its lines kept);
 2. :func:`silhouette`: a threshold (Otsu's by default, or a number), the polarity (dark tree
    on a light background, light on dark, or ``"auto"``: the class that covers less of the
    picture's border is the tree), an optional mask picture (only its white part is looked
@@ -61,15 +63,17 @@ import numpy as np
 from growsim.errors import UserInputError
 from growsim.files import atomic_write
 from growsim.kernels.views import MARGIN, frame_scale, frame_view
-from growsim.pictures.photo import load_rgb, segment_photo
+from growsim.pictures.photo import segment_photo
 from growsim.pictures.pixels import drawn_pixels
-from growsim.pictures.reading import check_silhouette, load_gray
+from growsim.pictures.reading import check_silhouette, load_gray, load_rgb
 
 __all__ = [
+    "HINT_FLAGS",
     "classify_picture",
     "frame_silhouettes",
     "frame_thin_lines",
     "otsu_threshold",
+    "photo_segmentations",
     "picture_silhouettes",
     "read_silhouettes",
     "silhouette",
@@ -387,15 +391,43 @@ MAX_COLOURED = 0.01
 MIN_TWO_LEVELS = 0.9
 MODE_REACH = 0.12
 
+# A grey photo can be bimodal too (a pale sky over a dark ground, the tree between). What
+# tells it from a drawing, measured on 57 drawings (growsim's, of the Table 1 tree, its
+# renders and the attractors; scanned, blurred, noisy, JPEG at quality 50-90, enlarged to
+# 3000 px) against 26 photos made grey (the benchmark's renders, 4 of them cropped above
+# the ground, and 12 of scikit-image's):
+#: a photo's bottom edge is ground under a sky: the median level of the bottom edge
+#: differs from the top edge's by more than this share of the contrast between the two
+#: main levels (the renders 0.77-1.0; drawings, whose paper runs all round, 0.006 at most)
+GROUND_STEP = 0.5
+#: a drawing has at most this share of its pixels in grey levels of their own: smooth (in
+#: their 3 x 3, less than a quarter of the contrast), away from both main levels (by
+#: :data:`GREY_REACH`, or 4 x the noise) and from the edges between them (7 x 7 px): a
+#: sky's gradient, a lit branch (drawings at most 1.0 %; the photos without ground
+#: 0.15-58 %)
+MAX_OWN_GREYS = 0.02
+GREY_REACH = 0.05
+#: a drawing has at most this share of its pixels in texture: varying by a quarter of the
+#: contrast in their 3 x 3 with no paper within 5 x 5 px (leaves, bark, grass; drawings
+#: at most 0.9 %, their edges always border the paper; the photos 0.03-21 %). Two leafy
+#: renders cropped above the ground (flat leaves on a smooth sky, 1.2 % and 0.15 % of
+#: grey levels of their own, 0.5 % and 1.2 % texture) are still taken for drawings.
+MAX_TEXTURE = 0.02
+
 
 def classify_picture(image) -> tuple[str, str]:
     """``("drawing", why)`` for a drawing or silhouette, ``("photo", why)`` otherwise:
     what ``fit-image --segmentation auto`` reads a picture (path or array, grey ``(H, W)``
-    or RGB ``(H, W, 3)`` in ``[0, 1]``) as. A drawing is near grey (at most
+    or RGB ``(H, W, 3)`` in ``[0, 1]``; a file is read at the working size,
+    :func:`~growsim.pictures.reading.load_rgb`) as. A drawing is near grey (at most
     :data:`MAX_COLOURED` of its pixels have a chroma above :data:`CHROMA`: no sky or
-    ground colours) and bimodal (at least :data:`MIN_TWO_LEVELS` of its pixels within
-    :data:`MODE_REACH` of its two main grey levels: paper and ink). ``why``: the figures
-    it looked at, for the messages and ``fit.json``.
+    ground colours), bimodal (at least :data:`MIN_TWO_LEVELS` of its pixels within
+    :data:`MODE_REACH` of its two main grey levels: paper and ink) and, unlike a grey
+    photo, made of these two levels and the edges between them: its bottom edge is paper
+    as its top edge is (no ground under a sky, :data:`GROUND_STEP`), few pixels are in
+    smooth grey levels of their own (a sky's gradient, :data:`MAX_OWN_GREYS`) or in
+    texture (:data:`MAX_TEXTURE`). ``why``: the figures it looked at, for the messages
+    and ``fit.json``.
 
     Examples
     --------
@@ -406,6 +438,9 @@ def classify_picture(image) -> tuple[str, str]:
     >>> rgb = np.zeros((40, 40, 3)); rgb[:] = (0.5, 0.7, 1.0); rgb[30:] = (0.2, 0.6, 0.1)
     >>> classify_picture(rgb)
     ('photo', 'a photo: 100.0 % of pixels in colour')
+    >>> grey = np.full((40, 40), 0.9); grey[32:] = 0.3; grey[8:34, 20] = 0.6  # on ground
+    >>> classify_picture(grey)[0]
+    'photo'
     """
 
     if isinstance(image, (str, os.PathLike)):
@@ -418,8 +453,8 @@ def classify_picture(image) -> tuple[str, str]:
     coloured = float(np.mean(rgb.max(axis=2) - rgb.min(axis=2) > CHROMA))
     if coloured > MAX_COLOURED:
         return "photo", f"a photo: {100 * coloured:.1f} % of pixels in colour"
-    grey = rgb.mean(axis=2).ravel()
-    hist = np.bincount(np.clip((grey * 32).astype(np.int64), 0, 31), minlength=32)
+    grey = rgb.mean(axis=2)
+    hist = np.bincount(np.clip((grey * 32).astype(np.int64), 0, 31).ravel(), minlength=32)
     first = int(np.argmax(hist))
     # the second level: the fullest bin away from the first
     away = hist.copy()
@@ -427,16 +462,57 @@ def classify_picture(image) -> tuple[str, str]:
     away[lo:hi] = 0
     second = int(np.argmax(away))
     levels = np.array([first, second]) + 0.5
-    near = np.abs(grey[:, None] * 32 - levels[None, :]).min(axis=1) <= MODE_REACH * 32
+    near = np.abs(grey.ravel()[:, None] * 32 - levels[None, :]).min(axis=1) <= MODE_REACH * 32
     share = float(np.mean(near))
     if share < MIN_TWO_LEVELS:
         return "photo", (
             f"a grey photo: {100 * share:.0f} % of pixels near its two main grey levels"
         )
+    ground, own, texture = _grey_photo_cues(grey, (first, second))
+    if ground > GROUND_STEP:
+        return "photo", (
+            f"a grey photo: ground under a sky (its bottom edge's grey level differs from "
+            f"its top edge's by {100 * ground:.0f} % of the contrast)"
+        )
+    if own > MAX_OWN_GREYS or texture > MAX_TEXTURE:
+        return "photo", (
+            f"a grey photo: {100 * own:.1f} % of pixels in smooth grey levels of their own "
+            f"(a gradient, lit branches), {100 * texture:.1f} % in texture"
+        )
     return "drawing", (
         f"a drawing: grey levels {levels[0] / 32:.2f} and {levels[1] / 32:.2f} hold "
         f"{100 * share:.0f} % of pixels, {100 * coloured:.1f} % in colour"
     )
+
+
+def _grey_photo_cues(grey: np.ndarray, bins) -> tuple[float, float, float]:
+    """What tells a grey photo from a drawing (:func:`classify_picture`), for grey levels
+    ``(H, W)`` whose two main levels fall in the 1/32-wide ``bins``: the step from the top
+    edge's level to the bottom edge's (share of the contrast, :data:`GROUND_STEP`), the
+    share of pixels in smooth grey levels of their own (:data:`MAX_OWN_GREYS`) and the
+    share in texture (:data:`MAX_TEXTURE`), on the picture's 3 x 3 median (no noise)."""
+    from scipy import ndimage
+
+    levels = []
+    for k in bins:  # each level: the median of its bin and the bins beside it
+        near = grey[(grey * 32 >= k - 1) & (grey * 32 < k + 2)]
+        levels.append(float(np.median(near)) if near.size else (k + 0.5) / 32)
+    a, b = levels
+    contrast = max(abs(a - b), 1e-6)
+    m = ndimage.median_filter(grey, 3)
+    h, w = grey.shape
+    strip = max(2, round(0.01 * min(h, w)))
+    ground = abs(float(np.median(m[:strip])) - float(np.median(m[-strip:]))) / contrast
+    edges = (m[:strip], m[-strip:], m[:, :strip], m[:, -strip:])
+    paper = float(np.median(np.concatenate([e.ravel() for e in edges])))
+    noise = 1.4826 * float(np.median(np.abs(grey - m)))
+    reach = max(GREY_REACH, 4.0 * noise)
+    varies = ndimage.maximum_filter(m, 3) - ndimage.minimum_filter(m, 3) >= 0.25 * contrast
+    near_a = ndimage.maximum_filter(np.abs(m - a) < 0.25 * contrast, 7)
+    near_b = ndimage.maximum_filter(np.abs(m - b) < 0.25 * contrast, 7)
+    own = (np.abs(m - a) > reach) & (np.abs(m - b) > reach) & ~varies & ~(near_a & near_b)
+    papery = ndimage.maximum_filter(np.abs(m - paper) < 0.25 * contrast, 5)
+    return ground, float(np.mean(own)), float(np.mean(varies & ~papery))
 
 
 def unframe(raster, front, side=None, *, view: int = 0, line_width: str = "radius"):
@@ -498,11 +574,17 @@ def picture_silhouettes(
     polarity: str = "auto",
     mask_front=None,
     mask_side=None,
+    box_front=None,
+    point_front=None,
+    box_side=None,
+    point_side=None,
 ) -> list[np.ndarray]:
     """The silhouettes ``(H, W)`` bool of a front picture and an optional side picture
     (paths or arrays), at the pictures' own size: :func:`silhouette`
     (``segmentation = "threshold"``, with ``threshold`` and ``polarity``) or
-    :func:`growsim.pictures.photo.segment_photo` (``"photo"``). Returns one or two masks.
+    :func:`growsim.pictures.photo.segment_photo` (``"photo"``, with each view's hints
+    ``box_<view>`` ``(x0, y0, x1, y1)`` and ``point_<view>`` ``(x, y)`` where the tree
+    is). Returns one or two masks.
 
     Examples
     --------
@@ -511,29 +593,70 @@ def picture_silhouettes(
     >>> [int(m.sum()) for m in picture_silhouettes(g, segmentation="photo")]
     [59]
     """
+    found = photo_segmentations(
+        front, side, segmentation=segmentation, threshold=threshold, polarity=polarity,
+        mask_front=mask_front, mask_side=mask_side, box_front=box_front,
+        point_front=point_front, box_side=box_side, point_side=point_side,
+    )  # fmt: skip
+    return [f.copy() if isinstance(f, np.ndarray) else f.tree.copy() for f in found]
+
+
+def photo_segmentations(
+    front,
+    side=None,
+    *,
+    segmentation: str = "photo",
+    threshold: str | float = "otsu",
+    polarity: str = "auto",
+    mask_front=None,
+    mask_side=None,
+    box_front=None,
+    point_front=None,
+    box_side=None,
+    point_side=None,
+) -> list:
+    """What :func:`picture_silhouettes` found in each picture: a
+    :class:`~growsim.pictures.photo.Segmentation` for a photo (``segmentation =
+    "photo"``: the tree, the sky, the ground, how it was found), the silhouette array for a
+    threshold. A picture file's result is remembered (the same picture, mask and hints
+    are segmented once in a process): do not change what it returns."""
     if segmentation not in SEGMENTATIONS:
         raise UserInputError(
             f"segmentation: expected one of {', '.join(SEGMENTATIONS)}, got {segmentation!r}"
         )
     if front is None:
         raise UserInputError("the front view is missing")
-    views = [(front, mask_front, "front")]
+    views = [(front, mask_front, "front", _hint(box_front), _hint(point_front))]
     if side is not None:
-        views.append((side, mask_side, "side"))
+        views.append((side, mask_side, "side", _hint(box_side), _hint(point_side)))
     out = []
-    for img, m, label in views:
+    for img, m, label, box, point in views:
         pic, mask = _file_key(img), _file_key(m)
+        how = (label, segmentation, threshold, polarity, box, point)
         if pic is None or (m is not None and mask is None):  # arrays: not remembered
-            out.append(_segment(img, m, label, segmentation, threshold, polarity))
+            out.append(_segment(img, m, *how))
         else:
-            out.append(_segment_file(pic, mask, label, segmentation, threshold, polarity).copy())
+            out.append(_segment_file(pic, mask, *how))
     return out
 
 
-def _segment(img, mask, label, segmentation, threshold, polarity) -> np.ndarray:
-    """One picture's silhouette (:func:`picture_silhouettes`)."""
+def _hint(value):
+    """A box or point hint as a tuple of floats (hashable), or ``None``."""
+    return None if value is None else tuple(float(v) for v in value)
+
+
+#: the flags naming each view's hints in messages (``growsim fit-image``'s)
+HINT_FLAGS = {"front": ("--box", "--point"), "side": ("--box-side", "--point-side")}
+
+
+def _segment(img, mask, label, segmentation, threshold, polarity, box=None, point=None):
+    """One picture's segmentation (:func:`photo_segmentations`): a
+    :class:`~growsim.pictures.photo.Segmentation` or a threshold's silhouette."""
     if segmentation == "photo":
-        return segment_photo(img, mask=mask, name=label).tree
+        flags = HINT_FLAGS.get(label, HINT_FLAGS["front"])
+        return segment_photo(img, mask=mask, name=label, box=box, point=point, flags=flags)
+    if box is not None or point is not None:
+        raise UserInputError(f"{label}: a box or point hint applies to the photo segmentation")
     return silhouette(img, threshold=threshold, polarity=polarity, mask=mask, name=label)
 
 
@@ -550,12 +673,12 @@ def _file_key(path):
 
 
 @functools.lru_cache(maxsize=8)
-def _segment_file(picture, mask, label, segmentation, threshold, polarity) -> np.ndarray:
+def _segment_file(picture, mask, label, segmentation, threshold, polarity, box, point):
     """:func:`_segment` of a picture file (``picture``, ``mask``: :func:`_file_key`),
     remembered: a fit compiles its objective at every size and for every candidate, and a
     photo's segmentation costs about a second. A file changed on disk is read again."""
     mask = None if mask is None else mask[0]
-    return _segment(picture[0], mask, label, segmentation, threshold, polarity)
+    return _segment(picture[0], mask, label, segmentation, threshold, polarity, box, point)
 
 
 def read_silhouettes(
@@ -570,11 +693,16 @@ def read_silhouettes(
     line_width: str = "radius",
     segmentation: str = "threshold",
     views: str = "both",
+    box_front=None,
+    point_front=None,
+    box_side=None,
+    point_side=None,
 ) -> np.ndarray:
     """Front and side pictures (paths or arrays) to framed ``(2, size, size)`` uint8
     (``line_width``: how the model will be drawn, see :func:`frame_silhouettes`;
-    ``segmentation``: see :func:`picture_silhouettes`; ``views = "front"``: the front
-    picture alone, ``(1, size, size)``).
+    ``segmentation`` and a photo's hints ``box_<view>``, ``point_<view>``: see
+    :func:`picture_silhouettes`; ``views = "front"``: the front picture alone,
+    ``(1, size, size)``).
 
     Examples
     --------
@@ -598,6 +726,10 @@ def read_silhouettes(
         polarity=polarity,
         mask_front=mask_front,
         mask_side=mask_side if views == "both" else None,
+        box_front=box_front,
+        point_front=point_front,
+        box_side=box_side if views == "both" else None,
+        point_side=point_side if views == "both" else None,
     )
     return frame_silhouettes(masks[0], masks[1] if len(masks) > 1 else None, size, line_width)
 

@@ -1,0 +1,489 @@
+"""The scene of an outdoor photograph: the sky, the ground with the clutter along the
+horizon, and the objects that stand on it and rise into the sky (:func:`find_scene`).
+
+:func:`growsim.pictures.photo.segment_photo` finds the tree in two steps: here, on the
+picture reduced to :data:`COARSE` pixels (its long side), *where* the tree is (which
+object, its crown's region, its trunk's columns where it enters the horizon's clutter);
+then, at the working size, *which pixels* are tree, each against its own background
+(:func:`sky_background`: the sky as it would be without the tree, filled in from the
+sky around and between its branches; :func:`row_background`: the ground and clutter of
+each row, filled in across the trunk).
+
+The scene, coarse:
+
+1. **texture**: each pixel's colour gradient (CIELAB, Delta E a pixel), smoothed; the sky,
+   clouds and haze included, is smooth, a tree's leaves and twigs are not;
+2. **sky**: the smooth pixels connected to the top edge (a cloud's soft edge is smooth; a
+   crown's outline, a hedge's, a hill's is not);
+3. **skyline**: in each column, the row below the lowest sky pixel: the top of what stands
+   on the ground there (clutter, a hill, the tree's trunk and crown where it stands);
+4. **band**: the horizon's clutter, the skyline's lower envelope: the line or gentle curve
+   that most columns' skylines lie on, none far below it (a robust fit, :func:`band_line`);
+5. **standing objects**: the pieces of the non-sky rising above the band (by more than
+   its roughness) that reach down into it; the tree is the largest. Another one nearly as
+   large (a second tree) makes the picture ambiguous: a hint (a box around the tree, a
+   point on it) settles which.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from growsim.errors import UserInputError
+
+__all__ = [
+    "COARSE",
+    "Scene",
+    "Standing",
+    "band_line",
+    "fill",
+    "find_scene",
+    "row_background",
+    "runs",
+    "sky_background",
+]
+
+#: the long side, in pixels, the picture is reduced to for finding the scene
+COARSE = 384
+#: the smoothing (Gaussian sigma, coarse pixels) of the colour before its gradient, and of
+#: the gradient into the texture
+PRE_SMOOTH, TEXTURE_SMOOTH = 0.7, 1.5
+#: smooth (sky-like) where the texture is under this many times the median texture along
+#: the top edge, clipped to TEXTURE_RANGE (Delta E a coarse pixel)
+TEXTURE_K = 4.0
+TEXTURE_RANGE = (1.5, 3.0)
+#: ... and where the working picture's own texture (:func:`fine_texture`) is under
+#: TEXTURE_K times the top edge's, at least FINE_MIN (a colour step a working pixel)
+FINE_MIN = 1.0
+#: clouds the texture missed: a smooth piece within this of the sky's colours (Delta E)
+#: is sky; a textured pixel among the sky's colours around it (RIM_REACH, RIM_DE), and
+#: farther than STRONG_REACH coarse pixels from any that is not, is a cloud's rim
+PALETTE_DE = 6.0
+RIM_REACH, RIM_DE = 5, 3.0
+STRONG_REACH = 2
+#: the band's fit: a column's skyline within this share of the picture's height from the
+#: line supports it; one farther below it counts against it (BELOW_COST)
+BAND_TOL = 0.02
+BELOW_COST = 0.5
+#: the band's line is about level: its slope at most this (rows a column)
+MAX_SLOPE = 0.3
+#: an object stands out of the band when it rises this far above it: the band's roughness
+#: (BAND_ROUGH times the spread of its columns around the line) and at least this share of
+#: the height
+RISE = 0.005
+BAND_ROUGH = 2.5
+#: the textured pixels joined to a standing object, up to this share of its height around
+#: its box, are its region (where its pale twigs may be)
+REGION_REACH = 0.3
+#: a standing object at least this share of the tree's area and HEIGHT_SHARE of its height
+#: is another tree: the picture is ambiguous without a hint
+RIVAL_AREA = 0.3
+RIVAL_HEIGHT = 0.5
+#: the clutter's foot (where the ground begins) is a change of the rows' colour of more
+#: than this (Delta E, over two rows)
+GROUND_EDGE = 8.0
+#: more than this share of the columns without ground (the sky reaching the bottom edge):
+#: no ground, the tree is the largest object
+NO_GROUND = 0.7
+
+
+@dataclass(frozen=True)
+class Standing:
+    """An object standing on the band (coarse pixels): its ``mask`` ``(h, w)``, ``area``,
+    ``top`` and lowest row, its columns ``left``..``right`` and the columns where it
+    enters the band, ``feet`` (``[(c0, c1), ...]``, the runs of its row just above the
+    cut); ``region``: the textured pixels around it, joined to it (within
+    :data:`REGION_REACH` of its height: pale twigs the sky's colours hid, frost)."""
+
+    mask: np.ndarray
+    area: int
+    top: int
+    bottom: int
+    left: int
+    right: int
+    feet: tuple = ()
+    region: np.ndarray | None = None
+
+    def box(self, scale: float) -> tuple[int, int, int, int]:
+        """``(x0, y0, x1, y1)`` in pixels of a picture ``1 / scale`` times larger."""
+        k = 1.0 / scale
+        return (int(self.left * k), int(self.top * k), int((self.right + 1) * k),
+                int((self.bottom + 1) * k))  # fmt: skip
+
+
+@dataclass(frozen=True)
+class Scene:
+    """What :func:`find_scene` found, in coarse pixels (``scale`` coarse pixels a working
+    pixel): ``lab`` the coarse picture (CIELAB), ``texture``, ``smooth_below`` (the
+    threshold), ``sky`` ``(h, w)`` bool, ``skyline`` and ``band`` per column (rows; the
+    band ``h`` in a column without ground), ``cut`` (the band less its roughness: what
+    rises above it stands out), ``ground`` (whether there is one), ``objects`` (the
+    standing objects, largest first), ``ground_line`` (the row where the horizon's
+    clutter ends and the ground begins, :func:`_ground_line`; the band's lowest row when
+    no edge tells them apart), ``roughness`` (the spread of the skyline's columns around
+    the band, rows: a treeline's crowns, a hedge's top)."""
+
+    scale: float
+    lab: np.ndarray
+    texture: np.ndarray
+    smooth_below: float
+    sky: np.ndarray
+    skyline: np.ndarray
+    band: np.ndarray
+    cut: np.ndarray
+    ground: bool
+    objects: list = field(default_factory=list)
+    ground_line: float = 0.0
+    roughness: float = 0.0
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.sky.shape
+
+
+def _resize(rgb: np.ndarray, shape) -> np.ndarray:
+    """``rgb`` reduced to ``shape`` by block means (area interpolation)."""
+    from skimage.transform import resize
+
+    if rgb.shape[:2] == tuple(shape):
+        return rgb
+    return resize(rgb, shape, order=1, anti_aliasing=True, mode="edge")
+
+
+def texture_of(lab: np.ndarray) -> np.ndarray:
+    """Each pixel's texture: the colour gradient's magnitude (Delta E a pixel, Sobel on the
+    smoothed CIELAB channels), smoothed (:data:`PRE_SMOOTH`, :data:`TEXTURE_SMOOTH`)."""
+    from scipy import ndimage
+
+    labs = ndimage.gaussian_filter(lab, (PRE_SMOOTH, PRE_SMOOTH, 0), mode="nearest")
+    g = np.zeros(lab.shape[:2])
+    for k in range(3):
+        g += ndimage.sobel(labs[..., k], 0, mode="nearest") ** 2
+        g += ndimage.sobel(labs[..., k], 1, mode="nearest") ** 2
+    return ndimage.gaussian_filter(np.sqrt(g) / 8.0, TEXTURE_SMOOTH, mode="nearest")
+
+
+def fine_texture(rgb: np.ndarray, shape) -> np.ndarray:
+    """The colour gradient of the working picture (its R, G, B channels times 100, Sobel
+    after a Gaussian of :data:`PRE_SMOOTH` pixels: about Delta E a working pixel), averaged
+    over each pixel of the coarse ``shape``."""
+    from scipy import ndimage
+
+    g = np.zeros(rgb.shape[:2])
+    for k in range(3):
+        c = ndimage.gaussian_filter(100.0 * rgb[..., k], PRE_SMOOTH, mode="nearest")
+        g += ndimage.sobel(c, 0, mode="nearest") ** 2 + ndimage.sobel(c, 1, mode="nearest") ** 2
+    return _resize(np.sqrt(g)[..., None] / 8.0, shape)[..., 0]
+
+
+def band_line(skyline: np.ndarray, h: int) -> tuple[np.ndarray, float]:
+    """The horizon's band under a skyline (rows per column; ``h``: no ground in that
+    column): the line most columns' skylines lie on within :data:`BAND_TOL` of the height,
+    counting those far below it against it (:data:`BELOW_COST`), refined by a quadratic
+    fitted to the columns on it; returns the band per column and the spread of those
+    columns around it (rows). ``h`` everywhere when there is no ground.
+
+    Examples
+    --------
+    >>> y = np.full(100, 80.0); y[40:60] = 20.0   # a tree rising from a flat band
+    >>> band, spread = band_line(y, 100)
+    >>> round(float(band[50]), 6), round(spread, 6)
+    (80.0, 0.0)
+    """
+    w = len(skyline)
+    y = np.asarray(skyline, dtype=np.float64)
+    ok = y < h
+    if ok.sum() < (1.0 - NO_GROUND) * w:
+        return np.full(w, float(h)), 0.0
+    x = np.arange(w, dtype=np.float64)
+    tol = max(BAND_TOL * h, 2.0)
+    cols = np.nonzero(ok)[0]
+    sample = cols[np.linspace(0, len(cols) - 1, min(len(cols), 40)).round().astype(int)]
+    # candidate lines: through each pair of sample columns, and level through each
+    i, j = np.triu_indices(len(sample), 1)
+    xi, xj, yi, yj = x[sample[i]], x[sample[j]], y[sample[i]], y[sample[j]]
+    slope = np.concatenate([(yj - yi) / np.maximum(xj - xi, 1.0), np.zeros(len(sample))])
+    x0 = np.concatenate([xi, x[sample]])
+    y0 = np.concatenate([yi, y[sample]])
+    lines = y0[:, None] + slope[:, None] * (x[None, :] - x0[:, None])
+    res = y[None, ok] - lines[:, ok]
+    score = (np.abs(res) <= tol).sum(axis=1) - BELOW_COST * (res > tol).sum(axis=1)
+    score = np.where(np.abs(slope) <= MAX_SLOPE, score, -np.inf)
+    best = lines[int(np.argmax(score))]
+    for _ in range(3):
+        on = ok & (np.abs(y - best) <= tol)
+        if on.sum() < 3:
+            break
+        span = (x[on].max() - x[on].min()) / max(w - 1, 1)
+        deg = 2 if span > 0.5 else 1
+        coef = np.polyfit(x[on] / w, y[on], deg)
+        best = np.polyval(coef, x / w)
+    on = ok & (np.abs(y - best) <= tol)
+    spread = float(np.sqrt(np.mean((y[on] - best[on]) ** 2))) if on.any() else 0.0
+    return np.minimum(best, float(h)), spread
+
+
+def find_scene(
+    rgb: np.ndarray, keep: np.ndarray | None = None, *, name: str = "image", hint: str = "--box"
+) -> Scene:
+    """The scene of a picture ``rgb`` ``(H, W, 3)`` in ``[0, 1]`` (see the module
+    docstring), reduced to :data:`COARSE` pixels; ``keep``: where the tree may be (a
+    mask). Refuses (:class:`UserInputError` naming ``name``) a picture with no sky along
+    its top edge (naming the ``hint`` that settles it)."""
+    from skimage.color import rgb2lab
+    from skimage.measure import label, regionprops
+
+    big_h, big_w = rgb.shape[:2]
+    scale = min(1.0, COARSE / max(big_h, big_w))
+    shape = (max(8, round(big_h * scale)), max(8, round(big_w * scale)))
+    scale = shape[1] / big_w
+    small = np.clip(_resize(rgb, shape), 0.0, 1.0)
+    lab = rgb2lab(small)
+    tex = texture_of(lab)
+    h, w = shape
+    top = tex[: max(2, h // 40)]
+    smooth_below = float(np.clip(TEXTURE_K * np.median(top), *TEXTURE_RANGE))
+    smooth = tex < smooth_below
+    if scale < 1.0:
+        # the texture the reduction smoothed away (twigs thinner than a coarse pixel,
+        # frost): the working picture's own gradient, averaged over each coarse pixel
+        fine = fine_texture(rgb, shape)
+        top = fine[: max(2, h // 40)]
+        smooth &= fine < max(TEXTURE_K * float(np.median(top)), FINE_MIN)
+    comps = label(smooth, connectivity=1)
+    ids = np.unique(comps[0][smooth[0]])
+    sky = np.isin(comps, ids[ids > 0])
+    if sky[0].mean() < 0.3:
+        raise UserInputError(
+            f"{name}: no sky along the top of the picture ({100 * sky[0].mean():.0f} % of the "
+            "top edge smooth, the rest textured: foliage, a wall, a tree cut off by the top "
+            f"edge): give {hint} x0,y0,x1,y1 around the whole tree"
+        )
+    sky = _clouds(lab, smooth, comps, sky)
+    # the skyline: below the lowest sky pixel of each column
+    rows = np.arange(h)[:, None]
+    lowest = np.where(sky, rows, -1).max(axis=0)
+    skyline = (lowest + 1).astype(np.float64)
+    band, spread = band_line(skyline, h)
+    ground = bool(np.any(band < h))
+    rise = max(BAND_ROUGH * spread, RISE * h, 2.0) if ground else 0.0
+    cut = band - rise
+    up = rows < cut[None, :]
+    sky = sky | (up & _rims(lab, sky, up))
+    above = ~sky & up
+    if keep is not None:
+        above &= _resize(keep.astype(np.float64)[..., None], shape)[..., 0] > 0.5
+    comps = label(above, connectivity=2)
+    textured = label((above | ~smooth) & up, connectivity=2)
+    objects = []
+    # the row just above the cut, per column (an object reaching it stands on the band)
+    edge = np.clip(np.ceil(cut).astype(int) - 1, 0, h - 1)
+    for p in regionprops(comps):
+        r0, c0, r1, c1 = p.bbox
+        m = comps == p.label
+        cols = np.nonzero(m[edge, np.arange(w)] | m[np.clip(edge - 1, 0, h - 1), np.arange(w)])[0]
+        if ground and not len(cols):
+            continue  # floating: a cloud's edge, a bird, a wire
+        feet = runs(cols)
+        ids = np.unique(textured[m])
+        reach = max(2, int(REGION_REACH * (r1 - r0)))
+        near = np.zeros((h, w), dtype=bool)
+        near[max(0, r0 - reach) : r1 + reach, max(0, c0 - reach) : c1 + reach] = True
+        region = np.isin(textured, ids[ids > 0]) & near
+        objects.append(Standing(m, int(p.area), r0, r1 - 1, c0, c1 - 1, tuple(feet), region))
+    if not ground and objects:
+        # no ground (a tree cut out on white, a drawing): every object counts, the
+        # largest is the tree
+        pass
+    objects.sort(key=lambda o: -o.area)
+    foot = _ground_line(lab, band) if ground else float(h)
+    return Scene(scale, lab, tex, smooth_below, sky, skyline, band, cut, ground, objects, foot,
+                 spread)  # fmt: skip
+
+
+def _clouds(lab, smooth, comps, sky):
+    """The sky ``sky`` (the smooth pixels connected to the top edge) with the clouds it
+    missed: the smooth pieces whose colour is the sky's (within :data:`PALETTE_DE` of one
+    of its colours: a cloud's inside, cut off by its sharp rim), but those nearer the
+    colours along the bottom edge (the ground: snow under a white sky)."""
+    from scipy import ndimage
+    from scipy.spatial import cKDTree
+
+    colours = lab[sky]
+    step = max(1, len(colours) // 4000)
+    palette = cKDTree(colours[::step])
+    n = comps.max() + 1
+    other = smooth & ~sky
+    if other.any():
+        d, _ = palette.query(lab[other], k=1)
+        med = np.asarray(ndimage.median(d, comps[other], index=np.arange(n)))
+        cloud = np.zeros(n, dtype=bool)
+        cloud[1:] = med[1:] < PALETTE_DE
+        # nearer the ground's colours (along the bottom edge) than the sky's: the ground
+        # (snow under a white sky), not a cloud
+        bottom = lab[-max(2, lab.shape[0] // 40) :].reshape(-1, 3)
+        below, _ = cKDTree(bottom[:: max(1, len(bottom) // 2000)]).query(lab[other], k=1)
+        low = np.asarray(ndimage.median(below, comps[other], index=np.arange(n)))
+        cloud[1:] &= low[1:] > med[1:]
+        sky = sky | (cloud[comps] & smooth)
+    return sky
+
+
+def _rims(lab, sky, where):
+    """The pixels of ``where`` that are the sky's after all: those whose colour is one of
+    the sky's (within :data:`PALETTE_DE`: a cloud's textured inside), or lies among the
+    sky's within :data:`RIM_REACH` pixels (each channel in its range, give or take
+    :data:`RIM_DE`: a cloud's rim, a mix of the colours either side of it), farther than
+    :data:`STRONG_REACH` pixels from any that is neither (a twig, a crown, a hedge)."""
+    from scipy import ndimage
+    from scipy.spatial import cKDTree
+    from skimage.morphology import disk
+
+    colours = lab[sky]
+    if not len(colours):
+        return np.zeros(sky.shape, dtype=bool)
+    palette = cKDTree(colours[:: max(1, len(colours) // 4000)])
+    like = np.zeros(sky.shape, dtype=bool)
+    test = where & ~sky
+    d, _ = palette.query(lab[test], k=1)
+    like[test] = d < PALETTE_DE
+    size = 2 * RIM_REACH + 1
+    among = np.ones(sky.shape, dtype=bool)
+    for k in range(3):
+        hi = ndimage.maximum_filter(np.where(sky, lab[..., k], -np.inf), size, mode="nearest")
+        lo = ndimage.minimum_filter(np.where(sky, lab[..., k], np.inf), size, mode="nearest")
+        among &= (lab[..., k] >= lo - RIM_DE) & (lab[..., k] <= hi + RIM_DE)
+    strong = where & ~sky & ~like & ~among
+    near = ndimage.binary_dilation(strong, disk(STRONG_REACH))
+    return where & ~sky & ~near
+
+
+def _ground_line(lab: np.ndarray, band: np.ndarray) -> float:
+    """The row below the band where the horizon's clutter ends and the ground begins:
+    the strongest change of the rows' median colour (over the whole width) from the
+    band's lowest row down, when it exceeds :data:`GROUND_EDGE` (Delta E); else the
+    band's lowest row (no clutter, or none told apart)."""
+    from scipy import ndimage
+
+    h = lab.shape[0]
+    start = int(np.ceil(np.max(band)))
+    if start >= h - 3:
+        return float(min(start, h))
+    med = ndimage.median_filter(np.median(lab[start:], axis=1), size=(3, 1), mode="nearest")
+    step = np.linalg.norm(np.diff(med, axis=0), axis=1)
+    # a change across two rows (an edge blurred by the reduction)
+    step = step[:-1] + step[1:] if len(step) > 1 else step
+    i = int(np.argmax(step))
+    return float(start + i + 1) if step[i] > GROUND_EDGE else float(start)
+
+
+def runs(cols: np.ndarray) -> list[tuple[int, int]]:
+    """Runs of consecutive column indices: ``[(first, last), ...]``.
+
+    Examples
+    --------
+    >>> runs(np.array([1, 2, 3, 7, 9, 10]))
+    [(1, 3), (7, 7), (9, 10)]
+    """
+    if not len(cols):
+        return []
+    breaks = np.nonzero(np.diff(cols) > 1)[0]
+    starts = np.r_[cols[0], cols[breaks + 1]]
+    ends = np.r_[cols[breaks], cols[-1]]
+    return [(int(a), int(b)) for a, b in zip(starts, ends)]
+
+
+def fill(values: np.ndarray, known: np.ndarray, *, smooth: float = 1.0) -> np.ndarray:
+    """``values`` ``(H, W, C)`` filled in where not ``known`` (``(H, W)`` bool) from the
+    known pixels around, by normalized convolution on a pyramid (push-pull): each pixel
+    takes the mean of the known pixels near it, as near as they are (a Gaussian of
+    ``smooth`` pixels at the finest level, twice as wide at each level up). Known pixels
+    keep about their own local mean.
+
+    Examples
+    --------
+    >>> v = np.zeros((8, 8, 1)); v[:, 4:] = 1.0
+    >>> known = np.ones((8, 8), bool); known[2:6, 3:5] = False
+    >>> out = fill(v, known)
+    >>> bool(out[4, 1, 0] < 0.1 < out[4, 3, 0] < out[4, 4, 0] < 0.9 < out[4, 6, 0])
+    True
+    """
+    from scipy import ndimage
+
+    v = np.asarray(values, dtype=np.float64)
+    k = np.asarray(known, dtype=np.float64)
+    num = ndimage.gaussian_filter(v * k[..., None], (smooth, smooth, 0), mode="nearest")
+    den = ndimage.gaussian_filter(k, smooth, mode="nearest")
+    levels = [(num, den)]
+    while min(levels[-1][1].shape) > 2:
+        n, d = levels[-1]
+        hh, ww = (d.shape[0] // 2) * 2, (d.shape[1] // 2) * 2
+        if hh == 0 or ww == 0:
+            break
+        n = n[:hh, :ww].reshape(hh // 2, 2, ww // 2, 2, -1).mean(axis=(1, 3))
+        d = d[:hh, :ww].reshape(hh // 2, 2, ww // 2, 2).mean(axis=(1, 3))
+        levels.append((n, d))
+    n, d = levels[-1]
+    est = n / np.maximum(d, 1e-12)[..., None]
+    if not (d > 1e-9).any():
+        est[:] = v.reshape(-1, v.shape[-1]).mean(axis=0)
+    else:
+        est[d <= 1e-9] = (n.sum(axis=(0, 1)) / d.sum())[None, :]
+    for n, d in levels[-2::-1]:
+        up = _double(est, d.shape)
+        weight = np.clip(d / 0.3, 0.0, 1.0)[..., None]
+        est = weight * n / np.maximum(d, 1e-12)[..., None] + (1.0 - weight) * up
+    return est
+
+
+def _double(est: np.ndarray, shape) -> np.ndarray:
+    """``est`` ``(h, w, C)`` at twice its size, bilinear (pixel centres), to ``shape``."""
+    h, w = est.shape[:2]
+
+    def axis(n_out, n_in):
+        x = (np.arange(n_out) + 0.5) / 2.0 - 0.5
+        x = np.clip(x, 0.0, n_in - 1.0)
+        i0 = np.minimum(np.floor(x).astype(np.int64), max(n_in - 2, 0))
+        t = x - i0
+        return i0, np.minimum(i0 + 1, n_in - 1), t
+
+    r0, r1, tr = axis(shape[0], h)
+    c0, c1, tc = axis(shape[1], w)
+    tr, tc = tr[:, None, None], tc[None, :, None]
+    top = est[r0][:, c0] * (1 - tc) + est[r0][:, c1] * tc
+    bottom = est[r1][:, c0] * (1 - tc) + est[r1][:, c1] * tc
+    return top * (1 - tr) + bottom * tr
+
+
+def sky_background(lab: np.ndarray, sky: np.ndarray) -> np.ndarray:
+    """The sky behind each pixel ``(H, W, 3)`` CIELAB: the sky pixels ``sky`` ``(H, W)``
+    bool filled in under everything else (:func:`fill`), so a twig is compared with the
+    sky just beside it, a cloud's edge included."""
+    return fill(lab, sky)
+
+
+def row_background(lab: np.ndarray, left: int, right: int, rows: slice, reach: int = 6):
+    """The background of columns ``left``..``right`` (inclusive) in ``rows`` of ``lab``
+    ``(H, W, 3)``: each row's colour beside them (the median of ``reach`` pixels on each
+    side, smoothed over 5 rows), interpolated across; ``(rows, right - left + 1, 3)``.
+    For the ground and the horizon's clutter behind a trunk: alike along a row, not
+    down it."""
+    from scipy import ndimage
+
+    w = lab.shape[1]
+    part = lab[rows]
+    lo, hi = max(0, left - reach), min(w, right + 1 + reach)
+    sides = []
+    if left > 0:
+        sides.append(np.median(part[:, lo:left], axis=1))
+    if right + 1 < w:
+        sides.append(np.median(part[:, right + 1 : hi], axis=1))
+    if not sides:
+        sides = [np.median(part, axis=1)]
+    a = ndimage.median_filter(sides[0], size=(5, 1), mode="nearest")
+    b = ndimage.median_filter(sides[-1], size=(5, 1), mode="nearest")
+    n = right - left + 1
+    t = ((np.arange(n) + 0.5) / n)[None, :, None] if len(sides) > 1 else np.zeros((1, n, 1))
+    return a[:, None, :] * (1.0 - t) + b[:, None, :] * t
