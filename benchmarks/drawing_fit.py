@@ -5,7 +5,7 @@ ranges, as ``benchmarks/ifs_fit.py --random-trees``) are drawn as scanned-style 
 growsim's own 64 px thin-line views enlarged (dark lines on light grey or white paper,
 a margin, paper noise, a scanner's blur, PNG or JPEG), and fitted by
 :func:`growsim.fitting.fit.fit_image` with its defaults (``segmentation="auto"``: the
-drawing must be found a drawing and take the seed's path). Prints JSON lines:
+drawing must be found a drawing and take the paper's path). Prints JSON lines:
 
 - ``{"kind": "drawing", ...}`` per fit: the picture's size, margin, ``scale`` (the
   enlargement, whole or not), paper, views; the final NCC at 64 px (the fit's own score),

@@ -1,12 +1,12 @@
-"""Benchmark of the fish in a tank (seed 001): kernel speed, the 3 tanks x 20 repeats sweep,
-and the results beside the seed's (Okusa, "GA-tuned path control of a fish agent").
+"""Benchmark of the fish in a tank (Okusa's thesis): kernel speed, the 3 tanks x 20 repeats sweep,
+and the results beside the thesis's (Okusa, "GA-tuned path control of a fish agent").
 
     python benchmarks/fish.py [--repeats 20] [--workers N] [--out DIR]
 
 Prints one JSON object: fish-frames per second of the population kernel on one core
 (random genomes, as a GA's first generation, in the small tank), the sweep's wall time
-(``growsim sweep``), per tank the mean generations to a collision-free fish, the seed's
-Table 3 bins, the mean decoded genes (Table 4) beside the seed's numbers, the count of
+(``growsim sweep``), per tank the mean generations to a collision-free fish, the thesis's
+Table 3 bins, the mean decoded genes (Table 4) beside the thesis's numbers, the count of
 collision-free fish that circle forever, and runs that found no solution in a too small
 tank (90 x 90 x 90: the 40 px margin leaves a 10 px start box).
 """
@@ -26,7 +26,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = ROOT / "experiments" / "fish_tank.toml"
-SEED = {  # Table 3 (generation bins) and Table 4 (means) of the seed
+SEED = {  # Table 3 (generation bins) and Table 4 (means) of the thesis
     "small": {"generations": 9.8, "bins": [6, 8, 2, 1, 3], "scale": 6.734, "view": 72.65,
               "speed": 16.05, "angle": 146.15},
     "medium": {"generations": 7.4, "bins": [13, 2, 1, 0, 4], "scale": 7.503, "view": 78.0,
@@ -66,7 +66,7 @@ def frames_per_second(n: int = 200, frames: int = 20_000) -> float:
 
 
 def bins(gens) -> list[int]:
-    """Counts in the seed's Table 3 bins."""
+    """Counts in the thesis's Table 3 bins."""
     g = np.asarray(gens)
     return [int(((g >= lo) & (g <= hi)).sum()) for lo, hi in
             ((0, 5), (6, 10), (11, 15), (16, 20), (21, 10**9))]  # fmt: skip

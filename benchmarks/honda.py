@@ -1,6 +1,6 @@
-"""Honda growth + mesh speed, against the seed's Table 3 (about 50-70 vertices per ms).
+"""Honda growth + mesh speed, against the report's Table 3 (about 50-70 vertices per ms).
 
-Prints JSON: for each of the eight presets, the 13-generation zelkova (the seed's a') and
+Prints JSON: for each of the eight presets, the 13-generation zelkova (the report's a') and
 the f = 1 tree (2,047 segments), the mesh vertex counts and vertices per second of
 growth + mesh (``develop`` then ``plant_mesh``: a ready pyvista PolyData; and the same
 with ``mesh_arrays``, raw arrays without the pyvista object), best of
@@ -22,7 +22,7 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 from growsim.models import honda
 from growsim.phenotypes.plant.mesh import mesh_arrays, plant_mesh
 
-# the seed's Table 3: tree / leaf / total vertices and ms per image (1991)
+# the report's Table 3: tree / leaf / total vertices and ms per image (1991)
 TABLE3 = {
     "zelkova": (3906, 2940, 6846, 109.96),
     "zelkova_13": (10626, 7980, 18606, 275.0),

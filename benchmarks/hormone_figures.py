@@ -7,7 +7,7 @@
   environment (sun a little from the side, half the light from the sky);
 - for each ``--sweep`` (a ``growsim sweep`` of ``experiments/hormone_2d.toml`` or
   ``hormone_3d.toml``): the best plant of each environment side by side
-  (``hormone_<name>_best.png``, as the seed's Fig. 3 and 4: each best run's genome grown
+  (``hormone_<name>_best.png``, as the paper's Fig. 3 and 4: each best run's genome grown
   again in its own environment) and the growth of each as an animation
   (``hormone_<name>_<variant>.gif``, one frame per step, one frame for the whole growth).
 """

@@ -1,6 +1,6 @@
-"""Benchmark of the 2D IFS plants (seed 002: Liu & Zhang, "IFS and genetic algorithm
-studying in simulation of plant", 2011): chaos-game speed, the seed's whole experiment,
-and the seed's claim measured over repeats.
+"""Benchmark of the 2D IFS plants (Liu & Zhang, "IFS and genetic algorithm
+studying in simulation of plant", 2011): chaos-game speed, the paper's whole experiment,
+and the paper's claim measured over repeats.
 
     NUMBA_NUM_THREADS=1 python benchmarks/ifs2d.py [--repeats 20] [--points 10000000]
         [--larger 0] [--out DIR] [--json PATH]
@@ -13,11 +13,11 @@ Prints one JSON object (``--json PATH`` also writes it to ``PATH``, e.g. the res
   (the public function: allocation included) on the fern, ``--points`` points, best of 3,
   one core (the kernel is serial; ``NUMBA_NUM_THREADS=1`` is set here before numba loads);
   ``chaos_kernel_points_per_s`` the kernel alone into a reused buffer;
-- ``seed_experiment_seconds``: wall time of the seed's whole experiment (population 10, 8
+- ``seed_experiment_seconds``: wall time of the paper's whole experiment (population 10, 8
   generations, both fractal trees: ``experiments/ifs_species.toml`` and its tree-two
   variant), in this process, results and pictures written;
 - ``claim``: per tree, over ``--repeats`` seeds, the four terms of the first and the last
-  generation's best plant, and for the seed's claim (the last is more stable and captures
+  generation's best plant, and for the paper's claim (the last is more stable and captures
   more light) the one-sided Wilcoxon signed-rank test of last > first (paired by seed),
   Holm-adjusted over the claims, with the mean difference, its 95 % CI and the counts of
   seeds where the last is better / equal / worse;
@@ -26,7 +26,7 @@ Prints one JSON object (``--json PATH`` also writes it to ``PATH``, e.g. the res
 
 ``--figures DIR`` also writes the pictures of ``docs/models/ifs2d.md`` into ``DIR``
 (``ifs2d_presets.png``, ``ifs2d_terms.png``, ``ifs2d_tree_one.png``, ``ifs2d_tree_two.png``
-and their ``*_terms.png``: the seed-0 runs of the seed's experiment).
+and their ``*_terms.png``: the seed-0 runs of the paper's experiment).
 """
 
 from __future__ import annotations
@@ -45,7 +45,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = ROOT / "experiments" / "ifs_species.toml"
-#: the seed's two fractal trees: overrides of the config
+#: the paper's two fractal trees: overrides of the config
 TREES = {
     "tree_one": [],
     "tree_two": ['model.preset="tree3"', 'objective[0].species="tree_two"'],
@@ -107,7 +107,7 @@ def paired(first: np.ndarray, last: np.ndarray) -> dict:
 
 
 def claim(overrides, repeats: int, root: Path) -> dict:
-    """The seed's claim for one tree over ``repeats`` seeds."""
+    """The paper's claim for one tree over ``repeats`` seeds."""
     from growsim.report.statistics import holm
 
     first, last, gens, fit = [], [], [], []
@@ -207,7 +207,7 @@ def figure_terms(path: Path, size: int = 128) -> None:
         )
         ax.set_axis_off()
     fig.tight_layout()
-    fig.savefig(path, dpi=90)
+    fig.savefig(path, dpi=90, bbox_inches="tight", pad_inches=0.15)  # the titles whole
     plt.close(fig)
 
 

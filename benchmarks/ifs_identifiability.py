@@ -1,10 +1,11 @@
 """How well does the NCC bar pin down the parameters of the Table 1 tree at 64x64?
 
-Seed 000 ("Fitting a 3D fractal tree to front/side tree images with a GA") asks for a
-mean front/side NCC against the Table 1 silhouettes and, separately, for the recovered
-parameters within 0.05 in ``s`` and ``y`` and 5 degrees in the angles. This script measures
-how far (in the issue's tolerance metric) a tree can be from Table 1 while its NCC stays
-above a threshold, i.e. whether the parameter bar can follow from the NCC bar at all.
+Kuwahara, Shiwa & Kishino ("Fitting a 3D fractal tree to front/side tree images with a
+GA") ask for a mean front/side NCC against the Table 1 silhouettes and, separately, for
+the recovered parameters within 0.05 in ``s`` and ``y`` and 5 degrees in the angles.
+This script measures how far (in the issue's tolerance metric) a tree can be from Table
+1 while its NCC stays above a threshold, i.e. whether the parameter bar can follow from
+the NCC bar at all.
 
 Distance ``D``: the worst parameter error in units of the tolerances (0.05, 0.05, 5 deg,
 5 deg), minimised over map order (:func:`growsim.models.ifs3d.compare_maps`, leader

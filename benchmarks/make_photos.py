@@ -82,7 +82,7 @@ class Picture:
     fov: float = FOV
 
 
-#: The benchmark's pictures: four Honda species of the seed's Table 2 and two IFS trees,
+#: The benchmark's pictures: four Honda species of the report's Table 2 and two IFS trees,
 #: bare (``leaves = 0``) and leafy, pale bark (the hard case) and dark bark.
 PICTURES: tuple[Picture, ...] = (
     Picture("zelkova_bare", "honda", "zelkova", {"leaves": 0}),
@@ -97,7 +97,7 @@ PICTURES: tuple[Picture, ...] = (
     Picture("f_dome_leafy", "honda", "f_dome", {"leaves": 2, "leaf_radius": 1.0},
             bark=(0.50, 0.40, 0.30), ground=(0.50, 0.45, 0.35)),
     Picture("ifs_table1_bare", "ifs3d", "table1", {}, bark=(0.70, 0.66, 0.60)),
-    Picture("ifs_gradient_leafy", "ifs3d", "seed_gradient", {"leaves": 3, "leaf_radius": 0.03},
+    Picture("ifs_gradient_leafy", "ifs3d", "paper_gradient", {"leaves": 3, "leaf_radius": 0.03},
             bark=(0.40, 0.32, 0.25)),
 )  # fmt: skip
 
@@ -148,7 +148,7 @@ def random_pictures(n: int = 12, seed: int = 20261124) -> tuple[Picture, ...]:
     pics = []
     for i in range(n):
         if i % 4 == 3:
-            model, preset = "ifs3d", ("table1", "seed_gradient")[i % 2]
+            model, preset = "ifs3d", ("table1", "paper_gradient")[i % 2]
             leafy = bool(rng.integers(2)) and preset != "table1"
             params = {"leaves": 3, "leaf_radius": 0.03} if leafy else {}
         else:

@@ -106,17 +106,18 @@ def summary(rows: list[dict], split: str) -> dict:
 
 def sheet(rows: list[dict], path: Path) -> Path:
     """Every fit's ``silhouettes.png`` (target | fit), two to a row, with its figures."""
-    from PIL import Image, ImageDraw
+    from PIL import Image, ImageDraw, ImageFont
 
+    font = ImageFont.load_default(size=16)  # readable at the page's width
     tiles = []
     for r in rows:
         im = Image.open(Path(r["fit"]) / "silhouettes.png").convert("RGB")
         im = im.resize((im.width // 2, im.height // 2))
-        draw = ImageDraw.Draw(im)
+        tile = Image.new("RGB", (im.width, im.height + 24), "white")
+        tile.paste(im, (0, 0))
         label = f"{r['name']}: {r['model']} {r['leaves']}, NCC {r['ncc']:.3f}, area {r['area']:.2f}"
-        draw.rectangle((0, im.height - 14, im.width, im.height), fill="white")
-        draw.text((4, im.height - 13), label, fill="black")
-        tiles.append(im)
+        ImageDraw.Draw(tile).text((6, im.height + 3), label, fill="black", font=font)
+        tiles.append(tile)
     cols = 2
     w, h = tiles[0].size
     page = Image.new("RGB", (cols * w, -(-len(tiles) // cols) * h), "white")

@@ -5,7 +5,7 @@ plant model returns a :class:`growsim.phenotypes.plant.Plant`; experiments are T
 :mod:`growsim.experiment` and the ``growsim`` command line.
 """
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 __all__ = ["__version__", "load_config", "load_plan", "run", "sweep"]
 

@@ -223,7 +223,8 @@ def frames_writer(path: Path, fps: int):
             import imageio_ffmpeg  # noqa: F401
         except ImportError:
             raise UserInputError(
-                f"{path}: writing .mp4 needs the imageio-ffmpeg package; use .gif"
+                f"{path}: writing .mp4 needs the video extra "
+                '(pip install "growsim[video]": imageio-ffmpeg); or use .gif'
             ) from None
     parent = path.parent
     if not parent.is_dir():

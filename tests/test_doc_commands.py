@@ -41,7 +41,8 @@ from growsim.cli import build_parser, main
 #: where commands are shown to users
 SOURCES = [
     ROOT / "README.md",
-    *sorted((ROOT / "docs").rglob("*.md")),
+    # docs/figures.md: the command that measured each figure (its benchmark runs it)
+    *sorted(p for p in (ROOT / "docs").rglob("*.md") if p.name != "figures.md"),
     *sorted((ROOT / "experiments").glob("*.toml")),
 ]
 
@@ -106,8 +107,8 @@ SLOW = {
     "docs/models/ifs3d.md",
     "docs/performance.md",
     "docs/reproduction.md",
-    "experiments/hormone_2d_seed_ga.toml",
-    "experiments/hormone_3d_seed_ga.toml",
+    "experiments/hormone_2d_paper_ga.toml",
+    "experiments/hormone_3d_paper_ga.toml",
 }
 
 #: the small budget every run, sweep and species command gets (a mixture: a population of
@@ -313,7 +314,8 @@ def _run_once(argv: list[str], cwd: Path) -> int:
 
 def _pictures(d: Path) -> None:
     """The Table 1 tree drawn (front.png, side.png), as photos (front.jpg, side.jpg,
-    tree.jpg, photo.png) and the fern's attractor (picture.png)."""
+    tree.jpg, photo.png), two trees side by side (two_trees.jpg) and the fern's attractor
+    (picture.png)."""
     from growsim.models import ifs3d
     from growsim.objectives.silhouette import plant_views
 
@@ -328,6 +330,9 @@ def _pictures(d: Path) -> None:
         photo[np.nonzero(tree.any(axis=1))[0].max() + 1 :] = (90, 110, 50)
         Image.fromarray(photo.astype(np.uint8)).save(d / f"{label}.jpg", quality=92)
     shutil.copy(d / "front.jpg", d / "tree.jpg")
+    # two trees side by side (a composite of tests/data/composites): the hints' commands
+    shutil.copy(ROOT / "tests" / "data" / "composites" / "c21_gradient_slope_second_tree_bare.jpg",
+                d / "two_trees.jpg")  # fmt: skip
     Image.open(d / "front.jpg").save(d / "photo.png")
     fern = f"grow ifs2d --preset fern --screenshot {d / 'picture.png'} --size 256 256"
     assert _main(fern.split()) == 0

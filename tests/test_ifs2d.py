@@ -101,10 +101,10 @@ def test_chaos_game_refuses_bad_input():
 # --------------------------------------------------------------------------- the code
 
 
-def test_seed_form_and_abcdef_form_are_inverse():
+def test_paper_form_and_abcdef_form_are_inverse():
     rng = np.random.default_rng(1)
     abcd = rng.uniform(-1, 1, size=(20, 4))
-    np.testing.assert_allclose(ifs2d.abcdef_form(ifs2d.seed_form(abcd)), abcd, atol=1e-12)
+    np.testing.assert_allclose(ifs2d.abcdef_form(ifs2d.paper_form(abcd)), abcd, atol=1e-12)
     table = np.column_stack([abcd[:5], rng.uniform(-2, 2, (5, 2)), rng.uniform(0, 1, 5)])
     for form in (0, 1):
         maps, p = ifs2d.code_from_params(ifs2d.params_from_code(table, form=form))

@@ -1,22 +1,44 @@
 """Command-line options shared by several subcommands: config overrides and where
 evaluations run (``run``, ``sweep``), screenshot view and size, and the colouring of a
-plant by its environment (``grow``, ``show``), and :class:`Later` (what the library gives
-a parser, read when first needed). Not a subcommand itself (no ``register``)."""
+plant by its environment (``grow``, ``show``), :class:`Later` (what the library gives
+a parser, read when first needed), and what the commands say of names renamed in 0.2
+(:func:`deprecation_notes`, :func:`renamed_config`). Not a subcommand itself (no
+``register``)."""
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import sys
+import warnings
 from collections.abc import Callable, Iterator, Sequence
+from pathlib import Path
+
+from growsim.errors import UserInputError
 
 __all__ = [
+    "DEFAULT_VIEW",
+    "RENAMED",
     "Later",
     "add_color_options",
     "add_environment_options",
     "add_evaluation_options",
     "add_overrides",
     "add_screenshot_options",
+    "deprecation_notes",
     "environment_table",
+    "renamed_config",
 ]
+
+#: the camera of ``grow`` and ``show`` when no ``--view`` is given (both the same). Front,
+#: looking along -z: the view docs/plant.md's pictures are drawn in, and the one that
+#: shows a 2D plant (hormone ``dims = 2``, in the x-y plane) face on, where iso would
+#: show it edge-on at an angle.
+DEFAULT_VIEW = "front"
+
+#: parts of file names renamed in 0.2 (old, new): "seed" meant the source paper there,
+#: and a seed in growsim is a random seed (``growsim run`` names the new file)
+RENAMED = (("_seed_ga", "_paper_ga"),)
 
 
 class Later:
@@ -124,7 +146,7 @@ class _Size(argparse.Action):
         setattr(namespace, self.dest, (values[0], values[-1]))
 
 
-def add_screenshot_options(p: argparse.ArgumentParser, view: str = "front") -> None:
+def add_screenshot_options(p: argparse.ArgumentParser, view: str = DEFAULT_VIEW) -> None:
     """``--view`` (one of :data:`growsim.render.VIEWS`, default ``view``) and ``--size W H``
     (or ``N`` for a square; checked by :func:`growsim.render.check_size` before
     anything is
@@ -269,3 +291,59 @@ def environment_table(args: argparse.Namespace) -> tuple[dict, str] | None:
         msg = validation_message(exc, "environment.", Environment)
         raise ConfigError(f"{label}: {msg}") from None
     return table, label
+
+
+@contextlib.contextmanager
+def deprecation_notes(stream=None) -> Iterator[None]:
+    """Within it, growsim's deprecations (a name renamed in 0.2 and taken until 0.3: a
+    preset, a function) are printed once each as a one-line note on ``stream`` (default
+    stderr), ``growsim: note: <what changed>``; other warnings show as usual.
+
+    Examples
+    --------
+    >>> with deprecation_notes(stream=sys.stdout):
+    ...     for _ in range(2):
+    ...         warnings.warn("preset 'a' is now 'b'; the old name goes in 0.3", DeprecationWarning)
+    growsim: note: preset 'a' is now 'b'; the old name goes in 0.3
+    """
+    shown: set[str] = set()
+    with warnings.catch_warnings():
+        previous = warnings.showwarning
+
+        def show(message, category, filename, lineno, file=None, line=None):
+            text = str(message)
+            if not (issubclass(category, DeprecationWarning) and text.endswith("goes in 0.3")):
+                previous(message, category, filename, lineno, file, line)
+            elif text not in shown:
+                shown.add(text)
+                print(f"growsim: note: {text}", file=stream or sys.stderr)
+
+        warnings.showwarning = show
+        warnings.filterwarnings("always", r".*goes in 0\.3$", DeprecationWarning)
+        yield
+
+
+def renamed_config(path) -> None:
+    """Refuse a config ``path`` that does not exist because its file was renamed in 0.2
+    (:data:`RENAMED`), naming the new file; any other path passes (a missing one is
+    refused where it is read).
+
+    Examples
+    --------
+    >>> import growsim
+    >>> exp = Path(growsim.__file__).parents[1] / "experiments"
+    >>> try:
+    ...     renamed_config(exp / "hormone_2d_seed_ga.toml")
+    ... except UserInputError as e:
+    ...     print(str(e).replace(str(exp), "experiments").replace("; ", ";\\n"))
+    experiments/hormone_2d_seed_ga.toml: no such file;
+    it was renamed experiments/hormone_2d_paper_ga.toml
+    >>> renamed_config(exp / "quickstart.toml")
+    """
+    if path is None or Path(path).exists():
+        return
+    given = Path(path)
+    for old, new in RENAMED:
+        moved = given.with_name(given.name.replace(old, new))
+        if old in given.name and moved.exists():
+            raise UserInputError(f"{path}: no such file; it was renamed {moved}")

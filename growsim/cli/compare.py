@@ -27,14 +27,9 @@ def register(subparsers) -> None:
     p = subparsers.add_parser(
         "compare",
         help="compare results directories (runs or sweeps)",
-        description="Group the runs found in the DIRs (repeats = same config up to the seed, "
-        "one run per seed), sort the groups into families (same model and objectives: "
-        "comparable fitness), test best fitness and every measure between the groups of a "
-        "family (Welch t, Mann-Whitney U, Holm-adjusted), and write compare.csv, stats.csv, "
-        "runs.csv, curves.png, renders.png and a self-contained report.html to --out. With "
-        "[compare] primary in the config: the declared tests Holm-corrected alone "
-        "(primary.csv, with effect sizes and the seeds a replication needs), the rest "
-        "exploratory (exploratory.csv); with --confirm, which replicated (replication.csv).",
+        description="Group the runs in the DIRs (the same config up to the seed), test best "
+        "fitness and every measure between the groups (Holm-adjusted) and write tables, "
+        "plots and report.html to --out. Details: docs/compare.md.",
     )
     p.add_argument("dirs", nargs="+", metavar="DIR", help="run or sweep directories")
     p.add_argument(

@@ -27,10 +27,18 @@ from growsim.cli.arguments import (
     add_color_options,
     add_environment_options,
     add_screenshot_options,
+    deprecation_notes,
 )
 from growsim.errors import UserInputError
 
+#: what ``--export`` writes, by suffix: meshes (growsim.phenotypes.plant.mesh.export) and
+#: the architecture (growsim.phenotypes.plant.to_mtg, to_qsm_table)
+MESH_SUFFIXES = (".vtp", ".ply", ".obj", ".glb")
+ARCHITECTURE_SUFFIXES = (".mtg", ".csv")
+
 __all__ = [
+    "ARCHITECTURE_SUFFIXES",
+    "MESH_SUFFIXES",
     "environment_base",
     "environment_from_args",
     "models_help",
@@ -327,7 +335,13 @@ def _stand_plants(args: argparse.Namespace, model, params, n: int) -> list[dict]
 
 
 def run_grow(args: argparse.Namespace) -> int:
-    """Body of ``growsim grow`` (see ``growsim grow --help``)."""
+    """Body of ``growsim grow`` (see ``growsim grow --help``); a preset renamed in 0.2 is
+    taken with a one-line note (:func:`growsim.cli.arguments.deprecation_notes`)."""
+    with deprecation_notes():
+        return _grow(args)
+
+
+def _grow(args: argparse.Namespace) -> int:
     from growsim.models import get_model
 
     model = get_model(args.model)
@@ -355,15 +369,17 @@ def run_grow(args: argparse.Namespace) -> int:
             raise UserInputError(f"{opt} {path}: directory {Path(path).parent} does not exist")
     if args.screenshot is not None and Path(args.screenshot).suffix.lower() != ".png":
         raise UserInputError(f"--screenshot {args.screenshot}: must end in .png")
-    if args.export is not None and Path(args.export).suffix.lower() not in (
-        ".vtp",
-        ".ply",
-        ".obj",
-        ".glb",
-    ):
-        raise UserInputError(f"--export {args.export}: use .vtp, .ply, .obj or .glb")
+    exported = None if args.export is None else Path(args.export).suffix.lower()
+    if exported is not None and exported not in MESH_SUFFIXES + ARCHITECTURE_SUFFIXES:
+        raise UserInputError(
+            f"--export {args.export}: use .vtp, .ply, .obj or .glb (a mesh), .mtg or .csv "
+            "(the architecture: an MTG, a QSM cylinder table)"
+        )
     if args.gif is not None and Path(args.gif).suffix.lower() not in (".gif", ".mp4"):
-        raise UserInputError(f"--gif {args.gif}: must end in .gif (or .mp4)")
+        raise UserInputError(
+            f"--gif {args.gif}: must end in .gif (or .mp4, with the video extra: "
+            'pip install "growsim[video]")'
+        )
     if args.gif is not None and model.phenotype != "plant":
         raise UserInputError(f"--gif: {model.name} grows no plant (its own view: growsim show)")
     # models default their own seed (honda: its ``seed`` parameter); pass one only if given
@@ -384,10 +400,18 @@ def run_grow(args: argparse.Namespace) -> int:
     if model.phenotype != "plant":
         return _report_other(args, plant, params)
 
-    from growsim.phenotypes.plant.mesh import mesh_arrays
+    from growsim.phenotypes.plant.mesh import leaf_modules, mesh_arrays
 
     _, _, vkind = mesh_arrays(plant, sides=args.sides, segments=args.segments)
-    if args.export is not None:
+    if exported == ".mtg":
+        from growsim.phenotypes.plant import to_mtg
+
+        to_mtg(plant, args.export)
+    elif exported == ".csv":
+        from growsim.phenotypes.plant import to_qsm_table
+
+        to_qsm_table(plant, args.export)
+    elif exported is not None:
         from growsim.phenotypes.plant.mesh import export
 
         export(plant, args.export, sides=args.sides, segments=args.segments)
@@ -405,6 +429,9 @@ def run_grow(args: argparse.Namespace) -> int:
     if args.save is not None:
         plant.save(args.save)
     generations = plant.data.get("generation")
+    # leaves: what is drawn as a leaf, the LEAF segments and the modules (hormone) drawn
+    # with a leaf blade (leaf_modules: those modules, counted among the stems too)
+    blades = int(leaf_modules(plant).sum())
     info = {
         "model": args.model,
         "preset": args.preset,
@@ -414,7 +441,8 @@ def run_grow(args: argparse.Namespace) -> int:
         "counts": {
             "segments": plant.n_segments,
             "stems": plant.n_stems,
-            "leaves": plant.n_leaves,
+            "leaves": plant.n_leaves + blades,
+            "leaf_modules": blades,
             "tips": plant.n_tips,
             "branch_points": plant.n_branch_points,
             "generations": int(generations.max())
@@ -435,9 +463,11 @@ def run_grow(args: argparse.Namespace) -> int:
         sys.stdout.write("\n")
     else:
         c = info["counts"]
+        blade = f" (modules with a leaf blade: {c['leaf_modules']})" if c["leaf_modules"] else ""
         print(
             f"{args.model}{' ' + args.preset if args.preset else ''}: {c['stems']} stems, "
-            f"{c['leaves']} leaves, {c['tips']} tips, {c['mesh_vertices']} mesh vertices, "
+            f"{c['leaves']} leaves{blade}, {c['tips']} tips, "
+            f"{c['mesh_vertices']} mesh vertices, "
             f"height {info['measures']['height']:.3g}"
             + ("" if base is None else f" (environment: {base[1]})")
         )
@@ -525,15 +555,19 @@ def register(subparsers) -> None:
         metavar="NAME=VALUE",
         help="set a parameter (repeatable; names and ranges: growsim grow MODEL --help)",
     )
-    p.add_argument("--export", metavar="PATH", help="mesh file: .vtp, .ply, .obj or .glb")
+    p.add_argument(
+        "--export",
+        metavar="PATH",
+        help="a mesh: .vtp, .ply, .obj or .glb; the architecture: .mtg (MTG) or .csv (QSM)",
+    )
     p.add_argument("--screenshot", metavar="PATH", help="PNG render")
     p.add_argument("--save", metavar="PATH", help="the Plant skeleton as .npz")
     p.add_argument(
         "--gif",
         metavar="PATH",
-        help="the growth, a frame a step (.gif or .mp4)",
+        help="growth, a frame a step: .gif (.mp4: growsim[video])",
     )
-    add_screenshot_options(p, view="front")
+    add_screenshot_options(p)
     add_color_options(p)
     add_environment_options(p)
     p.add_argument(
@@ -547,8 +581,8 @@ def register(subparsers) -> None:
     p.add_argument(
         "--water-supply", type=float, metavar="S", help="roots' water supply (default 1: ample)"
     )
-    p.add_argument("--sides", type=int, default=6, help="tube polygon sides")
-    p.add_argument("--segments", type=int, default=1, help="tube pieces per segment")
+    p.add_argument("--sides", type=int, default=6, help="tube polygon sides (default 6)")
+    p.add_argument("--segments", type=int, default=1, help="tube pieces per segment (default 1)")
     p.add_argument(
         "--stand",
         metavar="RxC|N",

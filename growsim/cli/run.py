@@ -5,7 +5,12 @@ from __future__ import annotations
 import argparse
 import sys
 
-from growsim.cli.arguments import add_evaluation_options, add_overrides
+from growsim.cli.arguments import (
+    add_evaluation_options,
+    add_overrides,
+    deprecation_notes,
+    renamed_config,
+)
 from growsim.errors import UserInputError
 
 __all__ = ["register"]
@@ -48,7 +53,15 @@ def register(subparsers) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    """Run (or resume) and print where the results went."""
+    """Run (or resume) and print where the results went. A config renamed in 0.2 is
+    named (:func:`growsim.cli.arguments.renamed_config`), a preset renamed in 0.2 taken
+    with a note."""
+    renamed_config(args.config)
+    with deprecation_notes():
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
     from growsim.experiment import run
 
     if args.resume is not None:

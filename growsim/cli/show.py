@@ -36,8 +36,9 @@ def register(subparsers) -> None:
     )
     p.add_argument("dir", metavar="DIR", help="results directory of a run")
     p.add_argument("--screenshot", metavar="PNG", help="write a PNG instead of opening a window")
-    # the same --view (growsim.render.VIEWS) and --size (W H, or N) as ``growsim grow``
-    add_screenshot_options(p, view="iso")
+    # the same --view (growsim.render.VIEWS, the same default) and --size (W H, or N) as
+    # ``growsim grow``
+    add_screenshot_options(p)
     # the same --color and --light-arrow as ``growsim grow``; the environment is the run's
     add_color_options(p)
     # --config / --environment: colour by another experiment's environment than the run's

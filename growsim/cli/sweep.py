@@ -4,7 +4,12 @@ from __future__ import annotations
 
 import argparse
 
-from growsim.cli.arguments import add_evaluation_options, add_overrides
+from growsim.cli.arguments import (
+    add_evaluation_options,
+    add_overrides,
+    deprecation_notes,
+    renamed_config,
+)
 
 __all__ = ["register"]
 
@@ -56,7 +61,13 @@ def register(subparsers) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    """Run the sweep and print the combined table."""
+    """Run the sweep and print the combined table (names renamed in 0.2: as ``run``)."""
+    renamed_config(args.config)
+    with deprecation_notes():
+        return _sweep(args)
+
+
+def _sweep(args: argparse.Namespace) -> int:
     from growsim.experiment import sweep
 
     df = sweep(

@@ -1,12 +1,12 @@
 """The tank: ``[environment.tank]``, a box with obstacles for agents that swim (the fish).
 
 A tank is an axis-aligned box ``[0, size]`` (x across, y up, z deep) holding spheres and
-cubes. :data:`TANKS` holds the three tanks of seed 001 (Okusa, "GA-tuned path control of
+cubes. :data:`TANKS` holds the three tanks of Okusa's thesis ("GA-tuned path control of
 a fish agent": small 300 x 400 x 300, medium 400 x 600 x 300, large 800 x 800 x 800, W x H
-x D) with one obstacle layout, :data:`LAYOUT`, the same in all three as in the seed (which
+x D) with one obstacle layout, :data:`LAYOUT`, the same in all three as in the thesis (which
 does not give its layout; ours is documented in ``docs/models/fish.md``). A preset fills
 ``size`` and ``obstacles`` unless they are given. ``margin`` is the distance from every
-wall inside which a fish starts (40 px in the seed): every side must exceed twice it.
+wall inside which a fish starts (40 px in the thesis): every side must exceed twice it.
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ from growsim.options import Options
 
 __all__ = ["LAYOUT", "TANKS", "Obstacle", "Tank"]
 
-#: the obstacle layout of the preset tanks (the same in all three, as in the seed): a
+#: the obstacle layout of the preset tanks (the same in all three, as in the thesis): a
 #: sphere low in one corner and a cube high in the opposite one, placed to fit the small
 #: tank; ``size`` is the radius or half the edge
 LAYOUT: tuple[dict[str, Any], ...] = (
@@ -29,7 +29,7 @@ LAYOUT: tuple[dict[str, Any], ...] = (
     {"shape": "cube", "center": [210.0, 270.0, 210.0], "size": 15.0},
 )
 
-#: the seed's three tanks (inner size [x, y up, z] in pixels)
+#: the thesis's three tanks (inner size [x, y up, z] in pixels)
 TANKS: dict[str, list[float]] = {
     "small": [300.0, 400.0, 300.0],
     "medium": [400.0, 600.0, 300.0],

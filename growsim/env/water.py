@@ -32,9 +32,8 @@ In closed form ``m_i = min(1, supply * exp(-s_i))`` with ``s_i`` the sum of ``x`
 the root to ``i``: without losses (``resistance = lift = 0``) every segment gets
 ``min(1, supply)`` of its demand and the plant's total is ``min(1, supply) * sum(d)``;
 with losses the total is less. Sources: the pipe model (Shinozaki et al. 1964), HydroShoot's
-flux ``F = -K dH / L`` and the gravity term (0.0098 MPa per metre), and the proposed
-two-pass tree transport, all from "Hormone-module growth: facts, formulas and a proposed
-design" (``shared/research/hormone-model.md``, "Water"). ``resistance`` and ``lift`` are
+flux ``F = -K dH / L`` and the gravity term (0.0098 MPa per metre), and a two-pass tree
+transport built on them (``docs/references.md``). ``resistance`` and ``lift`` are
 per unit of the plant's own length (models' units are not metres): defaults
 :data:`RESISTANCE` and :data:`LIFT`.
 """

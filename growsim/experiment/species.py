@@ -1,8 +1,8 @@
-"""Evolving a species with Ochoa's weighted fitness (seed 002), generation by generation.
+"""Evolving a species with Ochoa's weighted fitness (Liu & Zhang), generation by generation.
 
 :func:`evolve_species` runs an experiment whose objective is ``ochoa``
 (:mod:`growsim.objectives.ochoa`) and records the best plant of every generation, its four
-terms and pictures (the seed's Fig. 2-3); ``growsim species CONFIG`` is the command.
+terms and pictures (the paper's Fig. 2-3); ``growsim species CONFIG`` is the command.
 """
 
 from __future__ import annotations
@@ -57,7 +57,7 @@ def evolve_species(config, *, out=None, seed: int | None = None, overrides=(), p
     ``generations.parquet`` (per generation: ``generation``, ``fitness`` and the terms of
     :func:`growsim.objectives.ochoa.ochoa_terms` of that generation's best), ``generations.png``
     (the best plant of
-    the first, middle and last generation side by side: the seed's Fig. 2-3) and
+    the first, middle and last generation side by side: the paper's Fig. 2-3) and
     ``terms.png`` (the four terms over generations). ``config``: anything
     :func:`~growsim.experiment.load.load_plan` takes. Returns ``(result, table)``: the
     run's :class:`~growsim.experiment.results.RunRecord` and the table.

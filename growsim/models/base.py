@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import abc
 import copy
+import warnings
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar, Literal
@@ -134,6 +135,9 @@ class Model(abc.ABC):
     #: the ``[environment]`` table a preset is shown in (``growsim grow --preset``), if any;
     #: an experiment naming the preset keeps its own ``[environment]``
     preset_environments: ClassVar[Mapping[str, Mapping[str, Any]]] = {}
+    #: deprecated preset names and their new names: :meth:`preset` still takes them for one
+    #: version, with a :class:`DeprecationWarning` (``growsim`` prints it as a note)
+    preset_aliases: ClassVar[Mapping[str, str]] = {}
     #: True when :meth:`grow` yields one phenotype per growth step
     stepwise: ClassVar[bool] = False
     #: the optional capabilities implemented (names in :data:`CAPABILITIES`)
@@ -145,7 +149,27 @@ class Model(abc.ABC):
 
     def preset(self, name: str) -> dict[str, float]:
         """The parameter values of preset ``name``; :class:`UserInputError` naming the
-        model and the presets available if there is no such preset."""
+        model and the presets available if there is no such preset. A deprecated name
+        (:attr:`preset_aliases`) gives its new preset, with a :class:`DeprecationWarning`.
+
+        Examples
+        --------
+        >>> import warnings
+        >>> from growsim.models import get_model
+        >>> with warnings.catch_warnings(record=True) as caught:
+        ...     warnings.simplefilter("always")
+        ...     old = get_model("ifs3d").preset("seed_ga")
+        >>> old == get_model("ifs3d").preset("paper_ga"), str(caught[0].message)
+        (True, "preset 'seed_ga' is now 'paper_ga'; the old name goes in 0.3")
+        """
+        if isinstance(name, str) and name in self.preset_aliases:
+            new = self.preset_aliases[name]
+            warnings.warn(
+                f"preset {name!r} is now {new!r}; the old name goes in 0.3",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+            name = new
         if not isinstance(name, str) or name not in self.presets:
             raise UserInputError(
                 f"unknown preset {name!r} of model {self.name!r}; "
@@ -165,6 +189,8 @@ class Model(abc.ABC):
         >>> get_model("honda").preset_environment("zelkova")
         {}
         """
+        if isinstance(name, str):
+            name = self.preset_aliases.get(name, name)  # preset() says it is deprecated
         self.preset(name)  # an unknown preset is refused the same way
         return copy.deepcopy(dict(self.preset_environments.get(name, {})))
 

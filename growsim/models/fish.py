@@ -1,22 +1,22 @@
-"""A fish in a tank whose path is tuned by a GA (seed 001: Okusa, "GA-tuned path control
+"""A fish in a tank whose path is tuned by a GA (Okusa's thesis, "GA-tuned path control
 of a fish agent", graduation thesis, Tokyo University of Technology, 2003).
 
 The fish swims straight and avoids what it sees by fixed patterns (turns of 10 degrees a
 frame, pitching away from the top or bottom); its numbers (start, size, view distance,
 avoidance angle, speed, initial heading and pitch, colour, preferred turn) are the genome
-of the seed's Table 1, so a GA can tune them until the fish never collides. The path is a
+of the thesis's Table 1, so a GA can tune them until the fish never collides. The path is a
 :class:`growsim.phenotypes.trajectory.Trajectory`. The frame loop is the numba kernel
 :mod:`growsim.kernels.fish`; behaviour, genome and choices: ``docs/models/fish.md``.
 
-Parameters, in the order of the seed's Table 1 (the genome's order):
+Parameters, in the order of the thesis's Table 1 (the genome's order):
 
 - ``x``, ``y``, ``z``: start as a share of the box ``[margin, size - margin]`` of the tank
   (0..1: at least ``tank.margin``, 40 px, from every wall whatever the tank);
 - ``scale`` 2..17, ``view`` 20..100 px, ``angle`` 45..215 degrees, ``speed`` 5..45;
-- ``heading`` 0..360 degrees (the seed's 0..2 pi), ``pitch`` -30..30 degrees (-pi/6..pi/6);
+- ``heading`` 0..360 degrees (the thesis's 0..2 pi), ``pitch`` -30..30 degrees (-pi/6..pi/6);
 - ``color`` 0..3 (one of 4), ``turn`` 0/1 (preferred turn: 1 = increasing heading);
 
-then the fixed ones: ``frames`` (20,000 as the seed) and the base body at scale 1
+then the fixed ones: ``frames`` (20,000 as the thesis) and the base body at scale 1
 (``body_length`` 4, ``body_width`` 1.5, ``body_height`` 2 px).
 """
 
@@ -34,7 +34,7 @@ from growsim.phenotypes.trajectory import Trajectory
 
 __all__ = ["MODEL", "PARAMS", "PRESETS", "FishModel", "default_tank", "develop", "fish_table"]
 
-#: the genes of the seed's Table 1 (in its order), then the fixed parameters
+#: the genes of the thesis's Table 1 (in its order), then the fixed parameters
 PARAMS: tuple[Param, ...] = (
     Param("x", 0.0, 1.0, 0.5, doc="start x as a share of [margin, width - margin]"),
     Param("y", 0.0, 1.0, 0.5, doc="start y (up) as a share of [margin, height - margin]"),
@@ -76,7 +76,7 @@ MAX_FRAMES = 1_000_000
 
 
 def default_tank():
-    """The tank used when the environment has none: the seed's small tank with the
+    """The tank used when the environment has none: the thesis's small tank with the
     documented obstacles (:data:`growsim.env.tank.TANKS`).
 
     Examples
@@ -159,7 +159,7 @@ def develop(params: Mapping[str, float] | None = None, *, seed: int | None = Non
 
 
 class FishModel(Model):
-    """The fish of seed 001 as a registered model (its path is the phenotype).
+    """The fish of Okusa's thesis as a registered model (its path is the phenotype).
 
     Capability for objectives: :meth:`collisions` scores a whole population at once.
 

@@ -1,15 +1,20 @@
-"""Honda's nutrient-split tree (seed 003: Endo, "C G による枝ぶり生成法", ATR TR-C-0067, 1991,
+"""Honda's nutrient-split tree (Endo's report, "C G による枝ぶり生成法", ATR TR-C-0067, 1991,
 after Honda, Tomlinson & Fisher 1981).
 
 Topology: every branching makes two children; the continuation keeps the parent's ration
 per step, the lateral gets ``f`` times it; a tip accumulates its ration each step and
 branches when the total reaches 1; the main trunk's tip branches every step. Geometry: the
-seed's absolute angles (theta from vertical, phi azimuth), droop ``thq`` for the branches of
+report's absolute angles (theta from vertical, phi azimuth), droop ``thq`` for the branches of
 the first two trunk nodes and their descendants, a straight-or-wandering trunk ``thr``.
 See ``docs/models/honda.md``.
 
-Random draws are continuous (``theta0 + U[0,1) * theta_max``) where the seed used integer
-``random() % n`` degrees, so every real parameter value is meaningful to the GA.
+Random draws are continuous (``theta0 + U[0,1) * theta_max``) where the report used
+integer ``random() % n`` degrees, so every real parameter value is meaningful to the GA.
+
+Lengths (``bd``, ``b0``, ``b_max``, ``radius``, ``leaf_radius``) are in metres: the report
+gives them no unit, and growsim reads them as metres, as the environment's gravity, light
+and stands do (``docs/environment.md``, ``docs/models/stand.md``), so the presets are tall
+trees (the zelkova 84 m).
 """
 
 from __future__ import annotations
@@ -59,8 +64,8 @@ MAX_SEGMENTS = 4_000_000
 SAG_MAX_BEND = math.radians(12.0)
 
 PARAMS: tuple[Param, ...] = (
-    Param("generations", 1, 30, 10, kind="int", doc="nutrient steps (the seed's class_cnt)"),
-    Param("seed", 0, 2**31 - 1, 3, kind="int", doc="random seed (the seed's set_rnd)"),
+    Param("generations", 1, 30, 10, kind="int", doc="nutrient steps (the report's class_cnt)"),
+    Param("seed", 0, 2**31 - 1, 3, kind="int", doc="random seed (the report's set_rnd)"),
     Param("f", 0.0, 1.0, 0.95, doc="lateral ration: lateral gets f times its parent's"),
     Param("theta0", 0.0, 90.0, 10.0, doc="least angle from vertical", unit="deg"),
     Param("phi0", 0.0, 180.0, 0.0, doc="least azimuth turn from the parent", unit="deg"),
@@ -68,22 +73,24 @@ PARAMS: tuple[Param, ...] = (
     Param("phi_max", 0.0, 180.0, 90.0, doc="random extra azimuth turn", unit="deg"),
     Param("thq", 0.0, 1.0, 0.2, doc="droop added per level (first two trunk nodes' branches)"),
     Param("thr", 0.0, 1.0, 0.7, doc="main-trunk angle factor: 0 straight (cedar), 1 wandering"),
-    Param("bd", 0.1, 100.0, 20.0, doc="length of the first trunk segment"),
-    Param("b0", 0.1, 50.0, 5.0, doc="least branch length"),
-    Param("b_max", 0.0, 50.0, 3.0, doc="random extra branch length"),
-    Param("radius", 0.01, 10.0, 1.0, doc="trunk base radius (the seed's mesh a)"),
-    Param("taper", 0.3, 1.0, 0.85, doc="radius ratio per level (the seed's mesh b)"),
+    Param("bd", 0.1, 100.0, 20.0, doc="length of the first trunk segment", unit="m"),
+    Param("b0", 0.1, 50.0, 5.0, doc="least branch length", unit="m"),
+    Param("b_max", 0.0, 50.0, 3.0, doc="random extra branch length", unit="m"),
+    Param("radius", 0.01, 10.0, 1.0, doc="trunk base radius (the report's mesh a)", unit="m"),
+    Param("taper", 0.3, 1.0, 0.85, doc="radius ratio per level (the report's mesh b)"),
     Param("pipe", 0, 1, 0, kind="int", doc="1: pipe-model radii (area ~ tips above) instead"),
-    Param("leaves", 0, 8, 3, kind="int", doc="leaves per leaf-bearing branch (the seed's d)"),
-    Param("leaf_radius", 0.0, 10.0, 1.2, doc="leaf hexagon radius (the seed's e)"),
+    Param("leaves", 0, 8, 3, kind="int", doc="leaves per leaf-bearing branch (the report's d)"),
+    Param("leaf_radius", 0.0, 10.0, 1.2, doc="leaf hexagon radius (the report's e)", unit="m"),
     Param("leaf_cut", 0.0, 80.0, 40.0, doc="prism cut angle: blade length 2e/cos", unit="deg"),
-    Param("sag", 0.0, 1.0, 0.0, doc="beyond the seed: bending under sub-tree weight (0 off)"),
-    Param("avoid", 0.0, 1.0, 0.0, doc="beyond the seed: turn laterals away from crowding (0 off)"),
+    Param("sag", 0.0, 1.0, 0.0, doc="beyond the report: bending under sub-tree weight (0 off)"),
+    Param(
+        "avoid", 0.0, 1.0, 0.0, doc="beyond the report: turn laterals away from crowding (0 off)"
+    ),
 )
 
 _SPECIES = {
-    # Table 2 of the seed: class_cnt, set_rnd, f, theta0, phi0, theta_max, phi_max, thq,
-    # thr, bd, b0, b_max. Columns e-h have no species name in the seed; the names below
+    # Table 2 of the report: class_cnt, set_rnd, f, theta0, phi0, theta_max, phi_max, thq,
+    # thr, bd, b0, b_max. Columns e-h have no species name in the report; the names below
     # describe the shapes its Fig. 14 shows.
     "zelkova": (10, 3, 0.95, 10, 0, 40, 90, 0.2, 0.7, 20, 5, 3),
     "cherry": (10, 3, 0.99, 20, 0, 20, 90, 0.5, 0.6, 15, 5, 3),
@@ -97,7 +104,7 @@ _SPECIES = {
 _KEYS = ("generations", "seed", "f", "theta0", "phi0", "theta_max", "phi_max", "thq", "thr")
 _KEYS += ("bd", "b0", "b_max")
 
-#: The eight species of the seed's Table 2, each a full parameter dict (with its seed).
+#: The eight species of the report's Table 2, each a full parameter dict (with its seed).
 PRESETS: dict[str, dict[str, float]] = {
     name: resolve_params(PARAMS, dict(zip(_KEYS, row))) for name, row in _SPECIES.items()
 }
@@ -111,7 +118,7 @@ def count_topology(f: float, generations: int) -> tuple[int, int]:
 
     Examples
     --------
-    >>> count_topology(1.0, 10)        # the full binary tree of the seed's Table 3, f
+    >>> count_topology(1.0, 10)        # the full binary tree of the report's Table 3, f
     (2047, 1024)
     >>> count_topology(0.95, 10)[0]    # zelkova
     125
@@ -184,7 +191,7 @@ def _resolved(params: Mapping[str, float] | None, seed) -> dict:
 
 
 def _seed_draws(p: Mapping[str, float], n_branch: int) -> np.ndarray:
-    """The seed's ``(n_branch, N_DRAWS)`` uniforms, one row per branching."""
+    """The report's ``(n_branch, N_DRAWS)`` uniforms, one row per branching."""
     return np.random.default_rng(int(p["seed"])).random((n_branch, N_DRAWS))
 
 
@@ -214,14 +221,14 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None, d
     """Grow one Honda tree.
 
     ``params``: any subset of :data:`PARAMS` (defaults fill the rest; values are checked).
-    ``seed``: overrides ``params["seed"]`` when given. ``env`` is unused (the seed's tree
+    ``seed``: overrides ``params["seed"]`` when given. ``env`` is unused (the report's tree
     has no environment), except in a mixture (``environment.stand.mode = "mixture"``):
     then the tree among copies of itself, :func:`mixture`. ``draws``: optional
-    ``(m, N_DRAWS)`` uniforms in ``[0, 1]`` replacing the seed's draws of the first ``m``
+    ``(m, N_DRAWS)`` uniforms in ``[0, 1]`` replacing the report's draws of the first ``m``
     branchings (the arrangement of the branches: see :func:`draws`; rows beyond the tree's
-    branchings are ignored; without it, the tree is the seed's, bit for bit). Returns a
+    branchings are ignored; without it, the tree is the report's, bit for bit). Returns a
     :class:`growsim.phenotypes.plant.Plant` whose first
-    ``n_stems`` segments are the stems in the seed's vertex order (segment ``v - 1`` ends
+    ``n_stems`` segments are the stems in the report's vertex order (segment ``v - 1`` ends
     at vertex ``v``), followed by the leaves (``kind == LEAF``). ``data`` holds
     ``generation``, ``depth``, ``main`` (bool) and ``radius_end``.
 
@@ -273,7 +280,7 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None, d
         np.maximum.at(child_r, parent[has], radius[has])
         r_end = np.where(child_r > 0, child_r, radius)
     else:
-        # the seed: radius shrinks by `taper` per level from the ground
+        # the report's: radius shrinks by `taper` per level from the ground
         radius = a * p["taper"] ** depth[vpar[1:]]
         r_end = a * p["taper"] ** depth[1:]
     if p["sag"] > 0.0:
@@ -318,7 +325,7 @@ def develop(params: Mapping[str, float] | None = None, *, seed=None, env=None, d
 
 def _override(U: np.ndarray, given) -> np.ndarray:
     """``U`` with its first rows replaced by ``given`` (checked: ``(m, N_DRAWS)`` in
-    ``[0, 1]``; a 1 is taken as the largest float below 1, as the seed's draws are)."""
+    ``[0, 1]``; a 1 is taken as the largest float below 1, as the report's draws are)."""
     given = np.asarray(given, dtype=np.float64)
     if given.ndim != 2 or given.shape[1] != N_DRAWS:
         raise UserInputError(

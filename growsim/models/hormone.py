@@ -83,7 +83,7 @@ SETTINGS = (
 
 #: constants of the step (name, default, doc), passed to the kernel in this order
 CONSTANTS = (
-    ("elongation", 0.15, "largest elongation of a wall per step (m, hormone 1, water met)"),
+    ("elongation", 0.15, "largest elongation of a wall per step (m, hormone 0, water met)"),
     ("max_length", 0.5, "a module elongates up to this length (m)"),
     ("turning", 0.3, "turning per unit of relative wall elongation difference (rad)"),
     ("thickening", 0.003, "largest thickening per step (m)"),

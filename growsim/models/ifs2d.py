@@ -1,8 +1,8 @@
-"""2D IFS plants (seed 002: Liu & Zhang, "IFS and genetic algorithm studying in simulation
+"""2D IFS plants (Liu & Zhang, "IFS and genetic algorithm studying in simulation
 of plant", Lanzhou University of Technology, 2011).
 
 A plant is an IFSP code: ``N`` affine maps with probabilities ``{(W_n, p_n)}``, in the
-seed's form
+paper's form
 
     W_n(x, y) = [[r cos(theta), -q sin(phi)], [r sin(theta), q cos(phi)]] (x, y) + (e, f)
 
@@ -15,9 +15,9 @@ Parameters (:func:`param_spec`):
 
 - ``n_maps`` (int, 1..12, default 4): ``N``. A map whose weight ``p_k`` is 0 is never
   drawn, so a GA can switch maps off: the number of maps in use varies within ``N``;
-- ``form`` (int, 0 or 1): the parameters of each map: 0, the seed's ``r_k, q_k, theta_k,
+- ``form`` (int, 0 or 1): the parameters of each map: 0, the paper's ``r_k, q_k, theta_k,
   phi_k`` (degrees); 1, ``a_k, b_k, c_k, d_k``; then ``e_k, f_k`` and the weight ``p_k``;
-- ``iterations`` (default 100,000, as the seed's figure), ``burn_in`` (points dropped
+- ``iterations`` (default 100,000, as the paper's figure), ``burn_in`` (points dropped
   first, default 100);
 - ``contraction`` (default 0.95): the largest singular value a map may have.
 
@@ -31,6 +31,7 @@ attractor, so the burn-in is a safety margin rather than a need.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
 
 import numpy as np
@@ -57,6 +58,7 @@ __all__ = [
     "develop",
     "fit_tables",
     "fixed_point",
+    "paper_form",
     "param_spec",
     "params_from_code",
     "repair",
@@ -75,7 +77,7 @@ MAX_POINTS = 20_000_000
 FORMS = (("r", "q", "theta", "phi"), ("a", "b", "c", "d"))
 _SHARED = ("e", "f", "p")
 
-#: The seed's Table 1 (the fern), rows ``(a, b, c, d, e, f, p)``.
+#: The paper's Table 1 (the fern), rows ``(a, b, c, d, e, f, p)``.
 TABLE1 = np.array(
     [
         [0.0, 0.0, 0.0, 0.16, 0.0, 0.0, 0.01],
@@ -86,13 +88,14 @@ TABLE1 = np.array(
 )
 
 
-def seed_form(abcd) -> np.ndarray:
-    """``(N, 4)`` ``(r, q, theta, phi)`` (degrees) of ``(N, 4)`` ``(a, b, c, d)`` rows:
-    ``r = hypot(a, c)``, ``theta = atan2(c, a)``, ``q = hypot(b, d)``, ``phi = atan2(-b, d)``.
+def paper_form(abcd) -> np.ndarray:
+    """``(N, 4)`` ``(r, q, theta, phi)`` (degrees, the paper's form) of ``(N, 4)``
+    ``(a, b, c, d)`` rows: ``r = hypot(a, c)``, ``theta = atan2(c, a)``, ``q = hypot(b, d)``,
+    ``phi = atan2(-b, d)``.
 
     Examples
     --------
-    >>> seed_form([[0.0, -0.5, 0.5, 0.0]]).round(6).tolist()
+    >>> paper_form([[0.0, -0.5, 0.5, 0.0]]).round(6).tolist()
     [[0.5, 0.5, 90.0, 90.0]]
     """
     m = np.asarray(abcd, dtype=np.float64).reshape(-1, 4)
@@ -108,9 +111,19 @@ def seed_form(abcd) -> np.ndarray:
     return out + 0.0  # no negative zeros
 
 
+def seed_form(abcd) -> np.ndarray:
+    """:func:`paper_form`, by its name of 0.1 (deprecated: it goes in 0.3)."""
+    warnings.warn(
+        "ifs2d.seed_form is now ifs2d.paper_form; the old name goes in 0.3",
+        DeprecationWarning,
+        stacklevel=2,
+    )
+    return paper_form(abcd)
+
+
 def abcdef_form(rqtp) -> np.ndarray:
     """``(N, 4)`` ``(a, b, c, d)`` of ``(N, 4)`` ``(r, q, theta, phi)`` rows (degrees): the
-    seed's matrix ``[[r cos theta, -q sin phi], [r sin theta, q cos phi]]``.
+    paper's matrix ``[[r cos theta, -q sin phi], [r sin theta, q cos phi]]``.
 
     Examples
     --------
@@ -127,7 +140,7 @@ def _map_params(n_maps: int, form: int, defaults: np.ndarray) -> list[Param]:
     for k in range(1, n_maps + 1):
         row = defaults[k - 1] if k <= len(defaults) else None
         if form == 0:
-            d = seed_form(row[:4])[0] if row is not None else (0.3, 0.3, 0.0, 0.0)
+            d = paper_form(row[:4])[0] if row is not None else (0.3, 0.3, 0.0, 0.0)
             out += [
                 Param(f"r_{k}", 0.0, 1.0, round(float(d[0]), 6), doc=f"x scale of map {k}"),
                 Param(f"q_{k}", 0.0, 1.0, round(float(d[1]), 6), doc=f"y scale of map {k}"),
@@ -156,7 +169,7 @@ def param_spec(fixed: Mapping[str, float] | None = None) -> tuple[Param, ...]:
 
     Returns ``n_maps``, ``form``, ``iterations``, ``burn_in``, ``contraction``, then per
     map ``k``: the four fields of the form (:data:`FORMS`), ``e_k``, ``f_k``, ``p_k``.
-    Defaults: the fern of the seed's Table 1 for maps 1-4.
+    Defaults: the fern of the paper's Table 1 for maps 1-4.
 
     Examples
     --------
@@ -168,7 +181,7 @@ def param_spec(fixed: Mapping[str, float] | None = None) -> tuple[Param, ...]:
     fixed = dict(fixed or {})
     head = (
         Param("n_maps", 1, MAX_N_MAPS, DEFAULT_N_MAPS, kind="int", doc="number of maps N"),
-        Param("form", 0, 1, 0, kind="int", doc="0: r q theta phi (the seed's); 1: a b c d"),
+        Param("form", 0, 1, 0, kind="int", doc="0: r q theta phi (the paper's); 1: a b c d"),
         Param("iterations", 1, MAX_POINTS, 100_000, kind="int", doc="chaos-game points drawn"),
         Param("burn_in", 0, 100_000, 100, kind="int", doc="chaos-game points dropped first"),
         Param("contraction", 0.1, 0.999, 0.95, doc="largest singular value a map may have"),
@@ -178,14 +191,14 @@ def param_spec(fixed: Mapping[str, float] | None = None) -> tuple[Param, ...]:
     return (*head, *_map_params(n_maps, form, TABLE1))
 
 
-#: The spec for the default fern (4 maps, the seed's form).
+#: The spec for the default fern (4 maps, the paper's form).
 PARAMS = param_spec()
 
 
 def params_from_code(table, *, form: int = 0, **extra: float) -> dict[str, float]:
     """Model parameters of an IFSP code ``table`` ``(N, 7)`` rows ``(a, b, c, d, e, f, p)``.
 
-    ``form`` as the model's (0: the seed's ``r q theta phi``; 1: ``a b c d``); ``extra``
+    ``form`` as the model's (0: the paper's ``r q theta phi``; 1: ``a b c d``); ``extra``
     fixed values (``iterations``, ...) are added.
 
     Examples
@@ -199,7 +212,7 @@ def params_from_code(table, *, form: int = 0, **extra: float) -> dict[str, float
         raise UserInputError(f"ifs2d: an IFSP code is (N, 7) rows a b c d e f p, got {t.shape}")
     if form not in (0, 1):
         raise UserInputError(f"ifs2d: form must be 0 or 1, got {form!r}")
-    lin = seed_form(t[:, :4]) if form == 0 else t[:, :4]
+    lin = paper_form(t[:, :4]) if form == 0 else t[:, :4]
     out: dict[str, float] = {"n_maps": float(t.shape[0]), "form": float(form)}
     for k in range(t.shape[0]):
         for name, v in zip(FORMS[form] + _SHARED, (*lin[k], *t[k, 4:])):
@@ -274,8 +287,8 @@ def _preset(table, **extra) -> dict[str, float]:
     return params_from_code(np.asarray(table, dtype=np.float64), **extra)
 
 
-#: Named plants, each an IFSP code (rows a b c d e f p), in the seed's form:
-#: ``fern``: the seed's Table 1; ``tree``: a binary fractal tree (a thin trunk, two
+#: Named plants, each an IFSP code (rows a b c d e f p), in the paper's form:
+#: ``fern``: the paper's Table 1; ``tree``: a binary fractal tree (a thin trunk, two
 #: branches turned by 30 degrees at 0.6 scale; the start of growsim's "fractal tree one"
 #: species); ``tree3``: the same with a third, upright branch ("fractal tree two");
 #: ``tree6``: a six-map tree with a forked trunk and a dense crown; ``bush``: a four-map

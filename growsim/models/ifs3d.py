@@ -15,13 +15,13 @@ Parameters per map ``n = 1..N`` (named ``s_n``, ``y_n``, ``theta_z_n``, ``theta_
   map ``k`` (``k = 2..N``) gets the ``(k-1)``-th of ``N - 1`` equal sectors (for ``N = 5``
   the quarters ``[0, 90], [90, 180], ...``), which removes the map-order symmetry.
 
-These are the seed's ranges (its appendix code), generalised to any ``N``. Two integer
+These are the paper's ranges (its appendix code), generalised to any ``N``. Two integer
 parameters complete the spec: ``n_maps`` (``N``, default 5) and ``depth`` (default 5: 3,906
 segments). Fix them in a config; the GA evolves the map parameters.
 
-Leaves (beyond the seed, for fitting leafy trees in pictures): ``leaves`` per leaf-bearing
+Leaves (beyond the paper, for fitting leafy trees in pictures): ``leaves`` per leaf-bearing
 branch (the tips and the branches whose children are all tips, as Honda's tree; default
-0: the seed's bare tree) and ``leaf_radius`` (their size, in trunk lengths), drawn as
+0: the paper's bare tree) and ``leaf_radius`` (their size, in trunk lengths), drawn as
 Honda's leaves (:func:`growsim.kernels.honda.leaves_kernel`, cut angle :data:`LEAF_CUT`).
 """
 
@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Iterator, Mapping
+from typing import ClassVar
 
 import numpy as np
 
@@ -68,7 +69,7 @@ RADIUS_RATIO = 0.04
 LEAF_CUT = 40.0
 
 #: The leaves' parameters, after the maps in :func:`param_spec`: none by default (the
-#: seed's bare tree), so a config that does not name them grows the seed's tree.
+#: paper's bare tree), so a config that does not name them grows the paper's tree.
 LEAF_PARAMS: tuple[Param, ...] = (
     Param("leaves", 0, 8, 0, kind="int", doc="leaves per leaf-bearing branch (0: bare)"),
     Param("leaf_radius", 0.0, 0.2, 0.02, doc="leaf hexagon radius, in trunk lengths"),
@@ -127,15 +128,15 @@ def _preset(rows, depth=DEFAULT_DEPTH) -> dict[str, float]:
     for k, row in enumerate(rows, start=1):
         for f, v in zip(_FIELDS, row):
             out[f"{f}_{k}"] = float(v)
-    # the seed's trees are bare
+    # the paper's trees are bare
     out.update({p.name: float(p.default) for p in LEAF_PARAMS})
     return out
 
 
-#: Named trees. ``table1``: the seed's test tree (its Table 1, a symmetric tree rendered to
-#: make the target silhouettes); ``seed_ga`` and ``seed_gradient``: the seed's estimates of
-#: it (its Table 2), by its GA (cross-correlation about 0.661) and by the optimal-gradient
-#: method (about 0.756).
+#: Named trees. ``table1``: the paper's test tree (its Table 1, a symmetric tree rendered to
+#: make the target silhouettes); ``paper_ga`` and ``paper_gradient``: the paper's estimates
+#: of it (its Table 2), by its GA (cross-correlation about 0.661) and by the
+#: optimal-gradient method (about 0.756).
 PRESETS: dict[str, dict[str, float]] = {
     "table1": _preset(
         [
@@ -146,7 +147,7 @@ PRESETS: dict[str, dict[str, float]] = {
             (0.50, 0.40, 45.0, 270.0),
         ]
     ),
-    "seed_ga": _preset(
+    "paper_ga": _preset(
         [
             (0.409, 0.562, 36.563, 261.562),
             (0.480, 0.394, 71.719, 27.422),
@@ -155,7 +156,7 @@ PRESETS: dict[str, dict[str, float]] = {
             (0.423, 0.262, 46.406, 336.094),
         ]
     ),
-    "seed_gradient": _preset(
+    "paper_gradient": _preset(
         [
             (0.546, 0.373, 3.202, 291.578),
             (0.468, 0.505, 42.056, 3.229),
@@ -383,6 +384,11 @@ class IFS3D(Model):
     capabilities = frozenset({"map_groups"})
     params = PARAMS
     presets = PRESETS
+    #: the names of 0.1 (they meant the paper, not a random seed): taken until 0.3
+    preset_aliases: ClassVar[dict[str, str]] = {
+        "seed_ga": "paper_ga",
+        "seed_gradient": "paper_gradient",
+    }
 
     def param_spec(self, fixed=None) -> tuple[Param, ...]:
         """See :func:`param_spec`."""

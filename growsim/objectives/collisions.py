@@ -1,5 +1,5 @@
 """Collisions of a swimming agent with its tank's walls and obstacles (minimised): the
-fitness of seed 001 (Okusa, "GA-tuned path control of a fish agent": the total of the 7
+fitness of Okusa's thesis ("GA-tuned path control of a fish agent": the total of the 7
 body points' collisions over 20,000 frames; 0 is a fish that never touches anything).
 
 The score recounts the collisions of a :class:`growsim.phenotypes.trajectory.Trajectory` against the

@@ -27,9 +27,8 @@ costs::
   ``L = K`` a leaf gives ``(1 + K) / 2`` of its full-light value). With a linear
   response and binary shadows one flat layer of leaves is best at every light level;
   with saturation, upper leaves in full light give little more than half-lit ones, so a
-  crown of several layers can pay (Horn, *The adaptive geometry of trees*; why it
-  matters: *Hormone-module growth: facts, formulas and a proposed design*, the team's
-  research notes);
+  crown of several layers can pay (Horn, *The adaptive geometry of trees*;
+  ``docs/references.md``);
 - ``V_wood``: :meth:`growsim.phenotypes.plant.Plant.wood_volume` (world units^3, the stem tubes).
 
 The sum ``sum_i A_i R(L_i)`` is :func:`growsim.phenotypes.plant.leaf_light` (its linear form is the

@@ -1,5 +1,5 @@
-"""Total nutrient held by a plant's modules: the fitness of seed 004 (Uehara, Akamine
-and Endo, "Plants that acquire a 3D structure by adapting to the environment").
+"""Total nutrient held by a plant's modules: the fitness of Uehara, Akamine
+and Endo ("Plants that acquire a 3D structure by adapting to the environment").
 
 ``score = sum_m nutrient_m`` over the modules of a plant grown by a model that keeps a
 per-module ``data["nutrient"]`` (the hormone model, :mod:`growsim.models.hormone`; a

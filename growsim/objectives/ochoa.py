@@ -1,4 +1,4 @@
-"""Ochoa's weighted fitness of a plant's 2D picture (seed 002, after G. Ochoa, "On genetic
+"""Ochoa's weighted fitness of a plant's 2D picture (Liu & Zhang, after G. Ochoa, "On genetic
 algorithms and Lindenmayer systems", PPSN V, LNCS 1498, 1998).
 
 Four terms, each in ``[0, 1]``, read off the plant's 2D view (:func:`plane_view`: an
@@ -54,11 +54,11 @@ __all__ = [
     "plane_view",
 ]
 
-#: the four terms, in the seed's order (a, b, c, d)
+#: the four terms, in the paper's order (a, b, c, d)
 TERMS = ("phototropism", "light", "stability", "symmetry")
 
 #: Named species: weights of the four terms. ``tree_one`` and ``tree_two`` are growsim's
-#: weights for the seed's two fractal trees (its text gives none): the first values
+#: weights for the paper's two fractal trees (its text gives none): the first values
 #: stability and light most, the second light and height.
 SPECIES: dict[str, dict[str, float]] = {
     "balanced": {"phototropism": 1.0, "light": 1.0, "stability": 1.0, "symmetry": 1.0},

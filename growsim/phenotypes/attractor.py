@@ -1,4 +1,4 @@
-"""An attractor: the 2D point cloud an IFSP code draws (seed 002), as a phenotype
+"""An attractor: the 2D point cloud an IFSP code draws (Liu & Zhang), as a phenotype
 (:mod:`growsim.phenotypes`, kind ``"points2d"``).
 
 It holds the chaos game's points ``(n, 2)`` (x right, y up), the repaired code that drew

@@ -1,11 +1,11 @@
-"""A trajectory: the path of an agent that swims in a tank (the fish of seed 001), as a
+"""A trajectory: the path of an agent that swims in a tank (the fish of Okusa's thesis), as a
 phenotype (:mod:`growsim.phenotypes`).
 
 It holds, per frame (row 0 is the start), the centre, the orientation and speed, the
 collisions counted there and the manoeuvre (0 straight, 1 turning, 2 pitching), with the
 fish's body (its row of the kernel's fish table) and the tank it swam in. Pictures are
 pyvista renders of the tank, its obstacles and the path as a tube coloured by time
-(viridis: dark at the start, yellow at the end; the seed's Fig. 1 drew red spheres where
+(viridis: dark at the start, yellow at the end; the thesis's Fig. 1 drew red spheres where
 the fish passed), black spheres where it collided and a green one at the start;
 :meth:`Trajectory.animation` writes the swim as a GIF.
 """

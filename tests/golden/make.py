@@ -27,8 +27,8 @@ BUDGETS: dict[str, list[str]] = {
     "honda_silhouette": ["ga.population=10", "ga.generations=2", "ga.polish.evaluations=12"],
     "hormone_2d": ["ga.population=6", "ga.generations=2"],
     "hormone_3d": ["ga.population=6", "ga.generations=2"],
-    "hormone_2d_seed_ga": ["ga.population=8", "ga.generations=2"],
-    "hormone_3d_seed_ga": ["ga.population=8", "ga.generations=2"],
+    "hormone_2d_paper_ga": ["ga.population=8", "ga.generations=2"],
+    "hormone_3d_paper_ga": ["ga.population=8", "ga.generations=2"],
     "stand_density_2d": ["ga.population=6", "ga.generations=2"],
     # the dense variant: a periodic stand (the alone path is pinned by hormone_3d)
     "stand_density_3d": [

@@ -303,8 +303,8 @@ def show(plant_or_mesh, *, view="iso", color=None, env=None, light_arrow=None, t
 def turntable(
     plant_or_mesh, path, *, frames: int = 36, size=(400, 400), fps: int = 12, elevation=15.0
 ) -> Path:
-    """A turntable animation (GIF, or MP4 with imageio-ffmpeg): the camera circles the
-    plant in ``frames`` steps at ``elevation`` degrees.
+    """A turntable animation (GIF, or MP4 with the video extra, ``growsim[video]``): the
+    camera circles the plant in ``frames`` steps at ``elevation`` degrees.
 
     Examples
     --------
@@ -342,7 +342,8 @@ def turntable(
 def growth_animation(
     plants: Sequence, path, *, view="front", size=(400, 400), fps: int = 4
 ) -> Path:
-    """Animate a list of plants (e.g. one per generation) in one fixed frame (GIF/MP4).
+    """Animate a list of plants (e.g. one per generation) in one fixed frame (GIF; MP4 with
+    the video extra, ``growsim[video]``).
 
     The camera frames the union of all plants' bounding boxes, so growth is visible.
 
