@@ -154,6 +154,7 @@ def _saved_best(name: str, out: Path, gifs: bool, picture: str | None = None) ->
         view=view,
         cell=(320, 320),
         columns=len(plants),
+        same_scale=True,
     )
 
 

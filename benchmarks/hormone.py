@@ -20,8 +20,7 @@
 - ``generation``: one generation of ``--population`` individuals in 3D at the model's
   default number of steps (40), scored by the ``nutrient`` objective through the
   experiment's fitness, serially and on a process pool of 2: random genomes (generation
-  0) and the 3D demo genome with Gaussian noise (grown plants, as later generations;
-  with the 2D configs' upkeep of 100, under which the demo genome grows).
+  0) and the 3D demo genome with Gaussian noise (grown plants, as later generations).
 """
 
 from __future__ import annotations
@@ -188,14 +187,11 @@ def generation(population: int) -> dict:
     rng = np.random.default_rng(1)
     out = {"population": population, "steps": 40}
     demo = hormone.PRESETS["demo_3d"]
-    # the config's own upkeep (300) starves the demo genome: its grown case uses the
-    # 2D configs' 100, under which it grows (the cost of a generation of large plants)
-    for name, params, upkeep in (
-        ("random", _random_genes(rng, population, {}), None),
-        ("grown", _noisy_genes(rng, population, demo), 100.0),
+    for name, params in (
+        ("random", _random_genes(rng, population, {})),
+        ("grown", _noisy_genes(rng, population, demo)),
     ):
-        more = [] if upkeep is None else [f"model.params.upkeep={upkeep}"]
-        f = load_plan("experiments/hormone_3d.toml", ["model.params.steps=40", *more]).fitness()
+        f = load_plan("experiments/hormone_3d.toml", ["model.params.steps=40"]).fitness()
         x = np.array([[p.get(n, demo.get(n)) for n in f.evolved] for p in params])
         f(x[:2])  # compile
         t0 = time.perf_counter()
@@ -213,7 +209,6 @@ def generation(population: int) -> dict:
             "pool2_s": round(t_pool, 2),
             "pool2_speedup": round(t_serial / t_pool, 2),
             "mean_modules_first_200": round(float(table["modules"].mean()), 1),
-            "upkeep": float(f.full_params(x[:1])[0][f.names.index("upkeep")]),
         }
     return out
 

@@ -1,4 +1,4 @@
-"""Discovery and confirmation of the hormone sweeps, as one JSON file (issues 29, 30).
+"""Discovery and confirmation of the hormone and stand sweeps, as one JSON file.
 
 Reads the directories ``growsim compare`` wrote for a discovery block (with
 ``--confirm`` and ``--garden``) and for the confirmation block alone (with ``--garden``),
@@ -15,6 +15,9 @@ or for one block alone (its ``--garden`` compare), and writes what
 - ``fitness_by_garden``: each block's genetic contrasts of fitness in every garden
   (passing Holm or not: does a genome evolved in one environment do better or worse in
   another garden);
+- ``sizes``: each block's best plants: the most modules (against the config's module
+  cap, ``max_modules``), the leaf area index's range, and why the plants of each garden
+  cell stopped growing (``garden_stops.csv``);
 - ``variance``: each block's shares of each quantity's variation in the common garden
   (``garden_variance.csv``: origin = genetic, garden = plastic, their interaction).
 
@@ -30,6 +33,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -65,6 +69,24 @@ def garden(compare_dir: Path, alpha: float = 0.05) -> list[dict]:
     return _records(hit[cols])
 
 
+def sizes(compare_dir: Path) -> dict:
+    """The best plants' largest module count, the module cap of their configs, the leaf
+    area index's range and (from the common garden) why each cell's plants stopped."""
+    runs = pd.read_csv(compare_dir / "runs.csv")
+    caps = set()
+    for path in runs["path"]:
+        text = (Path(path) / "config.toml").read_text()
+        caps |= {int(m) for m in re.findall(r"max_modules\s*=\s*(\d+)", text)}
+    out = {"max_modules": int(runs["n_segments"].max()), "cap": sorted(caps)}
+    if "leaf_area_index" in runs:
+        out["leaf_area_index"] = [float(runs["leaf_area_index"].min()),
+                                  float(runs["leaf_area_index"].max())]  # fmt: skip
+    stops = compare_dir / "garden_stops.csv"
+    if stops.is_file():
+        out["stops"] = _records(pd.read_csv(stops))
+    return out
+
+
 def fitness_by_garden(compare_dir: Path) -> list[dict]:
     """Every genetic contrast of fitness in the common garden (``garden_stats.csv``)."""
     g = pd.read_csv(compare_dir / "garden_stats.csv")
@@ -95,6 +117,7 @@ def main(argv=None) -> int:
         "garden": {k: garden(p) for k, p in blocks.items()},
         "spread": {k: spread(p, measures) for k, p in blocks.items()},
         "fitness_by_garden": {k: fitness_by_garden(p) for k, p in blocks.items()},
+        "sizes": {k: sizes(p) for k, p in blocks.items()},
         "variance": {
             k: _records(pd.read_csv(p / "garden_variance.csv")) for k, p in blocks.items()
         },

@@ -16,7 +16,7 @@ from growsim.experiment import load_plan, run
 from growsim.models import hormone as H
 
 ENV2 = {"light": {"direction": [0.3, -1.0, 0.0], "diffuse": 0.5}}
-DEMO2 = {**H.PRESETS["demo_2d"], "steps": 12, "max_modules": 80}
+DEMO2 = {**H.PRESETS["demo_2d"], "steps": 20, "max_modules": 80}
 #: a neighbour that hardly grows: its first hormone (elongation) switched off
 WEAK = {**DEMO2, "h0_bias": -4.0, "h0_gain": 0.0}
 MIX = "experiments/stand_mixture_2d.toml"

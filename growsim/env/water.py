@@ -1,41 +1,37 @@
-"""Water: ``[environment.water]`` and transport by negative pressure (the seed's model).
+"""Water: ``[environment.water]``, a fixed soil supply shared by path conductance.
 
-Each segment pulls water in proportion to the light it receives (the seed's "negative
-pressure"); the pull of a segment's whole subtree is the sum of its children's; the
-roots' water is shared down the tree in proportion to those sums, and each segment passes
-on less than enters it: the pressure falls along thin, long paths that carry the pull of
-many leaves, and with height. The equations (also in ``docs/environment.md``, "Water"):
+The soil offers a plant a fixed amount of water a step, ``supply * soil`` (``supply`` 1 =
+ample, ``soil`` the ample soil's water in kg a step), which its segments share by their
+path conductance: water is a resource, and a plant with more leaves does not get more of
+it. The equations (also in ``docs/environment.md``, "Water"):
 
-- demand: ``d_i = light_i`` for leaves, ``d_i = stem_demand * L_i`` for stems (an upkeep
-  per unit length, default 0); ``L_i`` the segment's length;
-- subtree demand (child-to-parent pass): ``D_i = d_i + sum_{c child of i} D_c``;
-- root inflow: ``F_r = supply * D_r`` (``supply`` is a share of the demand: 1 = as much as
-  the plant pulls, before the losses on the way);
-- a child ``c`` of ``i`` receives ``F_c = a_i D_c / D_i`` (parent-to-child pass), where
-  ``a_i = F_i exp(-x_i)`` is what reaches ``i``'s far end;
-- pressure drop along segment ``i`` (Hagen-Poiseuille flow through the pipe model's bundle
-  of unit pipes: conductance ``~ r^2 / L``, driven by the subtree's pull ``D``; plus the
-  gravity potential ``rho g dh``)::
+- demand: ``d_i`` given per segment (the hormone model: the transpiration of its leaves,
+  following the light they absorb and their area; :func:`segment_demand`: the light of a
+  leaf, ``stem_demand * L_i`` of a stem), kg a step;
+- path resistance from the soil to the far end of segment ``i`` (parent to child; the
+  roots' own resistance is 1)::
 
-      x_i = resistance * L_i * (D_i / r_i^2) / (D_r / r_r^2)
-            + lift * (g / 9.81) * max(0, dy_i)
+      x_i = x_parent + resistance * L_i * (1 cm^2 / (pi r_i^2)) + lift * (g / 9.81) * max(0, dy_i)
 
-  the first term is ``L_i`` times the segment's demand per cross-section relative to its
-  root's (``r`` the segment's radius, ``r_r`` the root segment's), so a tree that obeys
-  the pipe model (cross-section proportional to the leaves above) loses ``resistance`` per
-  unit length everywhere and a thin branch bearing many leaves loses more; a segment of
-  radius 0 with demand beyond it passes nothing; going down costs nothing;
-- received: ``w_i = min(d_i, a_i d_i / D_i)``; share met ``m_i = w_i / d_i`` (1 where
-  ``d_i = 0``); water a segment cannot use (supply above 1) is lost, never passed on.
+  sapwood conducts by its cross-section (the pipe model's bundle of pipes: conductance
+  ``~ pi r^2 / L``), so ``resistance`` is what a metre of stem of 1 cm^2 adds to the
+  roots' resistance, and climbing costs ``lift`` a metre (the gravity potential); a stem of
+  radius 0 passes nothing;
+- path conductance ``k_i = 1 / (1 + x_i)``;
+- sharing by water filling: ``w_i = d_i min(1, lam k_i)``, one level ``lam`` per plant such
+  that the plant receives ``min(S, sum of d)`` (``S = supply * soil``): the most conductive
+  segments are met first, and water a segment does not need goes to the others;
+- share met ``m_i = w_i / d_i`` (1 where ``d_i = 0``).
 
-In closed form ``m_i = min(1, supply * exp(-s_i))`` with ``s_i`` the sum of ``x`` from
-the root to ``i``: without losses (``resistance = lift = 0``) every segment gets
-``min(1, supply)`` of its demand and the plant's total is ``min(1, supply) * sum(d)``;
-with losses the total is less. Sources: the pipe model (Shinozaki et al. 1964), HydroShoot's
-flux ``F = -K dH / L`` and the gravity term (0.0098 MPa per metre), and a two-pass tree
-transport built on them (``docs/references.md``). ``resistance`` and ``lift`` are
-per unit of the plant's own length (models' units are not metres): defaults
-:data:`RESISTANCE` and :data:`LIFT`.
+So water received never exceeds the supply, doubling every demand (twice the leaf area)
+brings no more water once the supply binds, and thin, long, high paths get less when the
+plant is short of water. Sources: Shinozaki et al., *A quantitative analysis of plant
+form: the pipe model theory* (sapwood as a bundle of pipes); Tyree and Ewers, *The
+hydraulic architecture of trees and other woody plants* (conductance of a path of
+segments, sapwood area per leaf area); the gravity term (0.0098 MPa per metre), as in
+"Hormone-module growth: facts, formulas and a proposed design"
+(``shared/research/hormone-model.md``, "Water"). Defaults :data:`SOIL`,
+:data:`RESISTANCE`, :data:`LIFT`.
 """
 
 from __future__ import annotations
@@ -50,12 +46,16 @@ from growsim.kernels.water import transport_kernel  # numba only when water flow
 from growsim.options import Options
 from growsim.skeleton import LEAF, checked_array, skeleton_arrays
 
-__all__ = ["LIFT", "RESISTANCE", "Water", "WaterFlow", "segment_demand", "transport"]
+__all__ = ["LIFT", "RESISTANCE", "SOIL", "Water", "WaterFlow", "segment_demand", "transport"]
 
-#: default loss per unit length where the demand per cross-section is the root's (``x_i``).
-RESISTANCE = 0.005
-#: default loss per unit of height climbed at g = 9.81 (the gravity term of ``x_i``).
-LIFT = 0.005
+#: default water of the ample soil, kg a step (a week): about what 10 m^2 of leaves in
+#: full light transpire (the hormone model's ``transpiration``, 10 kg per m^2 a week)
+SOIL = 20.0
+#: default path resistance a metre of stem of 1 cm^2 cross-section adds to the roots' (1)
+RESISTANCE = 0.1
+#: default path resistance a metre climbed adds (at g = 9.81): 0.0098 MPa of a soil-to-leaf
+#: drop of about 1 MPa
+LIFT = 0.01
 
 
 @dataclass(frozen=True)
@@ -64,7 +64,8 @@ class WaterFlow:
 
     ``received`` ``(n,)`` water kept by each segment (the demand's units); ``met`` ``(n,)``
     share of each segment's demand met, in ``[0, 1]`` (1 where the demand is 0: the share
-    to limit photosynthesis with); ``total`` the plant's total water received.
+    to limit photosynthesis with); ``total`` the plant's total water received (at most
+    the supply, per root).
     """
 
     received: np.ndarray
@@ -109,9 +110,10 @@ def segment_demand(kind, light, length, stem_demand: float = 0.0) -> np.ndarray:
 
 def transport(
     plant,
-    light,
+    demand,
     supply: float = 1.0,
     *,
+    soil: float = SOIL,
     stem_demand: float = 0.0,
     resistance: float = RESISTANCE,
     lift: float = LIFT,
@@ -121,30 +123,29 @@ def transport(
 
     ``plant``: a :class:`growsim.phenotypes.plant.Plant` or a mapping with ``start``, ``end`` ``(n,
     3)``, ``radius``, ``parent`` ``(n,)`` and optionally ``kind`` (without it every segment
-    demands by its light); parents must come before children. ``light`` ``(n,)`` the light
-    each segment receives (e.g. leaf areas, or ones), ``>= 0``. ``supply`` the roots'
-    water as a share of the demand. ``g`` scales the height term (pass
-    ``env.gravity.g``).
+    demands ``demand``); parents must come before children. ``demand`` ``(n,)`` each leaf's
+    demand, ``>= 0`` (e.g. its light, or its transpiration in kg a step). Each root draws
+    ``supply * soil``. ``g`` scales the height term (pass ``env.gravity.g``).
 
     Examples
     --------
     >>> from growsim.phenotypes.plant import Plant
     >>> p = Plant.from_points([[0, 0, 0], [0, 1, 0], [1, 2, 0], [-1, 2, 0]],
     ...                       [-1, 0, 0], [-1, 0, 1, 1], kind=[0, 1, 1])
-    >>> w = transport(p, [0, 1, 1], 0.5, resistance=0, lift=0)
+    >>> w = transport(p, [0, 1, 1], 0.5, soil=1.0, resistance=0, lift=0)
     >>> w.received.tolist(), w.met.tolist(), w.total
-    ([0.0, 0.5, 0.5], [1.0, 0.5, 0.5], 1.0)
-    >>> w = transport(p, [0, 1, 1], 1.0, lift=0.1)  # climbing costs water
-    >>> w.met.round(3).tolist()
-    [1.0, 0.812, 0.812]
+    ([0.0, 0.25, 0.25], [1.0, 0.25, 0.25], 0.5)
+    >>> w = transport(p, [0, 2, 2], 0.5, soil=1.0, resistance=0, lift=0)  # twice the demand
+    >>> w.total                                                            # the same water
+    0.5
     """
 
     arrs = _arrays(plant)
     n = arrs["start"].shape[0]
-    light = checked_array("water", "light", light, (), n)
-    if n and light.min() < 0:
-        raise UserInputError(f"water: light: segment {int(np.argmin(light))} is negative")
-    supply = _nonneg("supply", supply)
+    demand = checked_array("water", "demand", demand, (), n)
+    if n and demand.min() < 0:
+        raise UserInputError(f"water: demand: segment {int(np.argmin(demand))} is negative")
+    water = _nonneg("supply", supply) * _nonneg("soil", soil)
     stem_demand = _nonneg("stem_demand", stem_demand)
     resistance = _nonneg("resistance", resistance)
     lift = _nonneg("lift", lift) * _nonneg("g", g) / 9.81
@@ -152,14 +153,14 @@ def transport(
         length = np.linalg.norm(arrs["end"] - arrs["start"], axis=1)
     else:
         length = np.zeros(n)  # stems demand nothing
-    demand = segment_demand(arrs["kind"], light, length, stem_demand)
+    d = segment_demand(arrs["kind"], demand, length, stem_demand)
     received, met = transport_kernel(
         arrs["start"],
         arrs["end"],
         arrs["radius"],
         arrs["parent"],
-        np.ascontiguousarray(demand),
-        supply,
+        np.ascontiguousarray(d),
+        water,
         resistance,
         lift,
     )
@@ -167,13 +168,15 @@ def transport(
 
 
 class Water(Options):
-    """``[environment.water]``: water supply (1 = ample) and the losses on the way.
+    """``[environment.water]``: the soil's water and the resistances on the way.
 
-    ``supply`` is the water the roots offer as a share of what the plant pulls (1 = all of
-    its demand, before the losses along the way); ``resistance`` and ``lift`` are the
-    pressure drops per unit length and per unit of height climbed, ``stem_demand`` the
-    stems' upkeep per unit length (see the module's equations); :meth:`transport` shares
-    the water out with them.
+    ``supply`` is the soil's water as a share of the ample soil's (1 = ample, 0.5 = half
+    the water); ``soil`` the ample soil's water in kg a step: a plant draws ``supply *
+    soil`` a step, shared by its segments' path conductance (``resistance`` a metre of
+    stem of 1 cm^2 adds, ``lift`` a metre climbed adds; see the module's equations);
+    ``stem_demand`` the stems' own demand per metre. The hormone model's ``paper``
+    physics reads ``supply`` alone, as the share of every module's pull met (the paper's
+    negative pressure, ``docs/models/hormone.md``).
 
     Examples
     --------
@@ -183,21 +186,29 @@ class Water(Options):
     0.0
     """
 
-    supply: float = Field(1.0, ge=0.0, le=1e6, description="water supply (1 = ample)")
+    supply: float = Field(
+        1.0, ge=0.0, le=1e6,
+        description="the soil's water as a share of the ample soil's (1 = ample)",
+    )  # fmt: skip
+    soil: float = Field(
+        SOIL, ge=0.0, le=1e9,
+        description="water the ample soil offers a plant, kg a step (a plant draws supply x soil)",
+    )  # fmt: skip
     resistance: float = Field(
         RESISTANCE, ge=0.0, le=1e6,
-        description="pressure drop per unit length where the pull per cross-section is the root's",
+        description="path resistance a metre of stem of 1 cm^2 cross-section adds (the roots': 1)",
     )  # fmt: skip
     lift: float = Field(
-        LIFT, ge=0.0, le=1e6, description="pressure drop per unit of height climbed (at g = 9.81)"
+        LIFT, ge=0.0, le=1e6, description="path resistance a metre climbed adds (at g = 9.81)"
     )
     stem_demand: float = Field(
-        0.0, ge=0.0, le=1e6, description="water a stem demands per unit length (upkeep)"
+        0.0, ge=0.0, le=1e6, description="water a stem demands per metre (upkeep)"
     )
 
-    def transport(self, plant, light, **kwargs) -> WaterFlow:
-        """:func:`transport` with this table's ``supply``, ``resistance``, ``lift`` and
-        ``stem_demand`` (keyword arguments override them; pass ``g=env.gravity.g``).
+    def transport(self, plant, demand, **kwargs) -> WaterFlow:
+        """:func:`transport` with this table's ``supply``, ``soil``, ``resistance``,
+        ``lift`` and ``stem_demand`` (keyword arguments override them; pass
+        ``g=env.gravity.g``).
 
         Examples
         --------
@@ -207,9 +218,11 @@ class Water(Options):
         [0.0]
         """
         options = {
+            "soil": self.soil,
             "resistance": self.resistance,
             "lift": self.lift,
             "stem_demand": self.stem_demand,
             **kwargs,
         }
-        return transport(plant, light, self.supply, **options)
+        supply = options.pop("supply", self.supply)
+        return transport(plant, demand, supply, **options)

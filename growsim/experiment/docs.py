@@ -16,6 +16,7 @@ from typing import Annotated, Any, Literal, Union, get_args, get_origin
 
 from growsim.experiment.schema import SECTIONS
 from growsim.files import atomic_write
+from growsim.models import MODELS
 from growsim.objectives import OBJECTIVES
 from growsim.options import fields_of, option_classes
 
@@ -167,6 +168,7 @@ def config_docs() -> str:
         "- `model.evolve`: at least one parameter; a `[low, high]` range must lie inside",
         "  the model's own range; evolved parameters override `model.params`.",
         "- `model.preset` must be one of the model's presets.",
+        *_named_values(),
         "- every objective must accept the model's phenotype (e.g. `silhouette` and `light`",
         "  score plants).",
         "- `environment`: the shorthands `light = x`, `light_direction = [...]`, `water = x`,",
@@ -175,6 +177,25 @@ def config_docs() -> str:
         "",
     ]
     return "\n".join(lines)
+
+
+def _named_values() -> list[str]:
+    """The rule for model parameters with named values
+    (:attr:`growsim.models.Param.labels`), one line per such parameter of every
+    registered model: its names and its default."""
+    lines = []
+    for name in MODELS:
+        for p in MODELS.get(name).params:
+            if p.labels:
+                names = " or ".join(repr(x) for x in p.labels)
+                lines.append(
+                    f"  `{name}.{p.name}`: {names} (default {p.labels[int(p.default)]!r}; "
+                    f"docs/models/{name}.md)"
+                )
+    if not lines:
+        return []
+    head = "- `model.params`: a parameter with named values takes one of its names:"
+    return [head, *(f"{x};" for x in lines[:-1]), f"{lines[-1]}."]
 
 
 def _section_page(section: str, cls) -> str:

@@ -65,9 +65,10 @@ class ModelConfig(Options):
 
     kind: str = Field(description="registered model name (growsim.models.MODELS)")
     preset: str | None = Field(None, description="named parameter set of the model to start from")
-    params: dict[str, int | float] = Field(
+    params: dict[str, int | float | str] = Field(
         default_factory=dict,
-        description="fixed parameter values (over the preset, over the model's defaults)",
+        description="fixed parameter values (over the preset, over the model's defaults); a "
+        'parameter with named values takes its name (hormone: physics = "paper")',
     )
     evolve: dict[str, Any] = Field(
         default_factory=dict,
@@ -105,7 +106,7 @@ class ModelConfig(Options):
     @classmethod
     def _check_params(cls, v):
         for name, x in v.items():
-            if not math.isfinite(x):
+            if not isinstance(x, str) and not math.isfinite(x):
                 raise ValueError(f"{name}: {x!r} is not a finite number")
         return v
 
@@ -277,12 +278,17 @@ EXPECT_RE = re.compile(r"^\s*([A-Za-z0-9_.+=,-]+)\s*(>|<|!=)\s*([A-Za-z0-9_.+=,-
 
 class PrimaryMeasure(Options):
     """One primary test of ``[compare] primary``: a measure and the difference expected
-    between two groups (sweep variants), declared before the runs.
+    between two groups (sweep variants), declared before the runs. With ``garden``, a
+    contrast within a common garden: the best genomes evolved in the two groups (their
+    origins) grown side by side in that group's environment (``growsim compare``
+    grows the garden for it).
 
     Examples
     --------
     >>> PrimaryMeasure(measure="height", expect="ample > half_water").groups()
     ('ample', '>', 'half_water')
+    >>> PrimaryMeasure(measure="fitness", expect="half_water > ample", garden="half_water").garden
+    'half_water'
     """
 
     measure: str = Field(
@@ -295,6 +301,14 @@ class PrimaryMeasure(Options):
         description='the groups and the direction expected: "A > B" (A\'s mean higher), '
         '"A < B", or "A != B" (a difference either way); A and B are sweep variant names '
         "(or group labels of growsim compare)",
+    )
+    garden: str | None = Field(
+        None,
+        min_length=1,
+        max_length=200,
+        description="a contrast within one common garden: the genomes evolved in A and B grown "
+        "side by side in this group's environment (measure: fitness or a measure of the "
+        "plant grown there); unset: each group in its own environment",
     )
 
     @field_validator("expect")
@@ -356,9 +370,10 @@ class CompareConfig(Options):
         seen = set()
         for i, p in enumerate(v):
             a, _, b = p.groups()
-            key = (p.measure, frozenset((a, b)))
+            key = (p.measure, frozenset((a, b)), p.garden)
             if key in seen:
-                raise ValueError(f"[{i}]: {p.measure} between {a} and {b} declared twice")
+                where = f" in garden {p.garden}" if p.garden else ""
+                raise ValueError(f"[{i}]: {p.measure} between {a} and {b}{where} declared twice")
             seen.add(key)
         return v
 

@@ -2,135 +2,170 @@
 
 Modules are stored field by field in creation order (a parent before its children), so a
 forward loop carries parent -> child (:func:`place_kernel`: positions) and a reverse loop
-child -> parent (the inhibitor's transport to the base, in :func:`step_kernel`). The
-equations are written out in ``docs/models/hormone.md``; the oracle is
-``tests/naive/hormone.py``.
+child -> parent (the inhibitor's transport to the base, in :func:`step_kernel`; the
+loads a module is thickened for, :func:`design_kernel`). The equations of both physics
+(``growsim`` and ``paper``: :data:`PHYSICS`) are written out in
+``docs/models/hormone.md``; the oracle is ``tests/naive/hormone.py``.
 
-Constants ``c`` ``(P, N_CONSTANTS)`` (indices :data:`C_*`) and genes ``genes`` ``(P, H, 3
-+ J)`` (per hormone: bias, gain, decay, then one weight per stimulus) are passed in, never
-global: one row per plant (``P = 1`` for a plant alone). Module ``m`` belongs to plant
-``modules.plant[m]`` (a child to its parent's plant) and reads that plant's row, so one
-module array can hold a stand of different genomes.
+Constants ``c`` ``(P, N_CONSTANTS)`` (indices :data:`C_*`, the physics last) and genes
+``genes`` ``(P, H, 3 + J)`` (per hormone: bias, gain, decay, then one weight per
+stimulus) are passed in, never global: one row per plant (``P = 1`` for a plant alone).
+Module ``m`` belongs to plant ``modules.plant[m]`` (a child to its parent's plant) and
+reads that plant's row, so one module array can hold a stand of different genomes.
+
+The module arrays, constants and a new module are in
+:mod:`growsim.kernels.hormone_modules`, gravity, breaks and thickening in
+:mod:`growsim.kernels.hormone_mechanics`; this module (their face) grows a step.
+
+Units: metres, one step a week, grams of carbon (the nutrient), kilograms of water,
+kilograms and newtons for gravity (:mod:`growsim.env.gravity`).
 """
 
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import numpy as np
 
 from growsim.kernels.config import njit
-from growsim.kernels.gravity import loads_kernel, radius_end_kernel
-from growsim.kernels.light import module_light_into, point_light_into
-from growsim.kernels.walls import frame_of, wall_angles, wall_normals
+from growsim.kernels.hormone_light import (
+    LEAVES,
+    WALLS,
+    lights_kernel,
+    module_ends,
+    soil_unlit,
+    walls_light,
+)
+from growsim.kernels.hormone_mechanics import (
+    design_kernel,
+    gravity_kernel,
+    shed_kernel,
+    thicken_kernel,
+    thicken_module,
+)
+from growsim.kernels.hormone_modules import (
+    C_BRANCH_ANGLE,
+    C_BUILD,
+    C_CHL_LOSS,
+    C_DROUGHT,
+    C_ELONG,
+    C_GREEN,
+    C_HALF_SAT,
+    C_HUBER,
+    C_INH_TRANSPORT,
+    C_LATERALS,
+    C_LEAF_COST,
+    C_LEAF_DENSITY,
+    C_LEAF_GROWTH,
+    C_LEAF_TURNOVER,
+    C_LEAF_UPKEEP,
+    C_LIGNIFY,
+    C_MAXLEN,
+    C_NEW_COST,
+    C_NEW_LEAF,
+    C_NEWLEN,
+    C_NEWRAD,
+    C_PHOTO,
+    C_PHYSICS,
+    C_RESERVE,
+    C_SAFETY,
+    C_SHARE,
+    C_THICK,
+    C_THRESHOLD,
+    C_TRANSPIRATION,
+    C_TURN,
+    C_UPKEEP,
+    C_WIND,
+    GOLDEN_ANGLE,
+    GROWSIM,
+    HORMONES,
+    N_CONSTANTS,
+    PAPER,
+    PHYSICS,
+    STIMULI,
+    STOP_BROKEN,
+    STOP_CAP,
+    STOP_NAN,
+    STOP_NONE,
+    STOP_STARVED,
+    STOPS,
+    Modules,
+    Surroundings,
+    drawn_kernel,
+    new_module,
+    new_module_arrays,
+    new_module_cost,
+    new_plant,
+)
+from growsim.kernels.light import module_light_into
+from growsim.kernels.walls import frame_of, wall_angles
 from growsim.kernels.water import transport_into_kernel
 
 __all__ = [
+    "C_BRANCH_ANGLE",
+    "C_BUILD",
+    "C_CHL_LOSS",
+    "C_DROUGHT",
+    "C_ELONG",
+    "C_GREEN",
+    "C_HALF_SAT",
+    "C_HUBER",
+    "C_INH_TRANSPORT",
+    "C_LATERALS",
+    "C_LEAF_COST",
+    "C_LEAF_DENSITY",
+    "C_LEAF_GROWTH",
+    "C_LEAF_TURNOVER",
+    "C_LEAF_UPKEEP",
+    "C_LIGNIFY",
+    "C_MAXLEN",
+    "C_NEWLEN",
+    "C_NEWRAD",
+    "C_NEW_COST",
+    "C_NEW_LEAF",
+    "C_PHOTO",
+    "C_PHYSICS",
+    "C_RESERVE",
+    "C_SAFETY",
+    "C_SHARE",
+    "C_THICK",
+    "C_THRESHOLD",
+    "C_TRANSPIRATION",
+    "C_TURN",
+    "C_UPKEEP",
+    "C_WIND",
     "GOLDEN_ANGLE",
+    "GROWSIM",
     "HORMONES",
+    "N_CONSTANTS",
+    "PAPER",
+    "PHYSICS",
     "STIMULI",
     "STOPS",
+    "STOP_BROKEN",
+    "STOP_CAP",
+    "STOP_NAN",
+    "STOP_NONE",
+    "STOP_STARVED",
     "Modules",
     "Surroundings",
+    "design_kernel",
+    "drawn_kernel",
+    "gravity_kernel",
     "ground_kernel",
     "grow_step",
+    "lights_kernel",
+    "new_module",
+    "new_module_arrays",
+    "new_module_cost",
     "new_plant",
     "place_kernel",
+    "shed_kernel",
     "step_kernel",
+    "thicken_kernel",
     "total",
     "walls_light",
 ]
-
-#: the hormones and their roles (index: role)
-HORMONES = (
-    "elongation",
-    "thickening",
-    "branching",
-    "inhibitor",
-    "meristem",
-    "lignification",
-    "greening",
-    "drought",
-    "turning",
-    "expansion",
-)
-#: the stimuli a wall senses (index: stimulus)
-STIMULI = ("wall light", "water met", "nutrient", "chlorophyll", "wall up", "inhibitor")
-
-#: the angle between successive laterals of a module about its axis in 3D (phyllotaxis;
-#: in 2D they alternate sides): no two laterals of a module coincide
-GOLDEN_ANGLE = math.pi * (3.0 - math.sqrt(5.0))
-
-#: why a plant stopped (index: code returned by :func:`grow_step`); "cap" does not stop it
-STOPS = ("", "cap", "nan", "broken")
-STOP_NONE, STOP_CAP, STOP_NAN, STOP_BROKEN = range(4)
-
-# indices of the constants array
-(C_ELONG, C_MAXLEN, C_TURN, C_THICK, C_NEWLEN, C_NEWRAD, C_BRANCH_ANGLE, C_THRESHOLD,
- C_INH_TRANSPORT, C_PHOTO, C_HALF_SAT, C_BUILD, C_UPKEEP, C_NEW_COST, C_LIGNIFY, C_GREEN,
- C_CHL_LOSS, C_DROUGHT, C_EXPAND, C_SHARE, C_LATERALS) = range(21)  # fmt: skip
-N_CONSTANTS = 21
-
-
-class Modules(NamedTuple):
-    """A plant's modules, field by field, ``cap`` rows each (the module arrays every kernel
-    here updates in place; :func:`new_module_arrays` makes them)."""
-
-    parent: np.ndarray  #: ``(cap,)`` int64, -1 for the root
-    R: np.ndarray  #: ``(cap, 3, 3)`` pose: columns the two axes across and the growth axis
-    origin: np.ndarray  #: ``(cap, 3)``
-    length: np.ndarray  #: ``(cap,)``
-    radius: np.ndarray  #: ``(cap,)``
-    nutrient: np.ndarray  #: ``(cap,)``
-    chlorophyll: np.ndarray  #: ``(cap,)``
-    lignin: np.ndarray  #: ``(cap,)``
-    apex: np.ndarray  #: ``(cap,)`` bool: a meristem
-    laterals: np.ndarray  #: ``(cap,)`` int64: laterals grown
-    hormone: np.ndarray  #: ``(cap, walls, H)``
-    wall_light: np.ndarray  #: ``(cap, walls)`` the light each wall receives
-    met: np.ndarray  #: ``(cap,)`` the share of each module's water demand met
-    light: np.ndarray  #: ``(cap,)`` the mean wall light
-    plant: np.ndarray  #: ``(cap,)`` int64: the module's plant (a row of the genes; 0 alone)
-
-
-class Surroundings(NamedTuple):
-    """The environment as :func:`grow_step` takes it (one tuple, the same for every plant)."""
-
-    dirs: np.ndarray  #: ``(j, 3)`` the lights' unit directions
-    us: np.ndarray  #: ``(j, 3)`` their image planes' first axes
-    vs: np.ndarray  #: ``(j, 3)`` and second axes
-    weights: np.ndarray  #: ``(j,)`` their intensities
-    resolution: int  #: shadow-map pixels across
-    bias: float  #: depth bias in pixels
-    soft: bool  #: soft shadows (else hard)
-    transmission: float  #: a module's transmission (soft shadows)
-    supply: float  #: water supply
-    resistance: float  #: water resistance
-    lift: float  #: water lift, scaled by ``g / 9.81``
-    g: float  #: gravity
-    density: float  #: wood density
-    leaf_mass_per_area: float
-    strength: float  #: wood strength (lignified)
-    ground: float  #: height of the soil surface (:func:`ground_kernel`)
-    shared: bool = False  #: walls share their module's exposure (``light.walls = "module"``)
-
-
-def new_module_arrays(cap: int, walls: int, hormones: int = len(HORMONES)) -> Modules:
-    """Uninitialised :class:`Modules` of ``cap`` rows (the wall light, water met and light
-    zeroed); :func:`new_plant` makes them a seedling.
-
-    Examples
-    --------
-    >>> new_module_arrays(4, 2).hormone.shape
-    (4, 2, 10)
-    """
-    return Modules(
-        np.empty(cap, np.int64), np.empty((cap, 3, 3)), np.empty((cap, 3)),
-        *(np.empty(cap) for _ in range(5)), np.empty(cap, np.bool_), np.empty(cap, np.int64),
-        np.empty((cap, walls, hormones)), np.zeros((cap, walls)), np.zeros(cap), np.zeros(cap),
-        np.zeros(cap, np.int64),
-    )  # fmt: skip
 
 
 @njit
@@ -220,16 +255,18 @@ def step_kernel(n, dims, modules, genes, c):
     ``walls`` walls: the shape of ``modules.hormone``) in ``dims`` dimensions; returns the
     new module count (at most ``cap``) and the nutrient gained by photosynthesis this step.
     Module ``m`` reads its plant's genes ``genes[plant[m]]`` ``(H, 3 + J)`` and constants
-    ``c[plant[m]]`` (``plant`` = ``modules.plant``); each of the ``P`` plants (rows of
-    ``genes``) grows at most ``cap // P`` modules.
+    ``c[plant[m]]`` (``plant`` = ``modules.plant``; the physics in ``C_PHYSICS``); each of
+    the ``P`` plants (rows of ``genes``) grows at most ``cap // P`` modules.
 
-    Reads ``wall_light`` ``(cap, walls)`` the light each wall receives and ``met``
-    ``(cap,)`` the share of each module's water demand met; ``hormone`` ``(cap, walls,
-    H)`` is updated in place, as are the module fields (``origin`` and ``light`` are not
-    read). See ``docs/models/hormone.md`` for the equations, in
-    the order they run: synthesis, transport of the inhibitor, photosynthesis, costs,
-    elongation and turning, thickening, lignification and greening, nutrient sharing,
-    new modules.
+    Reads ``wall_light`` ``(cap, walls)`` the light each wall receives, ``leaf_light`` the
+    light on each module's leaves (``growsim``) and ``met`` ``(cap,)`` the share of each
+    module's water demand met; ``hormone`` ``(cap, walls, H)`` is updated in place, as
+    are the module fields (``origin``, ``light``, ``target``, ``drawn`` and ``water`` are
+    not read). See ``docs/models/hormone.md`` for the equations, in the order they run:
+    synthesis, transport of the inhibitor, photosynthesis, upkeep and leaf turnover,
+    elongation and turning, leaf growth (``growsim``), thickening (``paper``; ``growsim``
+    thickens before the step, :func:`thicken_kernel`), lignification and greening,
+    nutrient sharing, new modules.
 
     Examples
     --------
@@ -239,9 +276,10 @@ def step_kernel(n, dims, modules, genes, c):
     >>> MODEL.develop({**MODEL.preset("demo_3d"), "steps": 10}, env=env).n_segments > 1
     True
     """
-    parent, R, _, length, radius, nutrient, chlorophyll, lignin = modules[:8]
-    apex, laterals, hormone = modules[8:11]
-    wall_light, met = modules.wall_light, modules.met
+    parent, R, length, radius = modules.parent, modules.R, modules.length, modules.radius
+    nutrient, chlorophyll, lignin = modules.nutrient, modules.chlorophyll, modules.lignin
+    apex, laterals, hormone = modules.apex, modules.laterals, modules.hormone
+    wall_light, met, leaf = modules.wall_light, modules.met, modules.leaf
     cap, walls = hormone.shape[0], hormone.shape[1]
     plant = modules.plant
     H = genes.shape[1]
@@ -281,25 +319,30 @@ def step_kernel(n, dims, modules, genes, c):
     n_new = n
     for m in range(n):
         cm = c[plant[m]]
+        paper = cm[C_PHYSICS] > 0.5
         frame_of(R[m], cs, v)
         L = length[m]
         r = radius[m]
-        area = 2.0 * math.pi * r * L / walls if dims == 3 else 2.0 * r * L / 2.0
-        area *= 1.0 + cm[C_EXPAND] * mean_h[m, 9]
-        # photosynthesis: saturating in the wall's light, limited by water and chlorophyll
-        photo = 0.0
-        for i in range(walls):
-            li = wall_light[m, i]
-            photo += area * li * (1.0 + cm[C_HALF_SAT]) / (li + cm[C_HALF_SAT])
+        slow = 1.0 - lignin[m]  # lignin slows growth and branching
         drought = 1.0 - cm[C_DROUGHT] * min(1.0, mean_h[m, 7])
+        photo = 0.0
+        if paper:  # the walls photosynthesise, linear in their light
+            area = 2.0 * math.pi * r * L / walls if dims == 3 else r * L
+            for i in range(walls):
+                photo += area * wall_light[m, i]
+            upkeep = 0.0
+        else:  # the leaves, facing up, saturating in their light
+            li = modules.leaf_light[m]
+            photo = leaf[m] * li * (1.0 + cm[C_HALF_SAT]) / (li + cm[C_HALF_SAT])
+            upkeep = cm[C_LEAF_UPKEEP] * leaf[m] + cm[C_UPKEEP] * math.pi * r * r * L
+            leaf[m] *= 1.0 - min(1.0, cm[C_LEAF_TURNOVER])  # leaves shed and lost
         photo *= cm[C_PHOTO] * chlorophyll[m] * met[m] * drought
         gained += photo
-        vol = math.pi * r * r * L
-        nutrient[m] += photo - cm[C_UPKEEP] * vol * (0.2 + 0.8 * chlorophyll[m])
+        nutrient[m] += photo - upkeep
         # elongation per wall (turgor: water met), the module by the mean of its walls
         e_mean = 0.0
         for i in range(walls):
-            e[i] = cm[C_ELONG] * hormone[m, i, 0] * met[m] * drought
+            e[i] = cm[C_ELONG] * hormone[m, i, 0] * met[m] * drought * slow
             e_mean += e[i] / walls
         e_mean = min(e_mean, max(0.0, cm[C_MAXLEN] - L))
         cost = cm[C_BUILD] * math.pi * r * r * e_mean
@@ -318,12 +361,19 @@ def step_kernel(n, dims, modules, genes, c):
                 if nn > 0.0:
                     axis[0], axis[1], axis[2] = nx / nn, ny / nn, nz / nn
                     _rotate(R[m], axis, -gain * (e[i] - e_mean))
-        # thickening (walls move out)
-        dr = cm[C_THICK] * min(1.0, mean_h[m, 1])
-        cost = cm[C_BUILD] * 2.0 * math.pi * r * length[m] * dr
-        if dr > 0.0 and nutrient[m] >= cost:
-            nutrient[m] -= cost
-            radius[m] = r + dr
+        if not paper:  # leaves grow (expansion hormone), up to the shoot's leaf density
+            room = cm[C_LEAF_DENSITY] * length[m] - leaf[m]
+            da = min(cm[C_LEAF_GROWTH] * min(1.0, mean_h[m, 9]) * slow * length[m], room)
+            if da > 0.0 and nutrient[m] > 0.0:  # as much as the nutrient pays for
+                cost = cm[C_LEAF_COST] * da
+                if nutrient[m] >= cost:
+                    nutrient[m] -= cost
+                else:
+                    da = nutrient[m] / cm[C_LEAF_COST]
+                    nutrient[m] = 0.0
+                leaf[m] += da
+        if paper:  # thickening after growth, by the hormone alone (the walls move out)
+            thicken_module(m, cm[C_THICK] * min(1.0, mean_h[m, 1]), modules, cm, False)
         # lignification: chlorophyll down, strength up; greening: chlorophyll up
         lg = cm[C_LIGNIFY] * min(1.0, mean_h[m, 5])
         lignin[m] = min(1.0, lignin[m] + lg)
@@ -336,8 +386,8 @@ def step_kernel(n, dims, modules, genes, c):
             flow = c[plant[m], C_SHARE] * 0.5 * (nutrient[m] - nutrient[p])
             nutrient[m] -= flow
             nutrient[p] += flow
-    # new modules: an apical child from a meristem, laterals from the branching hormone;
-    # each plant of the P rows holds at most cap // P modules (its share of the arrays)
+    # new modules: an apical child from a meristem, laterals from the branching hormone,
+    # both slowed by lignin; each plant of the P rows holds at most cap // P modules
     share = cap // genes.shape[0]
     count = np.zeros(genes.shape[0], np.int64)
     for m in range(n):
@@ -347,25 +397,27 @@ def step_kernel(n, dims, modules, genes, c):
             break
         owner = plant[m]
         cm = c[owner]
+        slow = 1.0 - lignin[m]
+        price = new_module_cost(min(cm[C_NEWRAD], radius[m]), cm)
         grown = length[m] >= 0.999 * cm[C_MAXLEN]
         if (
-            apex[m] and grown and mean_h[m, 4] > cm[C_THRESHOLD]
-            and nutrient[m] > cm[C_NEW_COST] and count[owner] < share
+            apex[m] and grown and mean_h[m, 4] * slow > cm[C_THRESHOLD]
+            and nutrient[m] > price and count[owner] < share
         ):  # fmt: skip
             q = n_new
             n_new += 1
             count[owner] += 1
-            _new(q, m, R[m], modules, cm)
+            new_module(q, m, R[m], modules, cm)
             apex[m] = False
         if n_new >= cap:
             break
         if (
             count[owner] < share
-            and mean_h[m, 2] > cm[C_THRESHOLD]
+            and mean_h[m, 2] * slow > cm[C_THRESHOLD]
             and inh[m] < cm[C_THRESHOLD]
             and laterals[m] < cm[C_LATERALS]
             and length[m] >= 0.5 * cm[C_MAXLEN]
-            and nutrient[m] > cm[C_NEW_COST]
+            and nutrient[m] > price
         ):
             # lateral direction B = sum_i v_i H_i, tilted from the axis by the branch angle
             frame_of(R[m], cs, v)
@@ -396,91 +448,9 @@ def step_kernel(n, dims, modules, genes, c):
             q = n_new
             n_new += 1
             count[owner] += 1
-            _new(q, m, Rl, modules, cm)
+            new_module(q, m, Rl, modules, cm)
             laterals[m] += 1
     return n_new, gained
-
-
-@njit
-def _new(q, m, Rq, modules, c):
-    """Module ``q``: a child of ``m`` with pose ``Rq``, new length and radius, full
-    chlorophyll, no lignin, its parent's cost of a new module as its nutrient, its parent's
-    plant; ``c`` the constants of that plant."""
-    parent, R, _, length, radius, nutrient, chlorophyll, lignin = modules[:8]
-    apex, laterals, hormone = modules[8:11]
-    parent[q] = m
-    R[q] = Rq
-    length[q] = c[C_NEWLEN]
-    radius[q] = min(c[C_NEWRAD], radius[m])
-    nutrient[m] -= c[C_NEW_COST]
-    nutrient[q] = 0.5 * c[C_NEW_COST]
-    chlorophyll[q] = 1.0
-    lignin[q] = 0.0
-    apex[q] = True
-    laterals[q] = 0
-    hormone[q] = 0.0
-    modules.plant[q] = modules.plant[m]
-
-
-@njit
-def new_plant(modules, c):
-    """Reset :class:`Modules` ``modules`` to a seedling: one root module at the origin
-    growing up (``+y``; its walls face ``+-x`` and, in 3D, around), of the new length and
-    radius, nutrient 0.1, full chlorophyll, a meristem (the wall light, water met and light
-    are left as they are). Returns the module count, 1.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> modules = new_module_arrays(4, 2)
-    >>> new_plant(modules, np.full(N_CONSTANTS, 0.1)), modules.R[0, :, 2].tolist()
-    (1, [0.0, 1.0, 0.0])
-    """
-    parent, R, origin, length, radius, nutrient, chlorophyll, lignin = modules[:8]
-    apex, laterals, hormone = modules[8:11]
-    parent[:] = -1
-    R[:] = 0.0
-    R[0, 0, 0] = 1.0
-    R[0, 2, 1] = -1.0
-    R[0, 1, 2] = 1.0
-    origin[:] = 0.0
-    length[:] = 0.0
-    radius[:] = 0.0
-    nutrient[:] = 0.0
-    chlorophyll[:] = 0.0
-    lignin[:] = 0.0
-    apex[:] = False
-    laterals[:] = 0
-    hormone[:] = 0.0
-    modules.plant[:] = 0
-    length[0] = c[C_NEWLEN]
-    radius[0] = c[C_NEWRAD]
-    nutrient[0] = 0.1
-    chlorophyll[0] = 1.0
-    apex[0] = True
-    return 1
-
-
-@njit
-def _ends(n, origin, length, R, end):
-    """``end[m] = origin[m] + length[m] R[m][:, 2]`` for modules ``0..n-1``."""
-    for m in range(n):
-        for k in range(3):
-            end[m, k] = origin[m, k] + length[m] * R[m, k, 2]
-    return end
-
-
-@njit
-def _on_soil_unlit(n, end, length, ground, wall_light, light, demand):
-    """A module lying on the soil (its end on it: :func:`ground_kernel` turned it up to
-    the soil) gets no light and asks no water for photosynthesis: a stem on the ground
-    is covered (litter, neighbours' shade); the plant must stand up to catch light."""
-    for q in range(n):
-        if end[q, 1] <= ground + 1e-9 * (1.0 + length[q]):
-            light[q] = 0.0
-            demand[q] = 0.0
-            for i in range(wall_light.shape[1]):
-                wall_light[q, i] = 0.0
 
 
 @njit
@@ -488,31 +458,42 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env, shifts):
     """One step of a plant in its environment ``env`` (:class:`Surroundings`), all in one
     call; returns ``(n_new, stop)``, ``stop`` an index into :data:`STOPS` (``STOP_CAP``
     when the cap held back new modules, which does not stop the plant; ``STOP_NAN``,
-    ``STOP_BROKEN`` stop it).
+    ``STOP_BROKEN`` and ``STOP_STARVED`` stop it). The physics is plant 0's
+    (``c[0, C_PHYSICS]``: the plants of one call share it).
 
-    1. place the modules end to end (:func:`place_kernel`);
-    2. each wall's light at its point (on the surface, halfway along the module) with its
+    1. place the modules end to end (:func:`place_kernel`) and draw each as the union
+       of its stem and its leaves' foliage cylinder (:func:`drawn_kernel`);
+    2. each wall's light at its point (on the drawn surface, halfway along the module) with its
        outward normal, through the shadow maps of every light ``env.dirs`` ``(j, 3)``
        with image planes ``env.us, env.vs`` and intensities ``env.weights``
        (:func:`growsim.kernels.light.point_light_into`; ``env.resolution``, ``env.bias``
        in pixels, ``env.soft`` shadows with one ``env.transmission``) into
        ``modules.wall_light``; with ``env.shared`` (``light.walls = "module"``) one point
        per module and light, its exposure shared by its walls, each its own cosine
-       (:func:`growsim.kernels.light.module_light_into`);
-    3. water (:func:`growsim.kernels.water.transport_into_kernel`): demand = mean wall
-       light x side area; ``env.supply``, ``env.resistance``, ``env.lift`` (already scaled
-       by g) give ``modules.met``; a module lying on the soil gets no light
-       (:func:`_on_soil_unlit`);
-    4. :func:`step_kernel` (``genes`` ``(P, H, 3 + J)``, constants ``c`` ``(P,
-       N_CONSTANTS)``, a row per plant); a NaN or infinity in the modules
-       stops the plant (``n`` modules kept);
+       (:func:`growsim.kernels.light.module_light_into`); a module lying on the soil
+       gets no light (:func:`~growsim.kernels.hormone_light.soil_unlit`);
+    3. water into ``modules.met`` and ``modules.water``: ``growsim``, each leaf's
+       transpiration ``transpiration x leaf area x mean wall light x drought factor``
+       shared from the soil's ``env.supply x env.soil`` kg by path conductance
+       (:func:`growsim.kernels.water.transport_into_kernel`, ``env.resistance``,
+       ``env.lift`` already scaled by g); ``paper``, every module's pull (its mean wall
+       light times its wall area) met by the share ``min(1, env.supply)``;
+    4. ``growsim``: :func:`thicken_kernel` (toward the radius the loads of the last step
+       asked for, from the whole plant's carbon); :func:`step_kernel` (``genes`` ``(P, H,
+       3 + J)``, constants ``c`` ``(P, N_CONSTANTS)``, a row per plant); a NaN or
+       infinity in the modules stops the plant (``n`` modules kept);
     5. ``modules.light`` the mean wall light of the old modules (0 for new ones), ``met``
        1 for new ones; modules placed again, none below the soil ``env.ground``
-       (:func:`ground_kernel`: a module whose end would be under it is turned up);
-    6. gravity (:func:`growsim.kernels.gravity.loads_kernel`): strength
-       ``young + (env.strength - young) x lignin`` (``young`` the module's plant's
-       ``strength_young`` ``(P,)``); a joint whose stress
-       reaches it stops the plant.
+       (:func:`ground_kernel`);
+    6. gravity (:func:`growsim.kernels.gravity.loads_kernel`) on the stems and, in
+       ``growsim``, their leaves (blades of ``leaf_mass_per_area``): strength ``young +
+       (env.strength - young) x lignin`` (``young`` the module's plant's
+       ``strength_young`` ``(P,)``); a joint whose stress reaches it breaks: ``paper``,
+       the plant stops; ``growsim``, the module and its descendants are shed
+       (:func:`shed_kernel`) and the plant goes on, unless a root broke. ``growsim``
+       then sets the radius each module's loads ask for (:func:`design_kernel`);
+    7. a ``growsim`` plant whose nutrient sums below 0 has starved (``STOP_STARVED``; a
+       ``paper`` plant pays no upkeep).
 
     ``modules`` (:class:`Modules`) are updated in place; ``scratch`` is the shadow maps'
     scratch (:func:`growsim.kernels.light.shadow_scratch` of ``env.resolution``);
@@ -531,109 +512,93 @@ def grow_step(n, dims, modules, scratch, genes, c, strength_young, env, shifts):
     >>> [p.n_segments for p in grow({"dims": 2, "steps": 3}, env=env)]
     [1, 1, 1]
     """
-    parent, R, origin, length, radius, nutrient = modules[:6]
-    lignin, hormone, wall_light, met, light = modules[7], *modules[10:14]
-    plant = modules.plant
+    parent, R, origin, length, radius = (modules.parent, modules.R, modules.origin,
+                                         modules.length, modules.radius)  # fmt: skip
+    hormone, wall_light, met, light = (modules.hormone, modules.wall_light, modules.met,
+                                       modules.light)  # fmt: skip
+    plant, leaf = modules.plant, modules.leaf
     for q in range(n):  # every module's plant has its row of genes, constants, strength
         if plant[q] < 0 or plant[q] >= min(genes.shape[0], c.shape[0], strength_young.shape[0]):
             raise ValueError("grow_step: a module's plant has no row of genes or constants")
+    paper = c[0, C_PHYSICS] > 0.5
     cap, walls = hormone.shape[0], hormone.shape[1]
     place_kernel(n, parent, R, length, origin)
+    drawn = drawn_kernel(n, modules)
     start = origin[:n]
-    end = _ends(n, origin, length, R, np.empty((n, 3)))
-    offsets = np.array([0, n], np.int64)
-    trans = np.full(n, env.transmission) if env.soft else np.empty(0)
-    lights = (env.dirs, env.us, env.vs, env.weights)
-    shadow = (env.resolution, env.bias, env.soft, trans)
+    end = module_ends(n, origin, length, R, np.empty((n, 3)))
+    which = WALLS if paper else WALLS | LEAVES
     if env.shared and shifts.shape[0] == 0:  # one exposure per module and light
-        lit = module_light_into((start, end, radius[:n], offsets),
-                                (R, wall_angles(walls, dims)), lights, shadow, scratch,
+        offsets = np.array([0, n], np.int64)
+        trans = np.full(n, env.transmission) if env.soft else np.empty(0)
+        lit = module_light_into((start, end, drawn[:n], offsets),
+                                (R, wall_angles(walls, dims)),
+                                (env.dirs, env.us, env.vs, env.weights),
+                                (env.resolution, env.bias, env.soft, trans), scratch,
                                 wall_light[:n]).reshape(n * walls)  # fmt: skip
+        if not paper:
+            modules.leaf_light[:n] = lights_kernel(n, dims, modules, env, shifts, scratch, LEAVES)
     else:  # each wall's own point (in a periodic stand, among the plant's copies)
-        lit = walls_light(n, dims, modules, env, shifts, scratch)
+        lit = lights_kernel(n, dims, modules, env, shifts, scratch, which)
+        if not paper:
+            modules.leaf_light[:n] = lit[n * walls :]
     demand = np.empty(n)
+    H7 = 7
     for q in range(n):
         acc = 0.0
+        h7 = 0.0
         for i in range(walls):
             wall_light[q, i] = lit[q * walls + i]
             acc += lit[q * walls + i]
+            h7 += hormone[q, i, H7] / walls
         light[q] = acc / walls
-        demand[q] = light[q] * 2.0 * math.pi * radius[q] * length[q]
-    _on_soil_unlit(n, end, length, env.ground, wall_light, light, demand)
-    transport_into_kernel(start, end, radius[:n], parent[:n], demand, env.supply,
-                          env.resistance, env.lift, np.empty(n), met[:n])  # fmt: skip
+        if paper:  # the module's pull: its light over its wall area
+            demand[q] = light[q] * 2.0 * math.pi * radius[q] * length[q]
+        else:  # its leaves' transpiration (the drought hormone closes the stomata)
+            cq = c[plant[q]]
+            s = 1.0 - cq[C_DROUGHT] * min(1.0, h7)
+            demand[q] = cq[C_TRANSPIRATION] * leaf[q] * modules.leaf_light[q] * s
+    soil_unlit(n, end, length, env.ground, wall_light, light, modules.leaf_light, demand)
+    if paper:  # the paper's negative pressure, no losses: every pull met by the share
+        share = min(1.0, env.supply)
+        for q in range(n):
+            met[q] = share if demand[q] > 0.0 else 1.0
+            modules.water[q] = met[q] * demand[q]
+    else:
+        transport_into_kernel(start, end, radius[:n], parent[:n], demand,
+                              env.supply * env.soil, env.resistance, env.lift,
+                              modules.water[:n], met[:n])  # fmt: skip
+    if not paper:  # thickening first, from the whole plant's carbon
+        thicken_kernel(n, modules, c)
     n_new, _ = step_kernel(n, dims, modules, genes, c)
-    if not _finite(n_new, R, length, radius, nutrient, hormone):
+    if not _finite(n_new, modules):
         ground_kernel(n, parent, R, length, origin, env.ground)
+        drawn_kernel(n, modules)
         return n, STOP_NAN
     for q in range(n, n_new):
         light[q] = 0.0
         met[q] = 1.0
+        modules.water[q] = 0.0
     ground_kernel(n_new, parent, R, length, origin, env.ground)
-    end = _ends(n_new, origin, length, R, np.empty((n_new, 3)))
-    kind = np.zeros(n_new, np.int8)
-    r_end = radius_end_kernel(parent[:n_new], kind, radius[:n_new], np.empty(n_new))
-    wood = np.empty(n_new)
-    for q in range(n_new):
-        young = strength_young[plant[q]]
-        wood[q] = young + (env.strength - young) * lignin[q]
-    loads = loads_kernel(origin[:n_new], end, radius[:n_new], r_end, parent[:n_new], kind, wood,
-                         (env.density, env.leaf_mass_per_area, env.g),
-                         np.empty((4, n_new)))  # fmt: skip
-    for q in range(n_new):
-        if loads[3, q] >= 1.0:
-            return n_new, STOP_BROKEN
+    n_new, code = gravity_kernel(n_new, modules, c, strength_young, env, paper)
+    if not paper:  # the radius the loads ask for: the next step thickens toward it
+        design_kernel(n_new, modules, c, strength_young,
+                      (env.density, env.leaf_mass_per_area, env.g, env.strength))  # fmt: skip
+    drawn_kernel(n_new, modules)
+    if code != STOP_NONE:
+        return n_new, code
+    if not paper and total(modules.nutrient, n_new) < 0.0:  # growsim: carbon ran out
+        return n_new, STOP_STARVED
     return n_new, STOP_CAP if n_new >= cap else STOP_NONE
 
 
 @njit
-def walls_light(n, dims, modules, env, shifts, scratch):
-    """``(n * walls,)`` the light on each wall of modules ``0..n-1`` (placed: ``origin``
-    up to date) at its own point (on the surface, halfway along the module) with its
-    outward normal, through one shadow map per light of the modules, among their copies
-    moved by ``shifts`` ``(k, 3)`` (a periodic stand, each copy's shadow read at the
-    point moved back by its shift, :func:`growsim.kernels.light.point_light_into`;
-    ``(0, 3)``: the plant alone). :func:`grow_step`'s exact light.
-
-    Examples
-    --------
-    >>> from growsim.env import Environment
-    >>> from growsim.models.hormone import PARAMS, environment_args, resolve_params, seedling
-    >>> n, s = seedling(resolve_params(PARAMS, {"dims": 2}), Environment())
-    >>> env, m = environment_args(Environment()), s["modules"]
-    >>> walls_light(n, 2, m, env, np.zeros((0, 3)), s["scratch"]).tolist()  # from above
-    [0.0, 0.0]
-    """
-    R, origin, length, radius = modules.R, modules.origin, modules.length, modules.radius
-    walls = modules.hormone.shape[1]
-    start = origin[:n]
-    end = _ends(n, origin, length, R, np.empty((n, 3)))
-    trans = np.full(n, env.transmission) if env.soft else np.empty(0)
-    m = n * walls
-    normals = wall_normals(n, R, walls, dims, np.empty((n, walls, 3)))
-    points = np.empty((m, 3))
-    unit = np.empty((m, 3))
-    for q in range(n):
-        for i in range(walls):
-            nx, ny, nz = normals[q, i, 0], normals[q, i, 1], normals[q, i, 2]
-            norm = math.sqrt(nx * nx + ny * ny + nz * nz)
-            for a in range(3):
-                mid = start[q, a] + 0.5 * (end[q, a] - start[q, a])
-                points[q * walls + i, a] = mid + radius[q] * normals[q, i, a]
-                unit[q * walls + i, a] = normals[q, i, a] / norm
-    return point_light_into(
-        (start, end, radius[:n], np.array([0, n], np.int64)),
-        (points, np.array([0, m], np.int64), unit), (env.dirs, env.us, env.vs, env.weights),
-        (env.resolution, env.bias, env.soft, trans), scratch, np.empty(m), shifts,
-    )  # fmt: skip
-
-
-@njit
-def _finite(n, R, length, radius, nutrient, hormone):
+def _finite(n, modules):
     """Whether modules ``0..n-1`` hold only finite numbers."""
+    R, hormone = modules.R, modules.hormone
     for q in range(n):
-        if not (math.isfinite(length[q]) and math.isfinite(radius[q])
-                and math.isfinite(nutrient[q])):  # fmt: skip
+        if not (math.isfinite(modules.length[q]) and math.isfinite(modules.radius[q])
+                and math.isfinite(modules.nutrient[q])
+                and math.isfinite(modules.leaf[q])):  # fmt: skip
             return False
         for a in range(3):
             for b in range(3):

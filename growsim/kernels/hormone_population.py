@@ -13,6 +13,7 @@ from growsim.kernels.hormone import (
     STOP_BROKEN,
     STOP_NAN,
     STOP_NONE,
+    STOP_STARVED,
     Modules,
     grow_step,
     new_plant,
@@ -31,7 +32,7 @@ def grow_population(genes, c, strength_young, dims, walls, steps, cap, env):
     :func:`growsim.models.hormone.grow` does one at a time, keeping no plant. Returns
     ``(total, modules, stop, module_steps)``, each ``(P,)``: the nutrient held at the end
     (NaN for a plant stopped by a NaN), the module count, the stop code (:data:`STOPS`:
-    the last of cap, nan, broken) and the modules alive summed over the steps.
+    the last of cap, nan, broken, starved) and the modules alive summed over the steps.
 
     Examples
     --------
@@ -46,23 +47,16 @@ def grow_population(genes, c, strength_young, dims, walls, steps, cap, env):
     """
     P = genes.shape[0]
     H = genes.shape[1]
-    parent = np.empty(cap, np.int64)
-    R = np.empty((cap, 3, 3))
-    origin = np.empty((cap, 3))
-    length = np.empty(cap)
-    radius = np.empty(cap)
     nutrient = np.empty(cap)
-    chlorophyll = np.empty(cap)
-    lignin = np.empty(cap)
-    apex = np.empty(cap, np.bool_)
-    laterals = np.empty(cap, np.int64)
-    hormone = np.empty((cap, walls, H))
-    wall_light = np.zeros((cap, walls))
-    met = np.zeros(cap)
-    light = np.zeros(cap)
-    plant = np.zeros(cap, np.int64)  # one plant at a time: row 0 of its own genes
-    modules = Modules(parent, R, origin, length, radius, nutrient, chlorophyll, lignin, apex,
-                      laterals, hormone, wall_light, met, light, plant)  # fmt: skip
+    modules = Modules(
+        np.empty(cap, np.int64), np.empty((cap, 3, 3)), np.empty((cap, 3)), np.empty(cap),
+        np.empty(cap), nutrient, np.empty(cap), np.empty(cap), np.empty(cap, np.bool_),
+        np.empty(cap, np.int64), np.empty((cap, walls, H)), np.zeros((cap, walls)),
+        np.zeros(cap), np.zeros(cap),
+        np.zeros(cap, np.int64),  # plant: one at a time, row 0 of its own genes
+        np.zeros(cap), np.zeros(cap), np.zeros(cap), np.zeros(cap), np.zeros(cap),
+        np.zeros(2, np.int64),
+    )  # fmt: skip
     scratch = shadow_scratch(env.resolution)
     alone = np.zeros((0, 3))  # no copies: every plant alone
     out_total = np.empty(P)
@@ -79,7 +73,7 @@ def grow_population(genes, c, strength_young, dims, walls, steps, cap, env):
             out_steps[p] += n
             if code != STOP_NONE:
                 stop = code
-            if code == STOP_NAN or code == STOP_BROKEN:
+            if code == STOP_NAN or code == STOP_BROKEN or code == STOP_STARVED:
                 break
         out_total[p] = np.nan if stop == STOP_NAN else total(nutrient, n)
         out_modules[p] = n

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from growsim.kernels.config import njit
-from growsim.kernels.hormone import C_NEWLEN, C_NEWRAD, new_plant
+from growsim.kernels.hormone import C_NEW_LEAF, C_NEWLEN, C_NEWRAD, C_PHYSICS, new_plant
 
 __all__ = ["nearest_shifts", "new_stand", "periodic_shifts"]
 
@@ -18,7 +18,8 @@ __all__ = ["nearest_shifts", "new_stand", "periodic_shifts"]
 def new_stand(modules, c, xz, ground):
     """Reset :class:`Modules` ``modules`` to a stand of seedlings, one per row of ``xz``
     ``(N, 2)``: module ``i`` is plant ``i``'s root, a :func:`new_plant` seedling standing
-    at ``(x, ground, z)``. Every module after them descends from one root (parents
+    at ``(x, ground, z)`` with its row's new length, radius and (``growsim``) leaf
+    area. Every module after them descends from one root (parents
     first), so one module array holds the whole stand and one :func:`grow_step` grows
     it: one shadow map for all plants, each root its own water. Returns ``N``.
 
@@ -43,6 +44,8 @@ def new_stand(modules, c, xz, ground):
         modules.chlorophyll[i] = 1.0
         modules.apex[i] = True
         modules.plant[i] = i
+        modules.leaf[i] = c[i, C_NEW_LEAF] if c[i, C_PHYSICS] < 0.5 else 0.0
+        modules.drawn[i] = max(modules.radius[i], 0.5 * modules.leaf[i] / modules.length[i])
         modules.origin[i, 0] = xz[i, 0]
         modules.origin[i, 1] = ground
         modules.origin[i, 2] = xz[i, 1]

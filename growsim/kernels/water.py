@@ -1,19 +1,25 @@
-"""Numba kernels of water transport by negative pressure (:mod:`growsim.env.water`).
+"""Numba kernels of water transport (:mod:`growsim.env.water`): a fixed supply shared by
+path conductance.
 
-Two passes over segments stored parents first (``parent[i] < i``), as in
-"Hormone-module growth: facts, formulas and a proposed design" (the research note's
-"a reverse loop sums child -> parent, a forward loop carries parent -> child"):
+Segments are stored parents first (``parent[i] < i``). Two steps:
 
-1. :func:`subtree_demand_kernel`, child to parent: ``D[i] = d[i] + sum of D[c]`` over the
-   children ``c`` of ``i`` (the pressure a segment pulls with).
-2. :func:`distribute_kernel`, parent to child: the roots' water is shared down the tree in
-   proportion to those sums, each segment passing on only a fraction ``exp(-x[i])`` of
-   what enters it (``x[i]`` the pressure drop along it, see :mod:`growsim.env.water` for
-   the equations), and each segment keeps ``min(d[i], a[i] d[i] / D[i])`` of what reaches
-   its far end ``a[i]``: ``min(1, supply * exp(-(sum of x along the path))) * d[i]``.
+1. :func:`conductance_kernel`, parent to child: each segment's path resistance from the
+   soil to its far end, ``x_i = x_parent + resistance L_i (a_ref / (pi r_i^2)) + lift
+   max(0, dy_i)`` (``x = 0`` below a root; ``a_ref`` = :data:`REFERENCE_AREA`, 1 cm^2),
+   and its path conductance ``k_i = 1 / (1 + x_i)``: the roots' own resistance is the 1,
+   a metre of stem of 1 cm^2 adds ``resistance`` to it (sapwood conducts by its
+   cross-section, as the pipe model's bundle of pipes), a metre climbed adds ``lift``.
+2. :func:`fill_kernel`: each root's water ``supply`` (a fixed amount a step) is shared by
+   water filling: segment ``i`` of demand ``d_i`` receives ``d_i min(1, lam k_i)``, ``lam``
+   the one level at which the plant's segments receive the whole supply, or every
+   demand met if the supply covers it. Water never exceeds the supply; a segment that
+   needs less than its conductance would bring leaves the rest to the others; a segment
+   of conductance 0 (a stem of radius 0 on its path) gets nothing.
 
-Several plants joined into one forest (one root each, :meth:`growsim.phenotypes.plant.Plant.concat`)
-run in one call: every root draws its own share.
+Several plants joined into one forest (one root each,
+:meth:`growsim.phenotypes.plant.Plant.concat`) run in one call: every root draws its own
+``supply``. The oracle is ``tests/naive/water.py`` (paths walked one by one, the level
+found by bisection).
 """
 
 from __future__ import annotations
@@ -25,160 +31,151 @@ import numpy as np
 from growsim.kernels.config import njit
 
 __all__ = [
-    "distribute_kernel",
-    "subtree_demand_kernel",
+    "REFERENCE_AREA",
+    "conductance_kernel",
+    "fill_kernel",
     "transport_into_kernel",
     "transport_kernel",
 ]
 
+#: the cross-section ``resistance`` is given for: 1 cm^2 (m^2)
+REFERENCE_AREA = 1e-4
+
 
 @njit
-def subtree_demand_kernel(parent, demand):
-    """``(n,)`` float64: each segment's demand plus that of all its descendants.
-
-    ``parent`` ``(n,)`` int64 with ``parent[i] < i`` (``-1`` for roots); ``demand`` ``(n,)``
-    float64 ``>= 0``. One child-to-parent pass (the segments in reverse order).
+def conductance_kernel(start, end, radius, parent, resistance, lift, out):
+    """``out`` ``(n,)``: each segment's path conductance from the soil to its far end,
+    ``1 / (1 + x_i)`` (see the module), overwritten and returned.
 
     Examples
     --------
     >>> import numpy as np
-    >>> subtree_demand_kernel(np.array([-1, 0, 0, 1]), np.array([0.0, 1.0, 2.0, 3.0]))
-    array([6., 4., 2., 3.])
+    >>> s = np.array([[0.0, 0, 0], [0, 1, 0]]); e = np.array([[0.0, 1, 0], [1, 1, 0]])
+    >>> r = np.full(2, np.sqrt(1e-4 / np.pi))  # 1 cm^2 each
+    >>> conductance_kernel(s, e, r, np.array([-1, 0]), 0.5, 0.25, np.empty(2)).tolist()
+    [0.5714285714285714, 0.4444444444444444]
     """
     n = parent.shape[0]
-    D = demand.copy()
-    for i in range(n - 1, -1, -1):
-        p = parent[i]
-        if p >= 0:
-            D[p] += D[i]
-    return D
-
-
-@njit(error_model="numpy")
-def _pass_down(start, end, radius, parent, supply, resistance, lift, received, met):
-    """The parent-to-child pass, in place and without scratch memory.
-
-    On entry ``received`` holds the subtree demands ``D``; on exit ``met[i]`` holds
-    ``s[i] = s[parent] + x[i]``, the pressure drop summed from the root to ``i``'s far
-    end, and ``received[i]`` the root's inverse flux density ``r_root^2 / D_root`` (each
-    slot is read before it is overwritten; children read only their parent's slots, which
-    are final). Only an addition carries from parent to child, so the pass is not bound by
-    ``exp``'s latency; :func:`_finish` turns ``s`` into shares."""
-    n = parent.shape[0]
+    path = np.empty(n)  # x: the path resistance from the soil to each far end
     for i in range(n):
         p = parent[i]
-        Di = received[i]
-        if p < 0:
-            s0 = 0.0
-            inv_ref = radius[i] * radius[i] / Di if Di > 0.0 else 0.0
-        else:
-            s0 = met[p]
-            inv_ref = received[p]
+        x = 0.0 if p < 0 else path[p]
+        dx = end[i, 0] - start[i, 0]
         dy = end[i, 1] - start[i, 1]
-        x = lift * max(dy, 0.0)
-        if resistance > 0.0 and Di > 0.0:
-            r2 = radius[i] * radius[i]
-            if r2 > 0.0 and inv_ref > 0.0:
-                dx = end[i, 0] - start[i, 0]
-                dz = end[i, 2] - start[i, 2]
-                L = math.sqrt(dx * dx + dy * dy + dz * dz)
-                x += resistance * L * Di * inv_ref / r2
-            else:
-                x = np.inf
-        met[i] = s0 + x
-        received[i] = inv_ref
-
-
-@njit(error_model="numpy")
-def _finish(demand, supply, received, met):
-    """``met[i] = min(1, supply * exp(-s[i]))`` (1 where ``demand[i] = 0``) from the drops
-    ``s`` in ``met``; ``received[i] = met[i] * demand[i]``."""
-    for i in range(demand.shape[0]):
-        d = demand[i]
-        m = min(supply * math.exp(-met[i]), 1.0) if d > 0.0 else 1.0
-        met[i] = m
-        received[i] = m * d
+        dz = end[i, 2] - start[i, 2]
+        L = math.sqrt(dx * dx + dy * dy + dz * dz)
+        if resistance > 0.0 and L > 0.0:
+            a = math.pi * radius[i] * radius[i]
+            x += resistance * L * REFERENCE_AREA / a if a > 0.0 else np.inf
+        if dy > 0.0:
+            x += lift * dy
+        path[i] = x
+        out[i] = 1.0 / (1.0 + x)
+    return out
 
 
 @njit
-def distribute_kernel(start, end, radius, parent, demand, D, supply, resistance, lift):
-    """Share the roots' water down the tree: ``(received, met, drop)``, each ``(n,)``.
-
-    Parameters
-    ----------
-    start, end : ``(n, 3)`` float64 segment end points (y up).
-    radius : ``(n,)`` float64 radii ``>= 0``.
-    parent : ``(n,)`` int64, ``parent[i] < i``, ``-1`` for roots.
-    demand : ``(n,)`` float64 ``>= 0``; ``D`` its subtree sums
-        (:func:`subtree_demand_kernel`).
-    supply : float ``>= 0``, each root's inflow as a share of its subtree demand.
-    resistance : float ``>= 0``, loss per unit length where the demand per cross-section
-        ``D / r^2`` equals the root's.
-    lift : float ``>= 0``, loss per unit of height climbed.
-
-    Returns
-    -------
-    received ``(n,)`` water kept by each segment, met ``(n,)`` ``received / demand`` (1
-    where the demand is 0), drop ``(n,)`` the pressure drop ``s`` summed from the root to
-    each segment's far end (what arrives there is ``exp(-s)`` of what the root gave).
+def fill_kernel(parent, demand, k, supply, met):
+    """``met`` ``(n,)``: the share of each segment's demand met when each root's
+    ``supply`` is shared by water filling over the conductances ``k`` (see the module):
+    ``met_i = min(1, lam k_i)`` with one level ``lam`` per plant, so that the plant
+    receives ``min(supply, sum of the demand of its conducting segments)``; 1 where the
+    demand is 0, 0 where the conductance is. Overwritten and returned.
 
     Examples
     --------
     >>> import numpy as np
-    >>> s = np.array([[0.0, 0, 0], [0, 1, 0]]); e = np.array([[0.0, 1, 0], [0, 2, 0]])
-    >>> par = np.array([-1, 0]); d = np.array([0.0, 2.0])
-    >>> D = subtree_demand_kernel(par, d)
-    >>> rec, met, drop = distribute_kernel(s, e, np.ones(2), par, d, D, 0.5, 0.0, 0.1)
-    >>> rec.round(3).tolist(), met.round(3).tolist(), drop.tolist()
-    ([0.0, 0.819], [1.0, 0.409], [0.1, 0.2])
+    >>> par = np.array([-1, 0, 0]); d = np.array([0.0, 1.0, 1.0])
+    >>> fill_kernel(par, d, np.array([1.0, 1.0, 0.25]), 1.0, np.empty(3)).tolist()
+    [1.0, 0.8, 0.2]
+    >>> fill_kernel(par, d, np.array([1.0, 1.0, 0.25]), 1.5, np.empty(3)).tolist()
+    [1.0, 1.0, 0.5]
     """
-    received = D.copy()
-    met = np.empty(parent.shape[0])
-    _pass_down(start, end, radius, parent, supply, resistance, lift, received, met)
-    drop = met.copy()
-    _finish(demand, supply, received, met)
-    return received, met, drop
+    n = parent.shape[0]
+    root = np.empty(n, np.int64)
+    count = np.zeros(n + 1, np.int64)  # drawing segments per root, then offsets
+    for i in range(n):
+        root[i] = i if parent[i] < 0 else root[parent[i]]
+        if demand[i] > 0.0 and k[i] > 0.0:
+            count[root[i] + 1] += 1
+        met[i] = 1.0 if demand[i] <= 0.0 else 0.0
+    for i in range(n):
+        count[i + 1] += count[i]
+    # the drawing segments grouped by root, each group by conductance, highest first
+    order = np.argsort(-k)
+    group = np.empty(count[n], np.int64)
+    fill = count[:n].copy()
+    for j in range(n):
+        i = order[j]
+        if demand[i] > 0.0 and k[i] > 0.0:
+            group[fill[root[i]]] = i
+            fill[root[i]] += 1
+    tail = np.empty(count[n] + 1)  # sum of d k from a position to its group's end
+    for r in range(n):
+        a, b = count[r], count[r + 1]
+        if b <= a:
+            continue
+        tail[b] = 0.0
+        total = 0.0
+        for j in range(b - 1, a - 1, -1):
+            i = group[j]
+            tail[j] = tail[j + 1] + demand[i] * k[i]
+            total += demand[i]
+        if supply >= total:  # every demand met
+            for j in range(a, b):
+                met[group[j]] = 1.0
+            continue
+        # the most conductive segments saturate first: find the first that does not
+        head = 0.0  # demand of the saturated segments
+        lam = 0.0
+        for j in range(a, b):
+            i = group[j]
+            lam = (supply - head) / tail[j]
+            if lam * k[i] <= 1.0:
+                break
+            head += demand[i]
+        for j in range(a, b):
+            i = group[j]
+            met[i] = min(1.0, lam * k[i])
+    return met
 
 
 @njit
 def transport_into_kernel(
     start, end, radius, parent, demand, supply, resistance, lift, received, met
 ):
-    """:func:`transport_kernel` writing into ``received`` and ``met`` (``(n,)`` float64,
-    any content): callers that reuse buffers skip the page faults of fresh memory (about
-    a third of the time at 300,000 segments).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> s = np.zeros((1, 3)); e = np.ones((1, 3)); rec = np.empty(1); met = np.empty(1)
-    >>> transport_into_kernel(s, e, np.ones(1), np.array([-1]), np.full(1, 2.0), 0.25,
-    ...                       0.0, 0.0, rec, met)
-    >>> rec.tolist(), met.tolist()
-    ([0.5], [0.25])
-    """
-    received[:] = demand
-    for i in range(parent.shape[0] - 1, -1, -1):  # subtree_demand_kernel, in place
-        p = parent[i]
-        if p >= 0:
-            received[p] += received[i]
-    _pass_down(start, end, radius, parent, supply, resistance, lift, received, met)
-    _finish(demand, supply, received, met)
-
-
-@njit
-def transport_kernel(start, end, radius, parent, demand, supply, resistance, lift):
-    """Both passes: ``(received, met)`` (see :func:`distribute_kernel`); no memory but
-    the two outputs.
+    """Both steps into ``received`` and ``met`` (``(n,)`` float64, any content): the
+    conductances (:func:`conductance_kernel`, written into ``received`` first), the shares
+    met (:func:`fill_kernel`), then ``received = met * demand``. ``supply`` the water each
+    root draws (a fixed amount); ``resistance`` and ``lift`` as
+    :func:`conductance_kernel`.
 
     Examples
     --------
     >>> import numpy as np
     >>> s = np.zeros((2, 3)); e = np.zeros((2, 3)); e[:, 0] = 1.0
-    >>> rec, met = transport_kernel(s, e, np.ones(2), np.array([-1, 0]), np.ones(2),
-    ...                             0.5, 0.0, 0.0)
+    >>> rec = np.empty(2); met = np.empty(2)
+    >>> transport_into_kernel(s, e, np.ones(2), np.array([-1, 0]), np.array([1.0, 3.0]),
+    ...                       2.0, 0.0, 0.0, rec, met)
     >>> rec.tolist(), met.tolist()
-    ([0.5, 0.5], [0.5, 0.5])
+    ([0.5, 1.5], [0.5, 0.5])
+    """
+    conductance_kernel(start, end, radius, parent, resistance, lift, received)
+    fill_kernel(parent, demand, received, supply, met)
+    for i in range(parent.shape[0]):
+        received[i] = met[i] * demand[i]
+
+
+@njit
+def transport_kernel(start, end, radius, parent, demand, supply, resistance, lift):
+    """:func:`transport_into_kernel` into new arrays: ``(received, met)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = np.zeros((1, 3)); e = np.ones((1, 3))
+    >>> transport_kernel(s, e, np.ones(1), np.array([-1]), np.full(1, 2.0), 8.0, 0.0, 0.0)
+    (array([2.]), array([1.]))
     """
     n = parent.shape[0]
     received = np.empty(n)

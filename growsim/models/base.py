@@ -47,13 +47,18 @@ class Param:
     """One model parameter: its name, range ``[low, high]``, kind and default.
 
     ``kind`` is ``"real"`` or ``"int"``. A GA-codable field: :func:`growsim.ga.genome_from_params`
-    turns a list of them into a :class:`growsim.ga.Genome`.
+    turns a list of them into a :class:`growsim.ga.Genome`. An ``"int"`` parameter may
+    name its values (``labels``, value ``i`` the ``i``-th label, ``low`` 0): a config,
+    preset or ``--set`` gives it by name (``physics = "paper"``), and it stays a number
+    everywhere else.
 
     Examples
     --------
     >>> p = Param("f", 0.0, 1.0, default=0.95, doc="lateral nutrient ratio")
     >>> p.check(0.5)
     0.5
+    >>> Param("physics", 0, 1, 0, kind="int", labels=("growsim", "paper")).check("paper")
+    1.0
     """
 
     name: str
@@ -63,11 +68,21 @@ class Param:
     kind: Literal["real", "int"] = "real"
     doc: str = ""
     unit: str = ""
+    labels: tuple[str, ...] = ()
 
     def check(self, value, where: str = "") -> float:
-        """Return ``value`` as a float (int-valued for ``kind="int"``) or raise
-        :class:`UserInputError` naming the parameter and its range."""
+        """Return ``value`` as a float (int-valued for ``kind="int"``; a label's index for
+        a named value) or raise :class:`UserInputError` naming the parameter and its
+        range."""
         label = f"{where}{self.name}"
+        if isinstance(value, str) and self.labels:
+            if value not in self.labels:
+                raise UserInputError(
+                    f"{label}: {value!r} is not one of {', '.join(map(repr, self.labels))}"
+                )
+            return float(self.labels.index(value))
+        if isinstance(value, str):
+            raise UserInputError(f"{label}: expected a number (got {value!r})")
         if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
             raise UserInputError(f"{label}: expected a number, got {value!r}")
         v = float(value)

@@ -1,36 +1,47 @@
-"""Hormone-module growth (seed 004: Uehara, Akamine and Endo, "Plants that acquire a 3D
+"""Hormone-module growth (Uehara, Akamine and Endo, "Plants that acquire a 3D
 structure by adapting to the environment").
 
 A plant is a set of modules, each a short cylinder with a pose, length, thickness,
-nutrient, chlorophyll and lignin, and ``walls`` light-sensing walls around it (2 in 2D).
-Every step, in the environment (:mod:`growsim.env`):
+nutrient (a carbon reserve), chlorophyll, lignin and, in the ``growsim`` physics, a leaf
+area, and ``walls`` light-sensing walls around it (2 in 2D). Two physics
+(``physics``, :data:`growsim.kernels.hormone.PHYSICS`): ``growsim`` (the default), the
+paper's model made sound, and ``paper``, the paper's model as its text gives it. Every
+step, in the environment (:mod:`growsim.env`):
 
-1. the modules are placed end to end (:func:`growsim.kernels.hormone.place_kernel`);
+1. the modules are placed end to end (:func:`growsim.kernels.hormone.place_kernel`), each
+   drawn in the shadow map with its leaves (a foliage cylinder whose side view is its
+   leaf area);
 2. each wall's light comes from the shadow map (:meth:`growsim.env.Light.point_light`: the
-   wall's point, on the module's surface halfway along it, and its outward normal);
-3. water flows by the modules' pull, in proportion to the light they receive
-   (:meth:`growsim.env.Water.transport`), giving each module's share of demand met;
+   wall's point, on the drawn surface halfway along the module, and its outward normal);
+3. water: ``growsim``, the soil's fixed supply shared by path conductance among the
+   leaves' transpiration (:meth:`growsim.env.Water.transport`); ``paper``, every module's
+   pull met by the supply's share;
 4. each wall makes ten hormones from what it senses, and the hormones drive elongation
    (uneven walls turn the module), thickening, branching (direction ``B = sum v_i H_i``),
-   apical dominance, new apical modules, lignification, greening, drought response,
-   turning and leaf expansion; photosynthesis (saturating in light, limited by water and
-   chlorophyll) pays for growth and upkeep (:func:`growsim.kernels.hormone.step_kernel`);
+   apical dominance, new apical modules, lignification (which slows growth and
+   branching), greening, drought response, turning and leaf expansion; photosynthesis
+   pays for growth (and, in ``growsim``, upkeep and the leaves' turnover)
+   (:func:`growsim.kernels.hormone.step_kernel`);
 5. the modules are placed again, none below the soil (``environment.ground``: a module
    whose end would go under it is turned up until its end touches it);
-6. gravity loads every joint (:meth:`growsim.env.Gravity.loads`, the strength rising with
-   lignin from ``strength_young`` to the environment's wood strength): a joint that
-   breaks stops the individual, as the seed says.
+6. gravity loads every joint, leaves included (:meth:`growsim.env.Gravity.loads`, the
+   strength rising with lignin from ``strength_young`` to the environment's wood
+   strength): a joint that breaks stops a ``paper`` plant, as the paper says; a
+   ``growsim`` plant sheds the broken branch and goes on, and thickens each module toward
+   the radius its loads ask for.
 
 :func:`grow` yields the plant after every step; :func:`develop` returns the last. The
-plant's ``data`` holds per module ``nutrient``, ``chlorophyll``, ``lignin``, ``light``
-(mean over its walls) and ``water_met``; its ``meta`` holds ``steps``, ``stopped``
-(``""``, ``"broken"``, ``"cap"`` when the module cap stopped new modules, ``"nan"``),
-``total_nutrient`` (the seed's fitness) and ``ground`` (the soil's height,
-``environment.ground.height``: no module reaches below it, see
+plant's ``data`` holds per module ``nutrient`` (g C), ``chlorophyll``, ``lignin``,
+``light`` (mean over its walls), ``water_met``, ``water`` (kg received in the last step)
+and ``leaf_area`` (m^2); its ``meta`` holds ``steps``, ``stopped`` (``""``: it grew to
+the end of its steps; ``"cap"`` when the module cap held back a new module, ``"nan"``,
+``"broken"``, ``"starved"``), ``physics``, ``breaks`` and ``shed`` (joints broken and
+modules shed on the way), ``total_nutrient`` (the paper's fitness) and ``ground`` (the
+soil's height, ``environment.ground.height``: no module reaches below it, see
 :func:`growsim.kernels.hormone.ground_kernel`). Renders colour each module by its
 chlorophyll and lignin and draw the green ones as leaf blades
-(:mod:`growsim.phenotypes.plant.mesh`). Every equation and constant:
-``docs/models/hormone.md``.
+(:mod:`growsim.phenotypes.plant.mesh`). Every equation and constant, with units and
+sources: ``docs/models/hormone.md``.
 """
 
 from __future__ import annotations
@@ -66,45 +77,67 @@ __all__ = [
     "grow",
     "grow_periodic",
     "grow_stand",
+    "leaves",
     "population",
     "seedling",
 ]
 
 NAME = "hormone"
 
+#: the stop codes that end a plant's growth (a NaN, a fall, starvation)
+STOPPING = (K.STOP_NAN, K.STOP_BROKEN, K.STOP_STARVED)
+
 #: settings (not genes): name, low, high, default, kind, doc
 SETTINGS = (
     Param("dims", 2, 3, 3, kind="int", doc="2: the plant grows in the x-y plane; 3: in space"),
     Param("walls", 3, 16, 6, kind="int", doc="light-sensing walls per module (2D: always 2)"),
-    Param("steps", 1, 1000, 40, kind="int", doc="growth steps"),
-    Param("max_modules", 1, 100000, 300, kind="int", doc="module cap (no new modules past it)"),
-    Param("strength_young", 1e3, 1e9, 5e6, doc="strength of a module with no lignin", unit="Pa"),
-)
+    Param("steps", 1, 1000, 40, kind="int", doc="growth steps (weeks)"),
+    Param("max_modules", 1, 100000, 3000, kind="int",
+          doc="module cap (no new modules past it): a safety net, not a size"),
+    Param("strength_young", 1e3, 1e9, 2e7, unit="Pa",
+          doc="strength of a module with no lignin (half the wood's: lignin doubles it)"),
+    Param("physics", 0, 1, 0, kind="int", labels=K.PHYSICS,
+          doc="'growsim': the paper's model made sound (leaves as organs, a fixed water "
+          "supply shared by conductance, thickening by load, breaks that shed); 'paper': "
+          "the paper's model as its text gives it"),
+)  # fmt: skip
 
-#: constants of the step (name, default, doc), passed to the kernel in this order
+#: constants of the step (name, default, doc), passed to the kernel in this order (then
+#: the physics). Units: m, a step of one week, g of carbon (g C), kg of water.
 CONSTANTS = (
-    ("elongation", 0.15, "largest elongation of a wall per step (m, hormone 0, water met)"),
+    ("elongation", 0.15, "largest elongation of a wall a step (m)"),
     ("max_length", 0.5, "a module elongates up to this length (m)"),
     ("turning", 0.3, "turning per unit of relative wall elongation difference (rad)"),
-    ("thickening", 0.003, "largest thickening per step (m)"),
+    ("thickening", 0.002, "largest thickening a step (m)"),
     ("new_length", 0.2, "length of a new module (m)"),
-    ("new_radius", 0.02, "radius of a new module (m)"),
+    ("new_radius", 0.002, "radius of a new module (m)"),
     ("branch_angle", math.radians(45.0), "angle of a lateral from its parent's axis (rad)"),
     ("threshold", 0.5, "hormone level that starts a module or a lateral"),
     ("inhibitor_transport", 0.5, "share of the children's inhibitor a module receives"),
-    ("photosynthesis", 4.0, "nutrient per m2 of wall per step at light 1"),
-    ("half_saturation", 0.5, "light at which photosynthesis reaches half its maximum"),
-    ("build_cost", 100.0, "nutrient per m3 of new tissue"),
-    ("upkeep", 10.0, "nutrient per m3 of living tissue per step (green tissue; wood 20 %)"),
-    ("new_module_cost", 0.02, "nutrient to start a module (half of it goes to the module)"),
-    ("lignify", 0.1, "largest lignin gain per step"),
-    ("greening", 0.05, "largest chlorophyll gain per step"),
+    ("photosynthesis", 50.0, "g C per m2 of leaf (paper: of wall) a step at light 1"),
+    ("half_saturation", 0.5, "light at which photosynthesis is half its largest (growsim)"),
+    ("build_cost", 3e5, "g C per m3 of new wood"),
+    ("upkeep", 150.0, "g C per m3 of wood a step (growsim)"),
+    ("new_module_cost", 0.5, "g C to start a module beyond its wood and leaf (half to it)"),
+    ("lignify", 0.1, "largest lignin gain a step"),
+    ("greening", 0.05, "largest chlorophyll gain a step"),
     ("chlorophyll_loss", 1.0, "chlorophyll lost per unit of lignin gained"),
-    ("drought", 0.5, "share of elongation and photosynthesis the drought hormone can stop"),
-    ("expansion", 1.0, "extra wall area at full expansion hormone"),
-    ("share", 0.5, "share of a parent-child nutrient difference evened out per step"),
+    ("drought", 0.5, "share of elongation, photosynthesis and transpiration the drought "
+     "hormone can stop"),
+    ("leaf_growth", 0.1, "largest new leaf area a step per m of shoot (m2/m, growsim)"),
+    ("share", 0.5, "share of a parent-child nutrient difference evened out a step"),
     ("laterals", 2.0, "largest number of laterals per module"),
-)
+    ("leaf_cost", 30.0, "g C per m2 of new leaf (growsim)"),
+    ("leaf_upkeep", 3.0, "g C per m2 of leaf a step (growsim)"),
+    ("leaf_turnover", 0.05, "share of the leaf area shed a step (growsim)"),
+    ("leaf_density", 0.3, "largest leaf area per m of shoot (m2/m, growsim)"),
+    ("new_leaf", 0.01, "leaf area of a new module (m2, growsim)"),
+    ("transpiration", 10.0, "kg of water per m2 of leaf a step at light 1 (growsim)"),
+    ("huber", 1e-4, "sapwood area per leaf area above: the pipe model's radius (growsim)"),
+    ("safety", 2.0, "strength over the stress thickening aims at (growsim)"),
+    ("wind", 2.0, "drag of a breeze on the leaves, N per m2 of leaf (growsim)"),
+    ("reserve", 2.0, "a seedling's nutrient, its seed's reserve (g C)"),
+)  # fmt: skip
 
 #: the genes: per hormone k, ``h{k}_bias``, ``h{k}_gain``, ``h{k}_decay`` and one weight
 #: ``h{k}_w{j}`` per stimulus j (:data:`growsim.kernels.hormone.STIMULI`)
@@ -147,21 +180,29 @@ def _genes_demo() -> dict[str, float]:
     return g
 
 
-#: presets: a hand-set genome in 2D and in 3D
+#: the ``paper`` physics's tissue: the modules are green cell groups whose walls
+#: photosynthesise (no leaves), so they are built at the cost of herbaceous tissue (about
+#: 45 kg of carbon a cubic metre: 10 % dry matter at 45 % carbon) and thicken slowly
+PAPER_TISSUE = {"physics": 1, "build_cost": 4.5e4, "thickening": 0.001}
+
+#: presets: a hand-set genome in 2D and in 3D, in the ``growsim`` physics (``demo_*``) and
+#: the ``paper`` physics (``paper_*``)
 PRESETS = {
     "demo_2d": {"dims": 2, "steps": 30, **_genes_demo()},
     "demo_3d": {"dims": 3, "steps": 30, **_genes_demo()},
+    "paper_2d": {"dims": 2, "steps": 30, **_genes_demo(), **PAPER_TISSUE},
+    "paper_3d": {"dims": 3, "steps": 30, **_genes_demo(), **PAPER_TISSUE},
 }
 
 #: the environment each preset is shown in by ``growsim grow --preset`` (that of the
 #: figure and counts of ``docs/models/hormone.md``, made by ``benchmarks/hormone_figures.py``:
 #: the sun a little from the side, half the light from the sky, as in
 #: ``experiments/hormone_3d.toml``; ``hormone_2d.toml``'s sun has no z part, where the 2D
-#: demo grows 54 modules, not 66). Under the default light (the sun at the zenith, no sky)
-#: the side walls see no light and the demo genome stays one module.
+#: demo grows 136 modules, not 140). Under the default light (the sun at the zenith, no
+#: sky) the side walls see no light and the demo genome stays a stick of two modules.
 PRESET_ENVIRONMENTS = {
-    "demo_2d": {"light": {"direction": [0.3, -1.0, 0.2], "diffuse": 0.5}, "water": {"supply": 1.0}},
-    "demo_3d": {"light": {"direction": [0.3, -1.0, 0.2], "diffuse": 0.5}, "water": {"supply": 1.0}},
+    name: {"light": {"direction": [0.3, -1.0, 0.2], "diffuse": 0.5}, "water": {"supply": 1.0}}
+    for name in ("demo_2d", "demo_3d", "paper_2d", "paper_3d")
 }
 
 
@@ -188,9 +229,9 @@ def environment_args(env) -> K.Surroundings:
     """The environment's settings as :func:`growsim.kernels.hormone.grow_step` takes them
     (:class:`growsim.kernels.hormone.Surroundings`): the light's passes
     (:meth:`growsim.env.Light.passes`), resolution, bias, soft shadows and transmission; the
-    water's supply, resistance and lift (scaled by ``g / 9.81``); the gravity's ``g``, wood
-    density, leaf mass per area and wood strength; the ground's height; whether the walls
-    share their module's exposure (``light.walls = "module"``).
+    water's supply, soil, resistance and lift (scaled by ``g / 9.81``); the gravity's
+    ``g``, wood density, leaf mass per area and wood strength; the ground's height;
+    whether the walls share their module's exposure (``light.walls = "module"``).
 
     Raises :class:`growsim.errors.UserInputError` for the moderngl light backend (the
     model's step is one numba kernel, light included).
@@ -200,7 +241,7 @@ def environment_args(env) -> K.Surroundings:
     >>> from growsim.env import Environment
     >>> env = environment_args(Environment())
     >>> len(env), env.resolution == Environment().light.resolution, env.ground
-    (17, True, 0.0)
+    (18, True, 0.0)
     """
 
     light, water, gravity = env.light, env.water, env.gravity
@@ -212,9 +253,10 @@ def environment_args(env) -> K.Surroundings:
     d, u, v, w = light.passes()
     return K.Surroundings(
         d, u, v, w, int(light.resolution), float(light.bias), light.shadows == "soft",
-        float(light.transmission), float(water.supply), float(water.resistance),
-        float(water.lift) * float(gravity.g) / 9.81, float(gravity.g), float(gravity.density),
-        float(gravity.leaf_mass_per_area), float(gravity.strength), float(env.ground.height),
+        float(light.transmission), float(water.supply), float(water.soil),
+        float(water.resistance), float(water.lift) * float(gravity.g) / 9.81, float(gravity.g),
+        float(gravity.density), float(gravity.leaf_mass_per_area), float(gravity.strength),
+        float(env.ground.height),
         light.walls == "module",
     )  # fmt: skip
 
@@ -251,8 +293,8 @@ def grow(params: Mapping[str, float] | None = None, *, env=None) -> Iterator[Pla
         n, code = K.grow_step(n, *s.values())
         if code != K.STOP_NONE:
             stopped = K.STOPS[code]
-        yield _plant(p, n, s["modules"], step + 1, stopped, s["env"].ground)
-        if code in (K.STOP_NAN, K.STOP_BROKEN):
+        yield _plant(p, n, s["modules"], step + 1, stopped, s["env"])
+        if code in STOPPING:
             return
 
 
@@ -260,7 +302,8 @@ def grow_stand(params=None, *, env=None, xz=None) -> Iterator[Plant]:
     """Grow an explicit stand step by step, yielding the stand (one :class:`Plant`, every
     plant's modules) after every step: copies of one genome (``params`` a mapping) or a
     plant of its own genome at each position (``params`` a sequence of mappings, one per
-    position; they must agree on ``dims``, ``walls``, ``steps`` and ``max_modules``).
+    position; they must agree on ``dims``, ``walls``, ``steps``, ``max_modules`` and
+    ``physics``).
 
     The plants stand at ``xz`` ``(N, 2)`` (default: ``env.stand.xz()``, the
     ``[environment.stand]`` positions; ``[x, z]`` on the ground, ``z`` must be 0 in 2D). One
@@ -290,7 +333,7 @@ def grow_stand(params=None, *, env=None, xz=None) -> Iterator[Plant]:
         raise UserInputError(f"hormone.grow_stand: {len(plants)} genomes for {N} positions")
     p = plants[0] if plants else resolve_params(PARAMS, params, where="hormone.")
     for i, q in enumerate(plants or ()):
-        for name in ("dims", "walls", "steps", "max_modules"):
+        for name in ("dims", "walls", "steps", "max_modules", "physics"):
             if q[name] != p[name]:
                 raise UserInputError(
                     f"hormone.{name}: plant {i} has {q[name]:g}, plant 0 {p[name]:g}: the "
@@ -314,8 +357,8 @@ def grow_stand(params=None, *, env=None, xz=None) -> Iterator[Plant]:
         n, code = K.grow_step(n, *s.values())
         if code != K.STOP_NONE:
             stopped = K.STOPS[code]
-        yield _stand_plant(p, n, s["modules"], step + 1, stopped, s["env"].ground, xz)
-        if code in (K.STOP_NAN, K.STOP_BROKEN):
+        yield _stand_plant(p, n, s["modules"], step + 1, stopped, s["env"], xz)
+        if code in STOPPING:
             return
 
 
@@ -353,10 +396,10 @@ def grow_periodic(
         n, code = K.grow_step(n, *s.values())
         if code != K.STOP_NONE:
             stopped = K.STOPS[code]
-        plant = _plant(p, n, s["modules"], step + 1, stopped, s["env"].ground)
+        plant = _plant(p, n, s["modules"], step + 1, stopped, s["env"])
         plant.meta.update(spacing=spacing, rings=int(rings))
         yield plant
-        if code in (K.STOP_NAN, K.STOP_BROKEN):
+        if code in STOPPING:
             return
 
 
@@ -375,7 +418,7 @@ def grow_mixture(params, neighbours=None, *, env=None) -> Iterator[Plant]:
     >>> from growsim.env import Environment
     >>> env = Environment.model_validate({"light": {"diffuse": 0.5}, "stand": {
     ...     "mode": "mixture", "neighbours": 2, "spacing": 0.8}})
-    >>> p = {**PRESETS["demo_2d"], "steps": 8}
+    >>> p = {**PRESETS["demo_2d"], "steps": 20, "max_modules": 80}
     >>> weak = {**p, "h0_gain": 0.0}  # a neighbour that does not elongate
     >>> *_, among_weak = grow_mixture(p, [weak, weak], env=env)
     >>> *_, among_copies = grow_mixture(p, None, env=env)
@@ -402,8 +445,8 @@ def grow_mixture(params, neighbours=None, *, env=None) -> Iterator[Plant]:
         yield focal
 
 
-def _stand_plant(p, n, modules, steps, stopped, ground, xz) -> Plant:
-    plant = _plant(p, n, modules, steps, stopped, ground)
+def _stand_plant(p, n, modules, steps, stopped, env, xz) -> Plant:
+    plant = _plant(p, n, modules, steps, stopped, env)
     N = len(xz)
     which = modules.plant[:n].copy()  # a module belongs to its parent's plant
     nutrient = np.bincount(which, weights=plant.data["nutrient"], minlength=N)
@@ -428,7 +471,7 @@ def seedling(p: Mapping[str, float], env) -> tuple[int, dict]:
     >>> from growsim.env import Environment
     >>> n, state = seedling(resolve_params(PARAMS, PRESETS["demo_3d"]), Environment())
     >>> n, state["modules"].hormone.shape
-    (1, (300, 6, 10))
+    (1, (3000, 6, 10))
     """
     dims = int(p["dims"])
     walls = 2 if dims == 2 else int(p["walls"])
@@ -450,15 +493,15 @@ def seedling(p: Mapping[str, float], env) -> tuple[int, dict]:
 
 def _rows(p):
     """A plant's rows of :func:`growsim.kernels.hormone.grow_step`'s per-plant arrays:
-    genes ``(1, H, 3 + J)``, constants ``(1, N_CONSTANTS)``, young strength ``(1,)``."""
-    c = np.array([[p[name] for name, _, _ in CONSTANTS]])
+    genes ``(1, H, 3 + J)``, constants ``(1, N_CONSTANTS)`` (the physics last), young
+    strength ``(1,)``."""
+    c = np.array([[*(p[name] for name, _, _ in CONSTANTS), p["physics"]]])
     return genes(p)[None], c, np.array([float(p["strength_young"])])
 
 
-def _plant(p, n, modules, steps, stopped, ground=0.0) -> Plant:
+def _plant(p, n, modules, steps, stopped, env) -> Plant:
     origin, R, length, radius = modules.origin, modules.R, modules.length, modules.radius
-    parent, nutrient, chlorophyll = modules.parent, modules.nutrient, modules.chlorophyll
-    lignin, light, water = modules.lignin, modules.light, modules.met
+    nutrient = modules.nutrient
     start = origin[:n].copy()
     end = start + length[:n, None] * R[:n, :, 2]
     order = np.zeros(n, np.int32)
@@ -466,25 +509,59 @@ def _plant(p, n, modules, steps, stopped, ground=0.0) -> Plant:
         start,
         end,
         radius[:n].copy(),
-        parent[:n].copy(),
+        modules.parent[:n].copy(),
         order,
         np.zeros(n, np.int8),
         {
             "nutrient": nutrient[:n].copy(),
-            "chlorophyll": chlorophyll[:n].copy(),
-            "lignin": lignin[:n].copy(),
-            "light": light[:n].copy(),
-            "water_met": water[:n].copy(),
+            "chlorophyll": modules.chlorophyll[:n].copy(),
+            "lignin": modules.lignin[:n].copy(),
+            "light": modules.light[:n].copy(),
+            "water_met": modules.met[:n].copy(),
+            "water": modules.water[:n].copy(),
+            "leaf_area": modules.leaf[:n].copy(),
         },
         {
             "model": NAME,
             "params": dict(p),
+            "physics": K.PHYSICS[int(p["physics"])],
             "steps": steps,
             "stopped": stopped,
+            "breaks": int(modules.events[0]),
+            "shed": int(modules.events[1]),
             "total_nutrient": float(K.total(nutrient, n)),
-            "ground": float(ground),
+            "water_supply": float(env.supply * (env.soil if p["physics"] == K.GROWSIM else 1.0)),
+            "ground": float(env.ground),
         },
     )
+
+
+def leaves(plant: Plant) -> Plant:
+    """The leaves of a hormone plant as the model draws them and weighs them: one blade
+    (``kind`` leaf) along each module with leaves, from its start to its end, of radius
+    ``leaf_area / (2 L)``, so that its area ``2 r L`` (the area the gravity pass weighs,
+    :meth:`growsim.env.Gravity.loads`, and its shadow seen from the side) is the module's
+    leaf area, the area that photosynthesises. In the shadow map a module is the union of
+    its stem and this foliage cylinder (:func:`growsim.kernels.hormone.drawn_kernel`).
+
+    Examples
+    --------
+    >>> from growsim.env import Environment
+    >>> env = Environment.model_validate(PRESET_ENVIRONMENTS["demo_3d"])
+    >>> plant = develop({**PRESETS["demo_3d"], "steps": 8}, env=env)
+    >>> blades = leaves(plant)
+    >>> bool(np.isclose((2 * blades.radius * blades.lengths()).sum(),
+    ...                 plant.data["leaf_area"].sum()))
+    True
+    """
+    A = np.asarray(plant.data["leaf_area"], dtype=np.float64)
+    L = plant.lengths()
+    keep = np.flatnonzero((A > 0) & (L > 0))
+    return Plant(
+        plant.start[keep], plant.end[keep], 0.5 * A[keep] / L[keep], np.full(len(keep), -1),
+        np.zeros(len(keep), np.int32), np.ones(len(keep), np.int8),
+        {"module": keep}, {"model": NAME},
+    )  # fmt: skip
 
 
 def population(params, names: Sequence[str], env=None) -> pd.DataFrame | None:
@@ -493,7 +570,7 @@ def population(params, names: Sequence[str], env=None) -> pd.DataFrame | None:
     (:func:`growsim.kernels.hormone_population.grow_population`), keeping no plant: the population
     path of the ``nutrient`` objective. Returns a DataFrame with one row per plant:
     ``total_nutrient`` (as :func:`develop`'s ``meta``; NaN for a plant stopped by a NaN),
-    ``modules``, ``stopped`` (``""``, ``"cap"``, ``"nan"``, ``"broken"``) and
+    ``modules``, ``stopped`` (``""``, ``"cap"``, ``"nan"``, ``"broken"``, ``"starved"``) and
     ``module_steps`` (modules alive summed over the steps), or ``None`` when the rows'
     settings (``dims``, ``walls``, ``steps``, ``max_modules``) differ or ``env`` has a
     stand (``environment.stand.mode`` not ``"alone"``: then each plant grows by
@@ -537,7 +614,7 @@ def population(params, names: Sequence[str], env=None) -> pd.DataFrame | None:
     H, J = len(K.HORMONES), len(K.STIMULI)
     gene_cols = [col[q.name] for q in GENES]
     g = np.ascontiguousarray(x[:, gene_cols].reshape(len(x), H, 3 + J))
-    c = np.ascontiguousarray(x[:, [col[name] for name, _, _ in CONSTANTS]])
+    c = np.ascontiguousarray(x[:, [*(col[name] for name, _, _ in CONSTANTS), col["physics"]]])
     young = np.ascontiguousarray(x[:, col["strength_young"]])
     total, modules, stop, module_steps = KP.grow_population(
         g, c, young, dims, walls, steps, cap, environment_args(env)

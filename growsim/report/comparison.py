@@ -21,7 +21,7 @@ from growsim.experiment.results import RunRecord, find_runs
 from growsim.files import atomic_write
 from growsim.report import primary as prim
 from growsim.report.figures import curves_figure, render_cells, renders_figure, save_png
-from growsim.report.garden import garden_stats, grow_in_gardens, variance_shares
+from growsim.report.garden import garden_stats, grow_in_gardens, stop_reasons, variance_shares
 from growsim.report.groups import families as find_families
 from growsim.report.groups import run_label
 from growsim.report.html import garden_html, primary_html, replication_html, report_html
@@ -97,7 +97,9 @@ def compare(
     """Compare runs: write ``compare.csv``, ``stats.csv``, ``runs.csv``, ``curves.png``,
     ``renders.png`` and ``report.html`` to ``out`` (default: :func:`default_out`); with
     ``garden``, also the common garden (:mod:`growsim.report.garden`): ``garden.csv``,
-    ``garden_stats.csv`` and ``garden_variance.csv``, and its section of the report.
+    ``garden_stats.csv``, ``garden_variance.csv`` and (for a model that says why its
+    plants stopped growing) ``garden_stops.csv``, and its section of the report
+    (grown too when a primary test is declared within a garden).
 
     When the runs' configs declare ``[compare] primary`` (or ``primary`` gives an
     experiment TOML that does, :func:`growsim.report.primary.read_spec`), also
@@ -195,8 +197,10 @@ def compare(
     runs_df = pd.DataFrame(run_rows)
     primary_df = exploratory_df = replication_df = None
     top = ""
+    in_garden = spec is not None and any(p.garden for p in spec.primary)
+    grown = grow_in_gardens(families, notes) if (garden or in_garden) else None
     if spec is not None:  # primary tests first: a bad name fails before anything is written
-        p_rows = prim.primary_rows(families, fam_stats, spec)
+        p_rows = prim.primary_rows(families, fam_stats, spec, grown)
         e_rows = prim.exploratory_rows(stat_rows, p_rows)
         primary_df = pd.DataFrame(p_rows, columns=prim.PRIMARY_COLUMNS)
         exploratory_df = pd.DataFrame(e_rows, columns=prim.EXPLORATORY_COLUMNS)
@@ -205,7 +209,8 @@ def compare(
         if confirmation is not None:
             c_fams, c_notes = confirmation
             c_stats = [family_stats(f, c_notes)[0] for f in c_fams]
-            c_rows = prim.primary_rows(c_fams, c_stats, spec)
+            c_grown = grow_in_gardens(c_fams, c_notes) if in_garden else None
+            c_rows = prim.primary_rows(c_fams, c_stats, spec, c_grown)
             r_rows = prim.replication_rows(p_rows, c_rows)
             replication_df = pd.DataFrame(r_rows, columns=prim.REPLICATION_COLUMNS)
             top += replication_html(r_rows)
@@ -245,15 +250,19 @@ def compare(
             except Exception as exc:  # a picture must not lose the tables
                 log.warning("renders.png failed: %s", exc)
     extra = ""
-    if garden:
-        grown = grow_in_gardens(families, notes)
+    if grown is not None:
         g_stats, shares = garden_stats(grown), variance_shares(grown)
         files["garden"] = atomic_write(out / "garden.csv", grown.to_csv(index=False))
         files["garden_stats"] = atomic_write(out / "garden_stats.csv", g_stats.to_csv(index=False))
         files["garden_variance"] = atomic_write(
             out / "garden_variance.csv", shares.to_csv(index=False)
         )
-        extra = garden_html(g_stats, shares)
+        stops = stop_reasons(grown)
+        if len(stops):
+            files["garden_stops"] = atomic_write(
+                out / "garden_stops.csv", stops.to_csv(index=False)
+            )
+        extra = garden_html(g_stats, shares, stops)
     if html_report:
         title = "growsim compare: " + "; ".join(f.label for f in families)
         text = report_html(

@@ -33,6 +33,7 @@ import numpy as np
 import pandas as pd
 
 from growsim.experiment.load import load_plan
+from growsim.phenotypes.plant import Plant
 from growsim.report.groups import Family
 from growsim.report.statistics import holm, is_flat, pair_test
 
@@ -40,6 +41,7 @@ __all__ = [
     "GARDEN_STATS_COLUMNS",
     "garden_stats",
     "grow_in_gardens",
+    "stop_reasons",
     "variance_shares",
 ]
 
@@ -62,12 +64,14 @@ def grow_in_gardens(families: list[Family], notes: list[str]):
     """One row per counted run and garden: ``family``, ``origin`` (the run's group),
     ``seed``, ``garden`` (the group whose environment it is grown in), ``fitness`` (the
     weighted sum of the objectives, as the GA saw it), every objective's score and terms
-    (``<kind>.score``, ``<kind>.<term>``) and the phenotype's numeric measures in that
-    environment. Families whose groups do not differ in ``[environment]`` are left out
-    (with a note). In a mixture garden (``environment.stand.mode = "mixture"``) every
-    genome grows among neighbours drawn from the family's evolved genomes (all origins;
-    one set of draws for every genome, :meth:`Fitness.prepare`): ``fitness`` is the mean
-    over the draws, the terms and measures are the focal plant's among the first draw.
+    (``<kind>.score``, ``<kind>.<term>``), the phenotype's numeric measures in that
+    environment and, for a plant whose model says why it stopped growing (the hormone
+    model), ``stopped`` (``"end of steps"``, ``"cap"``, ``"broken"``, ...). Families
+    whose groups do not differ in ``[environment]`` are left out (with a note). In a
+    mixture garden (``environment.stand.mode = "mixture"``) every genome grows among
+    neighbours drawn from the family's evolved genomes (all origins; one set of draws for
+    every genome, :meth:`Fitness.prepare`): ``fitness`` is the mean over the draws, the
+    terms and measures are the focal plant's among the first draw.
 
     Examples
     --------
@@ -111,9 +115,34 @@ def grow_in_gardens(families: list[Family], notes: list[str]):
                     for k, v in phenotype.measures(fitness.env).items():
                         if isinstance(v, (int, float)) and not isinstance(v, bool):
                             row[str(k)] = float(v)
+                    if isinstance(phenotype, Plant) and "stopped" in phenotype.meta:
+                        row["stopped"] = str(phenotype.meta["stopped"]) or "end of steps"
                     row["path"] = str(r.path)
                     rows.append(row)
     return pd.DataFrame(rows)
+
+
+def stop_reasons(table):
+    """Why the plants of each garden cell stopped growing: one row per family, origin and
+    garden with ``n`` and the count of each reason (``end of steps``, ``cap``,
+    ``broken``, ``starved``, ``nan``); empty when no model of the table says.
+
+    Examples
+    --------
+    >>> t = pd.DataFrame({"family": "f", "origin": ["a", "a", "b", "b"], "garden": "a",
+    ...                   "stopped": ["end of steps", "cap", "cap", "cap"]})
+    >>> stop_reasons(t).to_dict("records")[0]
+    {'family': 'f', 'origin': 'a', 'garden': 'a', 'n': 2, 'cap': 1, 'end of steps': 1}
+    """
+    if not len(table) or "stopped" not in table.columns:
+        return pd.DataFrame(columns=["family", "origin", "garden", "n"])
+    keys = ["family", "origin", "garden"]
+    counts = table.groupby(keys, sort=False)["stopped"].value_counts().unstack(fill_value=0)
+    counts = counts[sorted(counts.columns)].astype(int)
+    counts.columns.name = None
+    out = counts.reset_index()
+    out.insert(3, "n", counts.sum(axis=1).to_numpy())
+    return out
 
 
 def _quantities(table) -> list[str]:

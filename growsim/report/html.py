@@ -358,12 +358,18 @@ def report_html(
     return "\n".join(parts)
 
 
-def garden_html(stats, shares) -> str:
-    """The garden's section of ``report.html``: the variance shares, then the tests whose
-    Holm-adjusted p is below 0.05 (all of them are in ``garden_stats.csv``)."""
+def garden_html(stats, shares, stops=None) -> str:
+    """The garden's section of ``report.html``: why each cell's plants stopped growing
+    (``stops``, :func:`growsim.report.garden.stop_reasons`), the variance shares, then
+    the tests whose Holm-adjusted p is below 0.05 (all of them are in
+    ``garden_stats.csv``)."""
     if not len(shares) and not len(stats):
         return ""
     parts = ["<h2>Common garden</h2>", f"<p class='n'>{_e_doc()}</p>"]
+    if stops is not None and len(stops):
+        head = [str(c) for c in stops.columns]
+        body = [[_e(str(v)) for v in row] for row in stops.itertuples(index=False)]
+        parts.append(_table(head, body, "Why the plants stopped growing, per garden cell"))
     body = [[r.family, r.measure, _share(r.origin), _share(r.garden), _share(r.interaction),
              _share(r.residual), str(r.n)] for r in shares.itertuples()]  # fmt: skip
     head = ["family", "quantity", "origin (genetic)", "garden (plastic)", "interaction",
@@ -411,6 +417,16 @@ def _yes(v: Any) -> str:
     return "<b>yes</b>" if bool(v) and v == v else "no"
 
 
+def _expect(row: dict[str, Any]) -> str:
+    """A primary test's declared expectation, with its common garden when it has one."""
+    garden = row.get("garden")
+    return (
+        f"{row['expect']} grown in {garden}"
+        if isinstance(garden, str) and garden
+        else row["expect"]
+    )
+
+
 def primary_html(rows: Sequence[dict[str, Any]], title: str = "Primary tests") -> str:
     """The primary tests (rows of :func:`growsim.report.primary.primary_rows`) as a section
     of the report: the declared expectation, the effect, raw and Holm p (over the primary
@@ -440,7 +456,7 @@ def primary_html(rows: Sequence[dict[str, Any]], title: str = "Primary tests") -
         body.append(
             [
                 _e(r["measure"]),
-                _e(r["expect"]),
+                _e(_expect(r)),
                 f"{r['n_a']}, {r['n_b']}",
                 _g(r["difference"]) + ci,
                 _g(r["hedges_g"]),
@@ -493,7 +509,7 @@ def replication_html(rows: Sequence[dict[str, Any]]) -> str:
     body = [
         [
             _e(r["measure"]),
-            _e(r["expect"]),
+            _e(_expect(r)),
             _e(r["discovery_n"]),
             _g(r["discovery_difference"]),
             _g(r["discovery_hedges_g"]),

@@ -2,7 +2,8 @@
 
 An experiment config declares its primary tests before the runs (``[compare] primary``,
 :class:`growsim.experiment.schema.CompareConfig`): a measure and the direction expected
-between two groups (sweep variants). :func:`primary_rows` makes exactly those tests,
+between two groups (sweep variants), each in its own environment or, with ``garden``,
+both origins grown in one common garden. :func:`primary_rows` makes exactly those tests,
 Holm-adjusted over themselves alone, each with its effect size (Hedges' g) and the seeds
 per group a replication needs for the declared power (:func:`seeds_for_power`);
 :func:`exploratory_rows` is every other test, Holm-adjusted separately within each
@@ -45,6 +46,7 @@ PRIMARY_COLUMNS = [
     "family",
     "measure",
     "expect",
+    "garden",
     "group_a",
     "group_b",
     "n_a",
@@ -78,6 +80,7 @@ REPLICATION_COLUMNS = [
     "family",
     "measure",
     "expect",
+    "garden",
     "group_a",
     "group_b",
     "discovery_n",
@@ -209,8 +212,65 @@ def _direction(diff: float) -> str:
     return ">" if diff > 0 else "<"
 
 
+def _between(families, fam_stats, i, item):
+    """(family label, values of a, values of b) for each family holding both groups of a
+    primary test between environments: each group's runs in their own environment."""
+    a, _, b = item.groups()
+    held = [(f, fs) for f, fs in zip(families, fam_stats) if {a, b} <= {g.label for g in f.groups}]
+    if not held:
+        labels = sorted({g.label for f in families for g in f.groups})
+        missing = [x for x in (a, b) if x not in labels]
+        what = f"no group {missing[0]!r}" if missing else f"{a!r} and {b!r} in no one family"
+        raise ConfigError(f"compare.primary[{i}].expect: {what}; the groups: {', '.join(labels)}")
+    known = sorted({q for _, fs in held for (_, q) in fs.values})
+    if item.measure not in known:
+        raise ConfigError(
+            f"compare.primary[{i}].measure: unknown measure {item.measure!r}; "
+            f"measured: {', '.join(known)}"
+        )
+    return [(f.label, fs.values[(a, item.measure)], fs.values[(b, item.measure)]) for f, fs in held]
+
+
+def _in_garden(table, i, item):
+    """(family label, values of a, values of b) for each family of the common garden
+    ``table`` (:func:`growsim.report.garden.grow_in_gardens`) holding both origins and
+    the garden: the two origins' genomes grown in the declared garden."""
+    a, _, b = item.groups()
+    where = f"compare.primary[{i}]"
+    if table is None or table.empty:
+        raise ConfigError(
+            f"{where}.garden: no common garden was grown (its groups share one environment)"
+        )
+    measure = "fitness" if item.measure == "best_fitness" else item.measure
+    out = []
+    for fam, ft in table.groupby("family", sort=False):
+        if {a, b} <= set(ft["origin"]) and item.garden in set(ft["garden"]):
+            cell = ft[ft["garden"] == item.garden]
+            if measure not in ft.columns:
+                known = [
+                    c for c in ft.columns if c not in ("family", "origin", "seed", "garden", "path")
+                ]
+                raise ConfigError(
+                    f"{where}.measure: unknown measure {item.measure!r} in the garden; "
+                    f"measured: {', '.join(known)}"
+                )
+            x, y = (cell.loc[cell["origin"] == o, measure].to_numpy(np.float64) for o in (a, b))
+            out.append((str(fam), x, y))
+    if not out:
+        origins = sorted(set(table["origin"]))
+        gardens = sorted(set(table["garden"]))
+        raise ConfigError(
+            f"{where}: no family grows origins {a!r} and {b!r} in garden {item.garden!r}; "
+            f"origins: {', '.join(origins)}; gardens: {', '.join(gardens)}"
+        )
+    return out
+
+
 def primary_rows(
-    families: Sequence[Family], fam_stats: Sequence[FamilyStats], spec: CompareConfig
+    families: Sequence[Family],
+    fam_stats: Sequence[FamilyStats],
+    spec: CompareConfig,
+    garden: Any = None,
 ) -> list[dict[str, Any]]:
     """The primary tests: for each ``spec.primary`` entry and each family holding both its
     groups, Welch and Mann-Whitney of group a against group b (the rows of
@@ -218,7 +278,9 @@ def primary_rows(
     ``spec.power`` (:func:`seeds_for_power`), the declared test's p Holm-adjusted over the
     primary tests alone (``p_holm``), whether the difference has the expected sign
     (``as_expected``) and whether it is a finding (``p_holm < alpha`` and as expected).
-    A group or measure no family has raises ``ConfigError`` naming the key.
+    An entry with a ``garden`` compares the two origins grown in that garden, read from
+    ``garden`` (the table of :func:`growsim.report.garden.grow_in_gardens`). A group,
+    garden or measure no family has raises ``ConfigError`` naming the key.
 
     Examples
     --------
@@ -233,33 +295,28 @@ def primary_rows(
     >>> r = primary_rows([fam], [fs], spec)[0]
     >>> r["difference"], r["finding"], r["seeds_for_power"]
     (4.5, True, 3)
+    >>> import pandas as pd
+    >>> g = pd.DataFrame({"family": "m / o", "origin": ["a"] * 4 + ["b"] * 4, "garden": "b",
+    ...                   "fitness": [5.0, 6, 7, 8, 1, 2, 3, 2]})
+    >>> spec = CompareConfig(primary=[{"measure": "fitness", "expect": "a > b", "garden": "b"}])
+    >>> r = primary_rows([fam], [fs], spec, g)[0]
+    >>> r["garden"], r["difference"], r["finding"]
+    ('b', 4.5, True)
     """
     rows: list[dict[str, Any]] = []
     for i, item in enumerate(spec.primary):
         a, op, b = item.groups()
-        held = [
-            (f, fs) for f, fs in zip(families, fam_stats) if {a, b} <= {g.label for g in f.groups}
-        ]
-        if not held:
-            labels = sorted({g.label for f in families for g in f.groups})
-            missing = [x for x in (a, b) if x not in labels]
-            what = f"no group {missing[0]!r}" if missing else f"{a!r} and {b!r} in no one family"
-            raise ConfigError(
-                f"compare.primary[{i}].expect: {what}; the groups: {', '.join(labels)}"
-            )
-        known = sorted({q for _, fs in held for (_, q) in fs.values})
-        if item.measure not in known:
-            raise ConfigError(
-                f"compare.primary[{i}].measure: unknown measure {item.measure!r}; "
-                f"measured: {', '.join(known)}"
-            )
-        for fam, fs in held:
-            x, y = fs.values[(a, item.measure)], fs.values[(b, item.measure)]
+        if item.garden is None:
+            held = _between(families, fam_stats, i, item)
+        else:
+            held = _in_garden(garden, i, item)
+        for label, x, y in held:
             x, y = x[np.isfinite(x)], y[np.isfinite(y)]
             row: dict[str, Any] = {
-                "family": fam.label,
+                "family": label,
                 "measure": item.measure,
                 "expect": item.expect,
+                "garden": item.garden or "",
                 "group_a": a,
                 "group_b": b,
                 "test": spec.test,
@@ -304,7 +361,11 @@ def exploratory_rows(
     >>> [(r["measure"], r["role"], r["welch_t_p_holm"]) for r in exploratory_rows(rows, prim)]
     [('w', 'exploratory', 0.02)]
     """
-    taken = {(r["family"], r["measure"], frozenset((r["group_a"], r["group_b"]))) for r in primary}
+    taken = {
+        (r["family"], r["measure"], frozenset((r["group_a"], r["group_b"])))
+        for r in primary
+        if not r.get("garden")
+    }
     rest = [
         {"role": "exploratory", **r}
         for r in stat_rows
@@ -370,10 +431,14 @@ def replication_rows(
     >>> r["replicated"], r["verdict"]
     (False, 'not replicated: opposite direction (a - b = -0.5)')
     """
-    conf = {(r["family"], r["measure"], r["group_a"], r["group_b"]): r for r in confirmation}
+
+    def key(r):
+        return (r["family"], r["measure"], r.get("garden", ""), r["group_a"], r["group_b"])
+
+    conf = {key(r): r for r in confirmation}
     out = []
     for d in discovery:
-        c = conf.get((d["family"], d["measure"], d["group_a"], d["group_b"]), {})
+        c = conf.get(key(d), {})
         alpha = d["alpha"]
         cd = c.get("difference", math.nan)
         same = (
@@ -404,6 +469,7 @@ def replication_rows(
                 "family": d["family"],
                 "measure": d["measure"],
                 "expect": d["expect"],
+                "garden": d.get("garden", ""),
                 "group_a": d["group_a"],
                 "group_b": d["group_b"],
                 "discovery_n": f"{d['n_a']}, {d['n_b']}",

@@ -9,6 +9,7 @@ import math
 import numpy as np
 
 from growsim.kernels import hormone as K
+from naive.hormone_mechanics import thicken_module
 from naive.walls import wall_frame
 
 
@@ -58,11 +59,13 @@ def rotation(axis, angle):
 def step_kernel(n, dims, modules, genes, c):
     """Mirror of :func:`growsim.kernels.hormone.step_kernel` (updates the arrays of
     ``modules`` in place, returns ``(n_new, gained)``): module ``m`` reads the genes
-    ``genes[plant[m]]`` and constants ``c[plant[m]]`` of its plant."""
+    ``genes[plant[m]]`` and constants ``c[plant[m]]`` of its plant, the physics in their
+    last column."""
     parent, R, length, radius = modules.parent, modules.R, modules.length, modules.radius
     nutrient, chlorophyll, lignin = modules.nutrient, modules.chlorophyll, modules.lignin
     apex, laterals, hormone = modules.apex, modules.laterals, modules.hormone
     wall_light, met, plant = modules.wall_light, modules.met, modules.plant
+    leaf, target = modules.leaf, modules.target
     cap, walls = hormone.shape[:2]
     sig = lambda a: 1 / (1 + math.exp(-a)) if a > -50 else 0.0  # noqa: E731
     H = genes.shape[1]
@@ -83,17 +86,25 @@ def step_kernel(n, dims, modules, genes, c):
     gained = 0.0
     for m in range(n):
         cm = c[plant[m]]
+        paper = cm[K.C_PHYSICS] == K.PAPER
         v = wall_frame(R[m], walls, dims)
         L, r = length[m], radius[m]
-        area = 2 * math.pi * r * L / walls if dims == 3 else r * L
-        area *= 1 + cm[K.C_EXPAND] * mean_h[m, 9]
+        slow = 1 - lignin[m]
         li = wall_light[m, :walls]
-        photo = np.sum(area * li * (1 + cm[K.C_HALF_SAT]) / (li + cm[K.C_HALF_SAT]))
         drought = 1 - cm[K.C_DROUGHT] * min(1.0, mean_h[m, 7])
+        if paper:  # the walls, linear in light
+            area = 2 * math.pi * r * L / walls if dims == 3 else r * L
+            photo = np.sum(area * li)
+            upkeep = 0.0
+        else:  # the leaves, facing up, saturating in their light
+            K_, up = cm[K.C_HALF_SAT], modules.leaf_light[m]
+            photo = leaf[m] * up * (1 + K_) / (up + K_)
+            upkeep = cm[K.C_LEAF_UPKEEP] * leaf[m] + cm[K.C_UPKEEP] * math.pi * r * r * L
+            leaf[m] = leaf[m] * (1 - min(1.0, cm[K.C_LEAF_TURNOVER]))
         photo *= cm[K.C_PHOTO] * chlorophyll[m] * met[m] * drought
         gained += photo
-        nutrient[m] += photo - cm[K.C_UPKEEP] * math.pi * r * r * L * (0.2 + 0.8 * chlorophyll[m])
-        e = cm[K.C_ELONG] * hormone[m, :walls, 0] * met[m] * drought
+        nutrient[m] += photo - upkeep
+        e = cm[K.C_ELONG] * hormone[m, :walls, 0] * met[m] * drought * slow
         e_mean = min(e.mean(), max(0.0, cm[K.C_MAXLEN] - L))
         cost = cm[K.C_BUILD] * math.pi * r * r * e_mean
         if e_mean > 0 and nutrient[m] >= cost:
@@ -104,11 +115,15 @@ def step_kernel(n, dims, modules, genes, c):
                 n_ = np.cross(R[m][:, 2], v[i])
                 if np.linalg.norm(n_) > 0:
                     R[m] = rotation(n_ / np.linalg.norm(n_), -gain * (e[i] - e_mean)) @ R[m]
-        dr = cm[K.C_THICK] * min(1.0, mean_h[m, 1])
-        cost = cm[K.C_BUILD] * 2 * math.pi * r * length[m] * dr
-        if dr > 0 and nutrient[m] >= cost:
-            nutrient[m] -= cost
-            radius[m] = r + dr
+        if not paper:
+            grow = cm[K.C_LEAF_GROWTH] * min(1.0, mean_h[m, 9]) * slow * length[m]
+            da = min(grow, cm[K.C_LEAF_DENSITY] * length[m] - leaf[m])
+            if da > 0 and nutrient[m] > 0:  # all of it, or what the nutrient pays for
+                da = min(da, nutrient[m] / cm[K.C_LEAF_COST])
+                nutrient[m] = max(0.0, nutrient[m] - cm[K.C_LEAF_COST] * da)
+                leaf[m] += da
+        if paper:  # thickening after growth, by the hormone
+            thicken_module(modules, m, cm, cm[K.C_THICK] * min(1.0, mean_h[m, 1]), False)
         lg = cm[K.C_LIGNIFY] * min(1.0, mean_h[m, 5])
         lignin[m] = min(1.0, lignin[m] + lg)
         chl = chlorophyll[m] - cm[K.C_CHL_LOSS] * lg + cm[K.C_GREEN] * min(1.0, mean_h[m, 6])
@@ -120,14 +135,22 @@ def step_kernel(n, dims, modules, genes, c):
             nutrient[parent[m]] += flow
     n_new = n
 
+    def price(m):  # the start-up cost, the new module's wood and (growsim) its leaf
+        cm = c[plant[m]]
+        r = min(cm[K.C_NEWRAD], radius[m])
+        leaf_cost = cm[K.C_LEAF_COST] * cm[K.C_NEW_LEAF] if cm[K.C_PHYSICS] == K.GROWSIM else 0
+        return cm[K.C_NEW_COST] + cm[K.C_BUILD] * math.pi * r * r * cm[K.C_NEWLEN] + leaf_cost
+
     def new(q, m, Rq):
         cm = c[plant[m]]
+        nutrient[m] -= price(m)
         parent[q], R[q], plant[q] = m, Rq, plant[m]
         length[q], radius[q] = cm[K.C_NEWLEN], min(cm[K.C_NEWRAD], radius[m])
-        nutrient[m] -= cm[K.C_NEW_COST]
         nutrient[q] = 0.5 * cm[K.C_NEW_COST]
         chlorophyll[q], lignin[q], apex[q], laterals[q] = 1.0, 0.0, True, 0
         hormone[q] = 0.0
+        leaf[q] = cm[K.C_NEW_LEAF] if cm[K.C_PHYSICS] == K.GROWSIM else 0.0
+        target[q] = 0.0
 
     def room(m):  # each plant holds at most its share of the arrays
         return np.count_nonzero(plant[:n_new] == plant[m]) < cap // len(genes)
@@ -136,17 +159,18 @@ def step_kernel(n, dims, modules, genes, c):
         if n_new >= cap:
             break
         cm = c[plant[m]]
+        slow = 1 - lignin[m]
         grown = length[m] >= 0.999 * cm[K.C_MAXLEN]
-        ready = mean_h[m, 4] > cm[K.C_THRESHOLD] and nutrient[m] > cm[K.C_NEW_COST]
+        ready = mean_h[m, 4] * slow > cm[K.C_THRESHOLD] and nutrient[m] > price(m)
         if apex[m] and grown and ready and room(m):
             new(n_new, m, R[m].copy())
             n_new += 1
             apex[m] = False
         if n_new >= cap:
             break
-        if (room(m) and mean_h[m, 2] > cm[K.C_THRESHOLD] and inh[m] < cm[K.C_THRESHOLD]
+        if (room(m) and mean_h[m, 2] * slow > cm[K.C_THRESHOLD] and inh[m] < cm[K.C_THRESHOLD]
                 and laterals[m] < cm[K.C_LATERALS] and length[m] >= 0.5 * cm[K.C_MAXLEN]
-                and nutrient[m] > cm[K.C_NEW_COST]):  # fmt: skip
+                and nutrient[m] > price(m)):  # fmt: skip
             v = wall_frame(R[m], walls, dims)
             b = (v * hormone[m, :walls, 2][:, None]).sum(axis=0)
             z = R[m][:, 2]

@@ -1,7 +1,7 @@
 """Oracles of the water-transport kernels (:mod:`growsim.kernels.water`): explicit walks.
 
-Subtree demands by testing every segment for being a descendant; each segment's inflow by
-walking its path down from the root, segment by segment (O(n^2) and O(n * depth)).
+Each segment's path conductance by walking its path down from the root, segment by
+segment (O(n * depth)); each plant's level by bisection on the water it receives.
 """
 
 from __future__ import annotations
@@ -9,6 +9,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
+REFERENCE_AREA = 1e-4
 
 
 def _ancestors(parent, i):
@@ -19,70 +21,63 @@ def _ancestors(parent, i):
     return path[::-1]
 
 
-def subtree_demand_kernel(parent, demand):
-    """``D[i]``: sum of ``demand[j]`` over every ``j`` whose path from the root passes ``i``.
+def conductance_kernel(start, end, radius, parent, resistance, lift):
+    """``k[i] = 1 / (1 + x_i)``, ``x_i`` the sum along the path from the root to ``i`` of
+    ``resistance L_j (1 cm^2 / (pi r_j^2))`` (infinite for a stem of radius 0) and ``lift``
+    times the height each segment climbs.
 
     Examples
     --------
-    >>> subtree_demand_kernel([-1, 0, 0, 1], [0.0, 1.0, 2.0, 3.0]).tolist()
-    [6.0, 4.0, 2.0, 3.0]
+    >>> s = np.array([[0.0, 0, 0], [0, 1, 0]]); e = np.array([[0.0, 1, 0], [1, 1, 0]])
+    >>> r = np.full(2, math.sqrt(1e-4 / math.pi))
+    >>> np.round(conductance_kernel(s, e, r, [-1, 0], 0.5, 0.25), 6).tolist()
+    [0.571429, 0.444444]
     """
     parent = np.asarray(parent)
-    n = len(parent)
-    D = np.zeros(n)
-    for j in range(n):
-        for i in _ancestors(parent, j):
-            D[i] += demand[j]
-    return D
+    k = np.empty(len(parent))
+    for i in range(len(parent)):
+        x = 0.0
+        for j in _ancestors(parent, i):
+            L = float(np.linalg.norm(np.subtract(end[j], start[j])))
+            if resistance > 0 and L > 0:
+                area = math.pi * radius[j] ** 2
+                x += resistance * L * REFERENCE_AREA / area if area > 0 else math.inf
+            x += lift * max(0.0, end[j][1] - start[j][1])
+        k[i] = 1.0 / (1.0 + x)
+    return k
 
 
-def distribute_kernel(start, end, radius, parent, demand, D, supply, resistance, lift):
-    """``(received, met, drop)``: each segment's water from a walk down its path, sharing
-    flows as the model states them (root inflow ``supply * D[root]``, a child's inflow
-    ``a[parent] * D[child] / D[parent]``, ``a = inflow * exp(-x)`` at the far end, the
-    segment keeping ``min(d, a d / D)``); ``drop`` the sum of ``x`` along the path.
-
-    Examples
-    --------
-    >>> s = np.array([[0.0, 0, 0], [0, 1, 0]]); e = np.array([[0.0, 1, 0], [0, 2, 0]])
-    >>> rec, met, drop = distribute_kernel(s, e, np.ones(2), [-1, 0], [0.0, 2.0],
-    ...                                    [2.0, 2.0], 0.5, 0.0, 0.1)
-    >>> rec.round(3).tolist(), met.round(3).tolist(), drop.tolist()
-    ([0.0, 0.819], [1.0, 0.409], [0.1, 0.2])
-    """
+def fill_kernel(parent, demand, k, supply):
+    """``met``: for each plant (a root and its descendants), the level ``lam`` at which
+    ``sum d_i min(1, lam k_i)`` over its segments equals its ``supply`` (bisection), or
+    every demand met when the supply covers the demand of its conducting segments; 1
+    where the demand is 0, 0 where the conductance is."""
     parent = np.asarray(parent)
+    demand, k = np.asarray(demand, float), np.asarray(k, float)
     n = len(parent)
-    received = np.zeros(n)
-    met = np.ones(n)
-    drop = np.zeros(n)
-    for i in range(n):
-        path = _ancestors(parent, i)
-        root = path[0]
-        # the root's demand per cross-section: the flux density the resistance is relative to
-        ref = D[root] / radius[root] ** 2 if radius[root] > 0 and D[root] > 0 else 0.0
-        F = supply * D[root]
-        a = 0.0
-        for k, j in enumerate(path):
-            if k > 0:
-                prev = path[k - 1]
-                F = a * D[j] / D[prev] if D[prev] > 0 else 0.0
-            x = lift * max(0.0, end[j][1] - start[j][1])
-            if resistance > 0 and D[j] > 0:
-                if radius[j] > 0 and ref > 0:
-                    L = float(np.linalg.norm(np.subtract(end[j], start[j])))
-                    x += resistance * L * (D[j] / radius[j] ** 2) / ref
-                else:
-                    x = math.inf
-            drop[i] += x
-            a = F * math.exp(-x)
-        if demand[i] > 0:
-            received[i] = min(demand[i], a * demand[i] / D[i])
-            met[i] = received[i] / demand[i]
-    return received, met, drop
+    roots = np.array([_ancestors(parent, i)[0] for i in range(n)], dtype=np.int64)
+    met = np.where(demand > 0, 0.0, 1.0)
+    for r in set(roots.tolist()):
+        mine = (roots == r) & (demand > 0) & (k > 0)
+        if not mine.any():
+            continue
+        d, kk = demand[mine], k[mine]
+        if supply >= d.sum():
+            met[mine] = 1.0
+            continue
+        lo, hi = 0.0, 1.0 / kk.min()  # at hi every segment is saturated: too much
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if (d * np.minimum(1.0, mid * kk)).sum() > supply:
+                hi = mid
+            else:
+                lo = mid
+        met[mine] = np.minimum(1.0, lo * kk)
+    return met
 
 
 def transport_kernel(start, end, radius, parent, demand, supply, resistance, lift):
-    """``(received, met)``: both oracles in a row."""
-    D = subtree_demand_kernel(parent, demand)
-    rec, met, _ = distribute_kernel(start, end, radius, parent, demand, D, supply, resistance, lift)
-    return rec, met
+    """``(received, met)``: both oracles in a row, ``received = met * demand``."""
+    k = conductance_kernel(start, end, radius, parent, resistance, lift)
+    met = fill_kernel(parent, demand, k, supply)
+    return met * np.asarray(demand, float), met

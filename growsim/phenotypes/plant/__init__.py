@@ -19,14 +19,8 @@ Examples
 2.0
 """
 
-from growsim.phenotypes.plant.plant import (
-    LEAF,
-    STEM,
-    LeafLight,
-    Plant,
-    cluster_leaves,
-    leaf_light,
-)
+from growsim.phenotypes.plant.leaves import LeafLight, leaf_light
+from growsim.phenotypes.plant.plant import LEAF, STEM, Plant, cluster_leaves
 
 __all__ = [
     "LEAF",

@@ -57,6 +57,9 @@ __all__ = [
 BARK_RGB = (110, 82, 58)
 LEAF_RGB = (74, 140, 58)
 
+#: a blade's area over its length times its half-width (the hexagon of :func:`_blades`)
+BLADE_AREA = 1.26
+
 #: a module acts as a leaf (drawn with a blade) with at least this chlorophyll and less
 #: than this lignin (:func:`leaf_modules`)
 LEAF_CHLOROPHYLL = 0.5
@@ -106,10 +109,11 @@ def module_plant(plant) -> bool:
 
 def leaf_modules(plant) -> np.ndarray:
     """``(n,)`` bool: the modules of a :func:`module_plant` that act as leaves, drawn with
-    a blade. In the hormone model every module photosynthesises in proportion to its
-    chlorophyll (``docs/models/hormone.md``, step 4) and lignin turns it to wood: a module
+    a blade: those with leaves (``data["leaf_area"] > 0``, the hormone model's growsim
+    physics); else (its paper physics, where every module photosynthesises in proportion
+    to its chlorophyll and lignin turns it to wood, ``docs/models/hormone.md``) a module
     with chlorophyll at least :data:`LEAF_CHLOROPHYLL` and lignin under
-    :data:`LEAF_LIGNIN` is a leaf. All ``False`` for other plants.
+    :data:`LEAF_LIGNIN`. All ``False`` for other plants.
 
     Examples
     --------
@@ -121,6 +125,8 @@ def leaf_modules(plant) -> np.ndarray:
     """
     if not module_plant(plant):
         return np.zeros(plant.n_segments, bool)
+    if np.any(plant.data.get("leaf_area", 0.0)):  # leaves as organs (growsim physics)
+        return (plant.kind != LEAF) & (np.asarray(plant.data["leaf_area"]) > 0)
     c = np.asarray(plant.data["chlorophyll"], dtype=np.float64)
     g = np.asarray(plant.data["lignin"], dtype=np.float64)
     return (plant.kind != LEAF) & (c >= LEAF_CHLOROPHYLL) & (g < LEAF_LIGNIN)
@@ -130,8 +136,10 @@ def _blades(plant, idx: np.ndarray):
     """Leaf blades along modules ``idx``: a flat hexagon from the module's start to its
     end (7 vertices, 6 triangles, as the mesh kernel's leaves), half as wide as the
     module's wall is round (``pi r``, at most a third of its length: one side of the
-    blade about the wall's area), lying in the plant's plane for a flat (2D) plant,
-    facing up as far as the module allows in 3D. Returns ``(points, tris)``."""
+    blade about the wall's area) or, for modules with a leaf area (``data["leaf_area"]``:
+    the hormone model's growsim physics), as wide as makes the blade's area that leaf
+    area; lying in the plant's plane for a flat (2D) plant, facing up as far as the
+    module allows in 3D. Returns ``(points, tris)``."""
     a, b = plant.start[idx], plant.end[idx]
     d = b - a
     L = np.linalg.norm(d, axis=1)
@@ -143,7 +151,11 @@ def _blades(plant, idx: np.ndarray):
     vertical = norm < 1e-9  # (3D) a vertical module: across along x
     across[vertical] = (1.0, 0.0, 0.0)
     across /= np.maximum(np.linalg.norm(across, axis=1), 1e-12)[:, None]
-    w = np.minimum(np.pi * plant.radius[idx], L / 3.0)[:, None]
+    if np.any(plant.data.get("leaf_area", 0.0)):  # the blade's area is the leaf area
+        area = np.asarray(plant.data["leaf_area"], dtype=np.float64)[idx]
+        w = (area / (BLADE_AREA * np.maximum(L, 1e-12)))[:, None]
+    else:
+        w = np.minimum(np.pi * plant.radius[idx], L / 3.0)[:, None]
     outline = [(0.0, 0.0), (0.3, 0.8), (0.7, 1.0), (1.0, 0.0), (0.7, -1.0), (0.3, -0.8)]
     pts = [a + 0.5 * d]  # the centre, then the outline
     pts += [a + t * d + s * w * across for t, s in outline]

@@ -26,7 +26,7 @@ import os
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, ClassVar, NamedTuple
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -36,9 +36,10 @@ from growsim.files import atomic_write, json_default
 from growsim.phenotypes.base import Phenotype
 from growsim.phenotypes.plant import mesh as gmesh
 from growsim.phenotypes.plant import views as viz
+from growsim.phenotypes.plant.leaves import leaf_light
 from growsim.skeleton import LEAF, STEM, checked_array, radius_end
 
-__all__ = ["LEAF", "STEM", "LeafLight", "Plant", "cluster_leaves", "leaf_light"]
+__all__ = ["LEAF", "STEM", "Plant", "cluster_leaves"]
 
 
 def _as_array(name: str, value, dtype, shape_tail: tuple[int, ...], n: int | None) -> np.ndarray:
@@ -494,6 +495,18 @@ class Plant(Phenotype):
             area = 2.0 * np.pi * self.radius * self.lengths()
             light = np.asarray(self.data["light"], dtype=np.float64)
             out["light_per_area"] = float(area @ light / area.sum()) if area.sum() > 0 else 0.0
+        if "leaf_area" in self.data and self.n_segments:
+            # foliage carried on the segments (the hormone model): its area, and the leaf
+            # area index over the plant's shadow from above with the foliage drawn (each
+            # segment widened to the radius r = A / (2 L) of a blade of its leaf area)
+            leaf = np.asarray(self.data["leaf_area"], dtype=np.float64)
+            length = self.lengths()
+            blade = np.divide(leaf, 2.0 * length, out=np.zeros_like(leaf), where=length > 0)
+            shade = projected_area(
+                self.start, self.end, np.maximum(self.radius, blade), resolution=resolution
+            )
+            out["leaf_area"] = float(leaf.sum())
+            out["leaf_area_index"] = float(leaf.sum() / shade) if shade > 0 else 0.0
         if env is not None:
             out["light_captured"] = leaf_light(self, env.light).light
         return out
@@ -599,58 +612,6 @@ class Plant(Phenotype):
     def __repr__(self) -> str:
         model = self.meta.get("model", "?")
         return f"Plant(model={model!r}, segments={self.n_segments}, leaves={self.n_leaves})"
-
-
-class LeafLight(NamedTuple):
-    """What :func:`leaf_light` returns: the leaves' light and their blade area."""
-
-    #: ``sum_i A_i R(L_i)`` over the LEAF segments (world units^2 x light)
-    light: float
-    #: ``sum_i A_i``: the leaves' blade area (world units^2)
-    area: float
-
-
-def leaf_light(plant: Plant, light, response=None, shifts=None, judged=None) -> LeafLight:
-    """The light a plant's leaves receive from a shadow-map light, weighted by blade area.
-
-    ``light`` is a :class:`growsim.env.Light` (``environment.light``, or a copy with other
-    fields); each segment's light ``L_i`` is :meth:`growsim.env.Light.segment_light` of the
-    whole plant (stems and leaves cast shadows, leaves shade leaves). A LEAF segment is a
-    blade of its length times twice its radius, ``A_i = 2 r_i len_i`` (as gravity's leaf
-    mass). Returns :class:`LeafLight` ``(light, area)``::
-
-        light = sum_leaves A_i R(L_i)        area = sum_leaves A_i
-
-    with ``R`` the ``response`` (a function of an array of light values; default
-    ``R(L) = L``). The one home of this sum: ``Plant.measures(env)["light_captured"]`` and
-    the light objective (:mod:`growsim.objectives.light`) both use it. A plant without
-    leaves gives ``(0.0, 0.0)``. ``shifts`` ``(k, 3)``: the plant is also shaded by its
-    copies moved by these offsets (a periodic stand; :meth:`growsim.env.Light.segment_light`).
-    ``judged`` ``(n,)`` bool: only these segments' leaves are summed, every segment casting
-    shadows (a mixture's focal tree among its neighbours).
-
-    Examples
-    --------
-    >>> from growsim.env import Light
-    >>> leaves = Plant.from_points([[0, 0, 0], [0, 1, 0], [1, 1, 0]], [-1, 0], [-1, 0, 1],
-    ...                            radius=0.25, kind=[STEM, LEAF])
-    >>> leaf_light(leaves, Light())  # one level blade 1 x 0.5 in full light
-    LeafLight(light=0.5, area=0.5)
-    >>> leaf_light(leaves, Light(intensity=0.5), response=lambda L: 2 * L).light
-    0.5
-    """
-    sel = plant.kind == LEAF
-    if judged is not None:
-        sel &= np.asarray(judged, dtype=bool)
-    if not sel.any():
-        return LeafLight(0.0, 0.0)
-    extra = {} if shifts is None else {"shifts": shifts}
-    lit = light.segment_light(plant, **extra)
-    received = np.asarray(lit, dtype=np.float64)[sel]
-    area = 2.0 * plant.radius[sel] * plant.lengths()[sel]
-    if response is not None:
-        received = np.asarray(response(received), dtype=np.float64)
-    return LeafLight(float(area @ received), float(area.sum()))
 
 
 def cluster_leaves(plant: Plant) -> Plant:

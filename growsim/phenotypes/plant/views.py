@@ -214,11 +214,14 @@ def render_image(
     env=None,
     light_arrow=None,
     legend=True,
+    frame=None,
 ):
     """Render off-screen and return the image as an ``(H, W, 3)`` uint8 array.
 
     ``view``: one of :data:`VIEWS` or a direction ``(3,)`` the camera looks along.
-    Orthographic projection, framed on the plant's bounding sphere.
+    Orthographic projection, framed on the plant's bounding sphere, or on the box
+    ``frame`` (``(xmin, xmax, ymin, ymax, zmin, zmax)``) when given: plants rendered with
+    one frame are drawn at one scale.
 
     ``color``: ``None`` (bark and leaves) or a field of :data:`COLORS` to paint each
     segment of a Plant by (:func:`segment_colors`) under ``env`` (an
@@ -242,7 +245,9 @@ def render_image(
 
     def draw(pl):
         bounds, framing = _scene(pl, plant_or_mesh, color, env, light_arrow, legend)
-        if bounds is not None:
+        if frame is not None:
+            _camera(pl, frame, view, **framing)
+        elif bounds is not None:
             _camera(pl, bounds, view, **framing)
 
     return scene_image(draw, size, background=background)
@@ -391,9 +396,11 @@ def render_grid(
     view="front",
     cell=(300, 300),
     columns: int | None = None,
+    same_scale: bool = False,
 ) -> Path:
     """Several phenotypes (plants, meshes) side by side in one PNG (``columns`` per row,
-    titles under each).
+    titles under each); with ``same_scale``, plants (each growing from its own base) all
+    framed on the box that holds every one of them: one scale for all.
 
     Examples
     --------
@@ -402,6 +409,8 @@ def render_grid(
     >>> ps = [honda.develop({"generations": g}) for g in (2, 3)]
     >>> f = pathlib.Path(tempfile.mkdtemp()) / "grid.png"
     >>> render_grid(ps, f, titles=["2", "3"], cell=(64, 64)).exists()
+    True
+    >>> render_grid(ps, f, cell=(64, 64), same_scale=True).exists()
     True
     """
     from PIL import Image, ImageDraw
@@ -417,8 +426,15 @@ def render_grid(
     text_h = 18 if titles else 0
     grid = Image.new("RGB", (cols * cw, rows * (ch + text_h)), "white")
     draw = ImageDraw.Draw(grid)
+    frame = None
+    if same_scale:
+        ends = np.concatenate([np.concatenate([p.start, p.end]) for p in plants if p.n_segments])
+        low, high = ends.min(axis=0), ends.max(axis=0)
+        frame = np.column_stack([low, high]).ravel()
     for i, p in enumerate(plants):
-        if isinstance(p, Phenotype):
+        if frame is not None:
+            img = render_image(p, view=view, size=(cw, ch), frame=frame)
+        elif isinstance(p, Phenotype):
             img = p.render_image(view=view, size=(cw, ch))
         else:
             img = render_image(p, view=view, size=(cw, ch))
