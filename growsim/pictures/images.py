@@ -13,43 +13,11 @@ A user's front and side pictures (PNG, JPEG, ... any size) become binary silhoue
    silhouette that cannot be a tree: empty, too small, too noisy, or filling the frame (the
    thresholds in :mod:`growsim.pictures.reading`); a colour photo is segmented by
    :func:`growsim.pictures.photo.segment_photo` instead (:func:`picture_silhouettes`);
-3. :func:`frame_silhouettes`: both views into ``(2, S, S)`` rasters with the framing of
-   rendered plants (:mod:`growsim.kernels.views`: the same scale rule,
-   :func:`~growsim.kernels.views.frame_scale`, and placement,
-   :func:`~growsim.kernels.views.frame_view`): one common scale that fits the height into
-   the raster unless the half-width around the trunk base is tighter, the trunk base at
-   the horizontal centre, the lowest point on the bottom row. What differs from plants:
-   each view is first scaled to unit height (the two pictures need not share a zoom); the
-   trunk base is the middle of the silhouette's lowest rows. Two ways to place the
-   picture's pixels, chosen to match how the model will be drawn (the silhouette
-   objective's ``line_width``):
+3. :func:`~growsim.pictures.framing.frame_silhouettes`: both views into ``(2, S, S)``
+   rasters with the framing of rendered plants (:mod:`growsim.pictures.framing`).
 
-   - ``"radius"`` (tubes at their thickness; photos): drawn as the renderer draws a
-     tube (:func:`growsim.kernels.raster.draw_segments`: every pixel its centre line
-     crosses, and the pixels whose centre is within its radius): each input pixel's
-     square is mapped (the lowest pixels' centres on the bottom row's centre line) and a
-     raster pixel is set when the silhouette covers at least :data:`COVER_SHARE` of it,
-     or when the silhouette's skeleton (its centre lines,
-     :func:`skimage.morphology.skeletonize`) crosses it, so a branch thinner than a
-     raster pixel is one pixel wide, as the renderer draws it, and a thick one is as
-     wide as it is (setting every pixel a branch touches made the target about a pixel
-     fatter than any drawn tree: the true tree of a photo scored 0.87 instead of 0.92
-     at 256 px);
-   - ``"thin"`` (1-pixel lines): the picture is read as a thin-line rendering, the exact
-     inverse of :func:`growsim.kernels.views.render_thin`: strokes are one raster pixel
-     wide, so the tree's extent runs between stroke centres, half a raster pixel inside
-     the silhouette's outer edges; the renderer lights pixel ``floor(x)`` of a point at
-     ``x`` and puts the trunk base on the raster's middle edge, so the trunk's pixel
-     centre is half a pixel right of it; each input pixel's centre (sub-sampled when a
-     picture pixel is larger than a raster pixel) sets the pixel it falls in. A line
-     drawing of a tree at any scale is framed into exactly the silhouette the renderer
-     draws for that tree (tested on enlarged renders of random IFS trees). A drawing made
-     of square pixels (a raster enlarged by nearest neighbour by any factor, whole or
-     not: its pixels then alternate between two widths) is first read back pixel for
-     pixel (:func:`~growsim.pictures.pixels.drawn_pixels`: the lattice its edges lie
-     on), so it frames back exactly too, whatever the factor (tested 1.25x-7.2x), margin,
-     paper and format (PNG or JPEG). What no framing can know: a tree whose lowest point is not its
-     trunk base (a branch hanging below it) is placed by its lowest rows.
+What a picture is (a drawing or a photo) is :func:`~growsim.pictures.kinds.classify_picture`'s
+answer; the framing's and the classification's names are importable from here too.
 """
 
 from __future__ import annotations
@@ -62,12 +30,13 @@ import numpy as np
 
 from growsim.errors import UserInputError
 from growsim.files import atomic_write
-from growsim.kernels.views import MARGIN, frame_scale, frame_view
+from growsim.pictures.framing import COVER_SHARE, frame_silhouettes, frame_thin_lines, unframe
+from growsim.pictures.kinds import classify_picture
 from growsim.pictures.photo import segment_photo
-from growsim.pictures.pixels import drawn_pixels
-from growsim.pictures.reading import check_silhouette, load_gray, load_rgb
+from growsim.pictures.reading import check_silhouette, load_gray
 
 __all__ = [
+    "COVER_SHARE",
     "HINT_FLAGS",
     "classify_picture",
     "frame_silhouettes",
@@ -80,14 +49,6 @@ __all__ = [
     "silhouette_image",
     "unframe",
 ]
-
-#: Share of the silhouette's height, at its bottom, whose pixels locate the trunk base.
-BASE_BAND = 0.02
-#: ``line_width = "radius"`` framing: a raster pixel at least this much covered by the
-#: silhouette is set (measured on the photos of benchmarks/make_photos.py: the true
-#: tree's NCC against its own framed silhouette at 64/128/256 px, zelkova 0.94/0.93/0.92
-#: with 0.4, 0.93/0.91/0.91 with 0.5, 0.92/0.86/0.87 setting every pixel touched)
-COVER_SHARE = 0.4
 
 
 def otsu_threshold(gray: np.ndarray, bins: int = 256) -> float:
@@ -191,375 +152,6 @@ def silhouette(
     return fg
 
 
-def _view_geometry(mask: np.ndarray):
-    rows, cols = np.nonzero(mask)
-    rmin, rmax = rows.min(), rows.max()
-    h = max(float(rmax - rmin), 1.0)
-    band = rows >= rmax - BASE_BAND * h
-    base = float(cols[band].mean()) + 0.5
-    hw = float(np.max(np.abs(cols + 0.5 - base))) / h
-    return rows, cols, float(rmax), h, base, hw
-
-
-def frame_silhouettes(
-    front: np.ndarray, side: np.ndarray | None, size: int = 64, line_width: str = "radius"
-) -> np.ndarray:
-    """Frame two silhouettes ``(H1, W1)``, ``(H2, W2)`` bool into ``(2, size, size)`` uint8
-    (``side = None``: the front alone, ``(1, size, size)``, framed by its own extent).
-
-    ``line_width = "radius"``: each input pixel square is mapped to the raster; a raster
-    pixel is set when the silhouette covers at least :data:`COVER_SHARE` of it or its
-    skeleton crosses it (as the renderer draws tubes; thin branches survive
-    down-sampling one pixel wide);
-    ``"thin"``: the pictures are read as thin-line renderings (see the module docstring;
-    :func:`frame_thin_lines`).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> f = np.zeros((100, 60), bool); f[10:100, 30] = True
-    >>> out = frame_silhouettes(f, f, 16)
-    >>> out.shape, bool(out[0, :, 8].all())  # a vertical trunk fills the centre column
-    ((2, 16, 16), True)
-    >>> frame_silhouettes(f, None, 16).shape
-    (1, 16, 16)
-    """
-    size = int(size)
-    masks = (front,) if side is None else (front, side)
-    if line_width == "thin":
-        return frame_thin_lines(front, side, size=size)
-    if line_width != "radius":
-        raise UserInputError(f"line_width: expected 'thin' or 'radius', got {line_width!r}")
-    from skimage.morphology import skeletonize
-
-    out = np.zeros((len(masks), size, size), dtype=np.uint8)
-    masks = [np.asarray(m, dtype=bool) for m in masks]
-    geo = [_view_geometry(m) for m in masks]
-    # both views at unit height: one scale for both, as a rendered plant's views
-    k = frame_scale(1.0, max(g[5] for g in geo), size)
-    for v, (rows, cols, rmax, h, base, _) in enumerate(geo):
-        f = k / h  # raster pixels per input pixel
-        # the skeleton's pixel centres set the pixel they fall in (a tube's centre line)
-        sr, sc = np.nonzero(skeletonize(masks[v]))
-        x, y = frame_view(sc + 0.5, rmax + 0.5 - sr, base, 0.0, f, size)
-        sr, sc = np.floor(y + 0.5 * f).astype(np.int64), np.floor(x).astype(np.int64)
-        ok = (sr >= 0) & (sr < size) & (sc >= 0) & (sc < size)
-        out[v, sr[ok], sc[ok]] = 1
-        cover = np.zeros((size, size))
-        # the top edge of each input pixel, at height rmax + 1 - row above the lowest
-        # pixels' bottom edge; half a pixel lower, so their centres sit on the bottom row
-        x0, y0 = frame_view(cols, rmax + 1.0 - rows, base, 0.0, f, size)
-        y0 = y0 + f * 0.5
-        # the input square [x0, x0 + f) x [y0, y0 + f): rows grow downwards
-        x1 = x0 + f
-        y1 = y0 + f
-        c0 = np.floor(x0).astype(np.int64)
-        r0 = np.floor(y0).astype(np.int64)
-        c1 = np.maximum(c0, np.ceil(x1).astype(np.int64) - 1)
-        r1 = np.maximum(r0, np.ceil(y1).astype(np.int64) - 1)
-        for dr in range(int((r1 - r0).max()) + 1):
-            for dc in range(int((c1 - c0).max()) + 1):
-                r = r0 + dr
-                c = c0 + dc
-                ok = (r <= r1) & (c <= c1) & (r >= 0) & (r < size) & (c >= 0) & (c < size)
-                # the share of raster pixel (r, c) this input pixel covers
-                share = np.clip(np.minimum(x1, c + 1) - np.maximum(x0, c), 0.0, None)
-                share *= np.clip(np.minimum(y1, r + 1) - np.maximum(y0, r), 0.0, None)
-                np.add.at(cover, (r[ok], c[ok]), share[ok])
-        out[v][cover >= COVER_SHARE - 1e-9] = 1
-        # the trunk base, where the renderer always draws it (the skeleton stops short
-        # of a branch's end by its half-width)
-        out[v, size - 1, size // 2] = 1
-    return out
-
-
-#: ``"thin"`` framing of a drawing enlarged by a fractional factor: a raster pixel whose
-#: share covered by the strokes is below this, beside one covered at least
-#: :data:`THIN_FULL`, is a stroke's sliver spilled over and is dropped
-THIN_SLIVER = 0.5
-THIN_FULL = 0.75
-
-
-def _thin_geometry(masks, size: int):
-    """Each view's geometry and raster pixels per picture pixel ``f`` of the thin-line
-    framing (:func:`frame_thin_lines`)."""
-    geo = []
-    for m in masks:
-        rows, cols = np.nonzero(np.asarray(m, dtype=bool))
-        rmax = float(rows.max())
-        height = rmax + 1.0 - float(rows.min())
-        band = rows >= rmax - BASE_BAND * max(height - 1.0, 1.0)
-        base = float(cols[band].mean()) + 0.5
-        geo.append((rows, cols, rmax, height, base, float(cols.min()), float(cols.max() + 1)))
-    f = [1.0] * len(masks)
-    for _ in range(50):  # converges in a few steps: f changes h by 1/f only
-        hs = [max(g[3] - 1.0 / fv, 1e-9) for g, fv in zip(geo, f)]
-        hw = max(max(g[4] - g[5] - 1.0 / fv, g[6] - g[4]) / h for g, fv, h in zip(geo, f, hs))
-        k = frame_scale(1.0, max(hw, 0.0), size)
-        new = [k / h for h in hs]
-        if np.allclose(new, f, rtol=0.0, atol=1e-12):
-            break
-        f = new
-    return geo, f
-
-
-def _thin_inputs(masks, size: int) -> list:
-    """Each view's silhouette as the thin framing reads it: ``(mask, rows, cols)``, its
-    drawn pixels when it is drawn in square pixels (:func:`drawn_pixels`, the scale its
-    framing gives), else ``(mask, None, None)``."""
-    masks = [np.asarray(m, dtype=bool) for m in masks]
-    _, f = _thin_geometry(masks, size)
-    out = []
-    for m, fv in zip(masks, f):
-        drawn = drawn_pixels(m, 1.0 / fv)
-        out.append((m, None, None) if drawn is None else drawn)
-    return out
-
-
-def frame_thin_lines(front: np.ndarray, side: np.ndarray | None, size: int = 64) -> np.ndarray:
-    """Frame two silhouettes read as thin-line renderings into ``(2, size, size)`` uint8:
-    the inverse of :func:`growsim.kernels.views.render_thin` (see the module docstring);
-    ``side = None``: the front alone, ``(1, size, size)``.
-
-    A view drawn in square pixels (a raster enlarged by nearest neighbour, by a whole or
-    fractional factor of at least :data:`~growsim.pictures.pixels.GRID_MIN_SCALE`) is
-    first read back pixel for pixel (:func:`~growsim.pictures.pixels.drawn_pixels`) and
-    framed from its drawn pixels: a render enlarged so frames back into the render
-    exactly, whatever the factor and the margin.
-    With ``f`` raster pixels per picture pixel, a view's extent runs between stroke
-    centres: its height is ``H - 1/f`` (``H`` the silhouette's height in picture pixels,
-    edge to edge), its half-width ``max(base - L - 1/f, R - base)`` (``L``, ``R`` the
-    outer edges, ``base`` the trunk's centre), and ``f = k / height`` with the framing
-    scale ``k`` of both views (:func:`growsim.kernels.views.frame_scale` at unit height):
-    a fixed point, found by iteration. A picture pixel's centre ``(c, r)`` goes to
-    ``col = size/2 + 1/2 + f (c - base)``, ``row = size - MARGIN - f (bottom - r)``,
-    ``bottom`` the lowest stroke centre.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> from PIL import Image
-    >>> from growsim.models import ifs3d
-    >>> from growsim.objectives.silhouette import plant_views
-    >>> v = plant_views(ifs3d.develop(ifs3d.PRESETS["table1"]), 64)
-    >>> big = [np.kron(x, np.ones((5, 5))) > 0 for x in v]  # a 320 x 320 drawing of it
-    >>> bool((frame_thin_lines(*big, 64) == v).all())
-    True
-    >>> def enlarged(x, n):  # by 3.6, with a margin of 11 px
-    ...     im = Image.fromarray(np.where(x > 0, 255, 0).astype(np.uint8))
-    ...     return np.pad(np.asarray(im.resize((n, n), Image.NEAREST)) > 127, 11)
-    >>> bool((frame_thin_lines(*[enlarged(x, 230) for x in v], 64) == v).all())
-    True
-    """
-
-    masks = [m for m, _, _ in _thin_inputs((front,) if side is None else (front, side), size)]
-    geo, f = _thin_geometry(masks, size)
-    out = np.zeros((len(masks), size, size), dtype=np.uint8)
-    for v, ((rows, cols, rmax, _, base, _, _), fv) in enumerate(zip(geo, f)):
-        bottom = rmax + 1.0 - 0.5 / fv
-        n = max(1, int(np.ceil(fv)))  # points per picture pixel side: no raster pixel skipped
-        sub = (np.arange(n) + 0.5) / n
-        hits = np.zeros((size, size))
-        for a in sub:
-            for b in sub:
-                col = np.floor(0.5 * size + 0.5 + fv * (cols + a - base)).astype(np.int64)
-                row = np.floor((size - MARGIN) - fv * (bottom - (rows + b))).astype(np.int64)
-                ok = (row >= 0) & (row < size) & (col >= 0) & (col < size)
-                np.add.at(hits, (row[ok], col[ok]), 1.0)
-        out[v] = hits > 0
-        if n == 1:
-            # strokes drawn at a scale that is not a whole number of picture pixels per
-            # raster pixel spill a sliver into the next raster pixel: a pixel covered
-            # less than THIN_SLIVER beside one covered at least THIN_FULL is dropped
-            from scipy.ndimage import maximum_filter
-
-            cover = hits * fv * fv
-            sliver = (cover < THIN_SLIVER) & (maximum_filter(cover, size=3) >= THIN_FULL)
-            out[v][sliver] = 0
-    return out
-
-
-#: :func:`classify_picture`: a pixel is coloured when its chroma (max - min of R, G, B in
-#: ``[0, 1]``) exceeds this
-CHROMA = 0.08
-
-#: :func:`classify_picture`: a drawing has at most this share of coloured pixels
-MAX_COLOURED = 0.01
-
-#: :func:`classify_picture`: a drawing has at least this share of its pixels within
-#: :data:`MODE_REACH` of its two main grey levels (paper and ink: a bimodal histogram)
-MIN_TWO_LEVELS = 0.9
-MODE_REACH = 0.12
-
-# A grey photo can be bimodal too (a pale sky over a dark ground, the tree between). What
-# tells it from a drawing, measured on 57 drawings (growsim's, of the Table 1 tree, its
-# renders and the attractors; scanned, blurred, noisy, JPEG at quality 50-90, enlarged to
-# 3000 px) against 26 photos made grey (the benchmark's renders, 4 of them cropped above
-# the ground, and 12 of scikit-image's):
-#: a photo's bottom edge is ground under a sky: the median level of the bottom edge
-#: differs from the top edge's by more than this share of the contrast between the two
-#: main levels (the renders 0.77-1.0; drawings, whose paper runs all round, 0.006 at most)
-GROUND_STEP = 0.5
-#: a drawing has at most this share of its pixels in grey levels of their own: smooth (in
-#: their 3 x 3, less than a quarter of the contrast), away from both main levels (by
-#: :data:`GREY_REACH`, or 4 x the noise) and from the edges between them (7 x 7 px): a
-#: sky's gradient, a lit branch (drawings at most 1.0 %; the photos without ground
-#: 0.15-58 %)
-MAX_OWN_GREYS = 0.02
-GREY_REACH = 0.05
-#: a drawing has at most this share of its pixels in texture: varying by a quarter of the
-#: contrast in their 3 x 3 with no paper within 5 x 5 px (leaves, bark, grass; drawings
-#: at most 0.9 %, their edges always border the paper; the photos 0.03-21 %). Two leafy
-#: renders cropped above the ground (flat leaves on a smooth sky, 1.2 % and 0.15 % of
-#: grey levels of their own, 0.5 % and 1.2 % texture) are still taken for drawings.
-MAX_TEXTURE = 0.02
-
-
-def classify_picture(image) -> tuple[str, str]:
-    """``("drawing", why)`` for a drawing or silhouette, ``("photo", why)`` otherwise:
-    what ``fit-image --segmentation auto`` reads a picture (path or array, grey ``(H, W)``
-    or RGB ``(H, W, 3)`` in ``[0, 1]``; a file is read at the working size,
-    :func:`~growsim.pictures.reading.load_rgb`) as. A drawing is near grey (at most
-    :data:`MAX_COLOURED` of its pixels have a chroma above :data:`CHROMA`: no sky or
-    ground colours), bimodal (at least :data:`MIN_TWO_LEVELS` of its pixels within
-    :data:`MODE_REACH` of its two main grey levels: paper and ink) and, unlike a grey
-    photo, made of these two levels and the edges between them: its bottom edge is paper
-    as its top edge is (no ground under a sky, :data:`GROUND_STEP`), few pixels are in
-    smooth grey levels of their own (a sky's gradient, :data:`MAX_OWN_GREYS`) or in
-    texture (:data:`MAX_TEXTURE`). ``why``: the figures it looked at, for the messages
-    and ``fit.json``.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> g = np.full((40, 40), 0.85); g[5:, 20] = 0.1  # a trunk in ink on grey paper
-    >>> classify_picture(g)[0]
-    'drawing'
-    >>> rgb = np.zeros((40, 40, 3)); rgb[:] = (0.5, 0.7, 1.0); rgb[30:] = (0.2, 0.6, 0.1)
-    >>> classify_picture(rgb)
-    ('photo', 'a photo: 100.0 % of pixels in colour')
-    >>> grey = np.full((40, 40), 0.9); grey[32:] = 0.3; grey[8:34, 20] = 0.6  # on ground
-    >>> classify_picture(grey)[0]
-    'photo'
-    """
-
-    if isinstance(image, (str, os.PathLike)):
-        rgb = load_rgb(image)
-    else:
-        rgb = np.asarray(image, dtype=np.float64)
-        if rgb.ndim == 2:
-            rgb = np.repeat(rgb[..., None], 3, axis=2)
-        rgb = rgb[..., :3]
-    coloured = float(np.mean(rgb.max(axis=2) - rgb.min(axis=2) > CHROMA))
-    if coloured > MAX_COLOURED:
-        return "photo", f"a photo: {100 * coloured:.1f} % of pixels in colour"
-    grey = rgb.mean(axis=2)
-    hist = np.bincount(np.clip((grey * 32).astype(np.int64), 0, 31).ravel(), minlength=32)
-    first = int(np.argmax(hist))
-    # the second level: the fullest bin away from the first
-    away = hist.copy()
-    lo, hi = max(0, first - 4), min(32, first + 5)
-    away[lo:hi] = 0
-    second = int(np.argmax(away))
-    levels = np.array([first, second]) + 0.5
-    near = np.abs(grey.ravel()[:, None] * 32 - levels[None, :]).min(axis=1) <= MODE_REACH * 32
-    share = float(np.mean(near))
-    if share < MIN_TWO_LEVELS:
-        return "photo", (
-            f"a grey photo: {100 * share:.0f} % of pixels near its two main grey levels"
-        )
-    ground, own, texture = _grey_photo_cues(grey, (first, second))
-    if ground > GROUND_STEP:
-        return "photo", (
-            f"a grey photo: ground under a sky (its bottom edge's grey level differs from "
-            f"its top edge's by {100 * ground:.0f} % of the contrast)"
-        )
-    if own > MAX_OWN_GREYS or texture > MAX_TEXTURE:
-        return "photo", (
-            f"a grey photo: {100 * own:.1f} % of pixels in smooth grey levels of their own "
-            f"(a gradient, lit branches), {100 * texture:.1f} % in texture"
-        )
-    return "drawing", (
-        f"a drawing: grey levels {levels[0] / 32:.2f} and {levels[1] / 32:.2f} hold "
-        f"{100 * share:.0f} % of pixels, {100 * coloured:.1f} % in colour"
-    )
-
-
-def _grey_photo_cues(grey: np.ndarray, bins) -> tuple[float, float, float]:
-    """What tells a grey photo from a drawing (:func:`classify_picture`), for grey levels
-    ``(H, W)`` whose two main levels fall in the 1/32-wide ``bins``: the step from the top
-    edge's level to the bottom edge's (share of the contrast, :data:`GROUND_STEP`), the
-    share of pixels in smooth grey levels of their own (:data:`MAX_OWN_GREYS`) and the
-    share in texture (:data:`MAX_TEXTURE`), on the picture's 3 x 3 median (no noise)."""
-    from scipy import ndimage
-
-    levels = []
-    for k in bins:  # each level: the median of its bin and the bins beside it
-        near = grey[(grey * 32 >= k - 1) & (grey * 32 < k + 2)]
-        levels.append(float(np.median(near)) if near.size else (k + 0.5) / 32)
-    a, b = levels
-    contrast = max(abs(a - b), 1e-6)
-    m = ndimage.median_filter(grey, 3)
-    h, w = grey.shape
-    strip = max(2, round(0.01 * min(h, w)))
-    ground = abs(float(np.median(m[:strip])) - float(np.median(m[-strip:]))) / contrast
-    edges = (m[:strip], m[-strip:], m[:, :strip], m[:, -strip:])
-    paper = float(np.median(np.concatenate([e.ravel() for e in edges])))
-    noise = 1.4826 * float(np.median(np.abs(grey - m)))
-    reach = max(GREY_REACH, 4.0 * noise)
-    varies = ndimage.maximum_filter(m, 3) - ndimage.minimum_filter(m, 3) >= 0.25 * contrast
-    near_a = ndimage.maximum_filter(np.abs(m - a) < 0.25 * contrast, 7)
-    near_b = ndimage.maximum_filter(np.abs(m - b) < 0.25 * contrast, 7)
-    own = (np.abs(m - a) > reach) & (np.abs(m - b) > reach) & ~varies & ~(near_a & near_b)
-    papery = ndimage.maximum_filter(np.abs(m - paper) < 0.25 * contrast, 5)
-    return ground, float(np.mean(own)), float(np.mean(varies & ~papery))
-
-
-def unframe(raster, front, side=None, *, view: int = 0, line_width: str = "radius"):
-    """A framed ``(S, S)`` raster of view ``view`` (0 front, 1 side) back at the picture's
-    size and placement: ``(H, W)`` bool, the inverse of :func:`frame_silhouettes` for the
-    silhouettes ``front`` and ``side`` it framed (each picture pixel takes the raster pixel
-    its centre falls in). ``fit-image`` writes the fitted tree so (``fit_<view>.png``),
-    framed as the target's ``silhouette_<view>.png``.
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> f = np.zeros((100, 60), bool); f[10:100, 30] = True
-    >>> back = unframe(frame_silhouettes(f, None, 16)[0], f)
-    >>> back.shape, bool(back[10:, 30].all())
-    ((100, 60), True)
-    """
-    raster = np.asarray(raster) > 0
-    size = raster.shape[0]
-    masks = [np.asarray(m, dtype=bool) for m in ((front,) if side is None else (front, side))]
-    h, w = masks[view].shape
-    r, c = np.mgrid[0:h, 0:w]
-    r, c = r.ravel().astype(np.float64), c.ravel().astype(np.float64)
-    if line_width == "thin":
-        inputs = _thin_inputs(masks, size)
-        geo, f = _thin_geometry([m for m, _, _ in inputs], size)
-        _, _, rmax, _, base, _, _ = geo[view]
-        fv = f[view]
-        _, rows, cols = inputs[view]
-        if rows is not None:  # drawn in square pixels: each picture pixel's drawn pixel
-            r, c = rows[r.astype(np.int64)].astype(np.float64), cols[c.astype(np.int64)] * 1.0
-        col = np.floor(0.5 * size + 0.5 + fv * (c + 0.5 - base))
-        row = np.floor((size - MARGIN) - fv * (rmax + 1.0 - 0.5 / fv - (r + 0.5)))
-    else:
-        geo = [_view_geometry(m) for m in masks]
-        k = frame_scale(1.0, max(g[5] for g in geo), size)
-        _, _, rmax, hv, base, _ = geo[view]
-        fv = k / hv
-        x, y = frame_view(c + 0.5, rmax + 0.5 - r, base, 0.0, fv, size)
-        row, col = np.floor(y + 0.5 * fv), np.floor(x)
-    row, col = row.astype(np.int64), col.astype(np.int64)
-    ok = (row >= 0) & (row < size) & (col >= 0) & (col < size)
-    out = np.zeros(h * w, dtype=bool)
-    out[ok] = raster[row[ok], col[ok]]
-    return out.reshape(h, w)
-
-
 #: how pictures become silhouettes: ``"threshold"`` (:func:`silhouette`: grey levels) or
 #: ``"photo"`` (:func:`growsim.pictures.photo.segment_photo`: colour, sky and ground)
 SEGMENTATIONS = ("threshold", "photo")
@@ -619,7 +211,16 @@ def photo_segmentations(
     :class:`~growsim.pictures.photo.Segmentation` for a photo (``segmentation =
     "photo"``: the tree, the sky, the ground, how it was found), the silhouette array for a
     threshold. A picture file's result is remembered (the same picture, mask and hints
-    are segmented once in a process): do not change what it returns."""
+    are segmented once in a process): do not change what it returns.
+
+    Examples
+    --------
+    >>> from growsim.pictures.scene import example_photo
+    >>> rgb = example_photo()  # sky, ground strip, a trunk standing on it, a branch
+    >>> seg = photo_segmentations(rgb)[0]
+    >>> seg.method, seg.horizon, int(seg.tree.sum())
+    ('sky and skyline', 50, 143)
+    """
     if segmentation not in SEGMENTATIONS:
         raise UserInputError(
             f"segmentation: expected one of {', '.join(SEGMENTATIONS)}, got {segmentation!r}"

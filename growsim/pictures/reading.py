@@ -141,7 +141,17 @@ def picture_size(path: str | os.PathLike) -> tuple[int, int]:
 
 def working_scale(path: str | os.PathLike) -> float:
     """Working pixels per picture pixel of the file at ``path`` (1 when it is read at its
-    own size; :func:`picture_size`)."""
+    own size; :func:`picture_size`).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from PIL import Image
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "big.png"
+    >>> Image.new("RGB", (2048, 1024), (200, 220, 255)).save(p)
+    >>> working_scale(p)  # read at 1024 x 512
+    0.5
+    """
     h, w = picture_size(path)
     return working_shape(h, w)[1] / w
 
@@ -199,7 +209,17 @@ def load_picture(path: str | os.PathLike, *, gray: bool, full: bool = False) -> 
     half, a quarter or an eighth; others by Pillow's ``reduce``, both averaging sRGB
     values), then averaged in linear light. The last few pictures read are remembered (a
     fit reads its picture to choose the segmentation, to segment it, and to draw the
-    segmentation)."""
+    segmentation).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from PIL import Image
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "big.png"
+    >>> Image.new("RGB", (2048, 1024), (200, 220, 255)).save(p)
+    >>> load_picture(p, gray=True).shape, load_picture(p, gray=False, full=True).shape
+    ((512, 1024), (1024, 2048, 3))
+    """
     path = Path(path)
     try:
         st = path.stat()
@@ -212,7 +232,12 @@ def load_picture(path: str | os.PathLike, *, gray: bool, full: bool = False) -> 
 
 
 def forget() -> None:
-    """Forget the pictures :func:`load_picture` remembers (to time a first reading)."""
+    """Forget the pictures :func:`load_picture` remembers (to time a first reading).
+
+    Examples
+    --------
+    >>> forget()  # the next reading of any picture opens its file again
+    """
     _remembered.cache_clear()
 
 
@@ -432,7 +457,14 @@ def _reduce_in_linear_light(pic, shape, box) -> np.ndarray:
 
 
 def over_white(im):
-    """A PIL image with its transparency composited over white (mode RGBA)."""
+    """A PIL image with its transparency composited over white (mode RGBA).
+
+    Examples
+    --------
+    >>> from PIL import Image
+    >>> over_white(Image.new("RGBA", (2, 1), (0, 0, 0, 0))).getpixel((0, 0))
+    (255, 255, 255, 255)
+    """
     from PIL import Image
 
     rgba = im.convert("RGBA")

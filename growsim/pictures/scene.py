@@ -38,6 +38,7 @@ __all__ = [
     "Scene",
     "Standing",
     "band_line",
+    "example_photo",
     "fill",
     "find_scene",
     "row_background",
@@ -154,7 +155,16 @@ def _resize(rgb: np.ndarray, shape) -> np.ndarray:
 
 def texture_of(lab: np.ndarray) -> np.ndarray:
     """Each pixel's texture: the colour gradient's magnitude (Delta E a pixel, Sobel on the
-    smoothed CIELAB channels), smoothed (:data:`PRE_SMOOTH`, :data:`TEXTURE_SMOOTH`)."""
+    smoothed CIELAB channels), smoothed (:data:`PRE_SMOOTH`, :data:`TEXTURE_SMOOTH`).
+
+    Examples
+    --------
+    >>> from skimage.color import rgb2lab
+    >>> rgb = example_photo()  # sky, ground strip, a trunk standing on it, a branch
+    >>> t = texture_of(rgb2lab(rgb))
+    >>> bool(t[5, 5] < 0.5), bool(t[20, 25] > 1.0)  # the sky smooth, the tree not
+    (True, True)
+    """
     from scipy import ndimage
 
     labs = ndimage.gaussian_filter(lab, (PRE_SMOOTH, PRE_SMOOTH, 0), mode="nearest")
@@ -168,7 +178,14 @@ def texture_of(lab: np.ndarray) -> np.ndarray:
 def fine_texture(rgb: np.ndarray, shape) -> np.ndarray:
     """The colour gradient of the working picture (its R, G, B channels times 100, Sobel
     after a Gaussian of :data:`PRE_SMOOTH` pixels: about Delta E a working pixel), averaged
-    over each pixel of the coarse ``shape``."""
+    over each pixel of the coarse ``shape``.
+
+    Examples
+    --------
+    >>> rgb = example_photo()  # sky, ground strip, a trunk standing on it, a branch
+    >>> fine_texture(rgb, (30, 25)).shape
+    (30, 25)
+    """
     from scipy import ndimage
 
     g = np.zeros(rgb.shape[:2])
@@ -225,13 +242,39 @@ def band_line(skyline: np.ndarray, h: int) -> tuple[np.ndarray, float]:
     return np.minimum(best, float(h)), spread
 
 
+def example_photo() -> np.ndarray:
+    """A small photograph for the examples of :mod:`growsim.pictures`: ``(60, 50, 3)``
+    RGB in [0, 1], a pale blue sky, a green ground strip from row 50, a brown trunk
+    (columns 24-26) standing on it from row 15, and a branch across row 20.
+
+    Examples
+    --------
+    >>> rgb = example_photo()
+    >>> rgb.shape, rgb[5, 5].tolist(), rgb[30, 25].tolist()
+    ((60, 50, 3), [0.8, 0.9, 1.0], [0.4, 0.3, 0.2])
+    """
+    rgb = np.ones((60, 50, 3)) * [0.8, 0.9, 1.0]
+    rgb[50:] = [0.3, 0.5, 0.2]
+    rgb[15:55, 24:27] = [0.4, 0.3, 0.2]
+    rgb[20, 12:38] = [0.4, 0.3, 0.2]
+    return rgb
+
+
 def find_scene(
     rgb: np.ndarray, keep: np.ndarray | None = None, *, name: str = "image", hint: str = "--box"
 ) -> Scene:
     """The scene of a picture ``rgb`` ``(H, W, 3)`` in ``[0, 1]`` (see the module
     docstring), reduced to :data:`COARSE` pixels; ``keep``: where the tree may be (a
     mask). Refuses (:class:`UserInputError` naming ``name``) a picture with no sky along
-    its top edge (naming the ``hint`` that settles it)."""
+    its top edge (naming the ``hint`` that settles it).
+
+    Examples
+    --------
+    >>> rgb = example_photo()  # sky, ground strip, a trunk standing on it, a branch
+    >>> scene = find_scene(rgb, np.ones((60, 50), bool))
+    >>> scene.ground, len(scene.objects), scene.objects[0].feet, bool(scene.sky[5, 5])
+    (True, 1, ((22, 28),), True)
+    """
     from skimage.color import rgb2lab
     from skimage.measure import label, regionprops
 
@@ -460,7 +503,18 @@ def _double(est: np.ndarray, shape) -> np.ndarray:
 def sky_background(lab: np.ndarray, sky: np.ndarray) -> np.ndarray:
     """The sky behind each pixel ``(H, W, 3)`` CIELAB: the sky pixels ``sky`` ``(H, W)``
     bool filled in under everything else (:func:`fill`), so a twig is compared with the
-    sky just beside it, a cloud's edge included."""
+    sky just beside it, a cloud's edge included.
+
+    Examples
+    --------
+    >>> from skimage.color import rgb2lab
+    >>> rgb = example_photo()  # sky, ground strip, a trunk standing on it, a branch
+    >>> lab = rgb2lab(rgb)
+    >>> sky = (rgb == [0.8, 0.9, 1.0]).all(axis=-1)
+    >>> bg = sky_background(lab, sky)
+    >>> bool(np.allclose(bg[30, 25], lab[5, 5]))  # the sky behind the trunk
+    True
+    """
     return fill(lab, sky)
 
 
@@ -469,7 +523,17 @@ def row_background(lab: np.ndarray, left: int, right: int, rows: slice, reach: i
     ``(H, W, 3)``: each row's colour beside them (the median of ``reach`` pixels on each
     side, smoothed over 5 rows), interpolated across; ``(rows, right - left + 1, 3)``.
     For the ground and the horizon's clutter behind a trunk: alike along a row, not
-    down it."""
+    down it.
+
+    Examples
+    --------
+    >>> from skimage.color import rgb2lab
+    >>> rgb = example_photo()  # sky, ground strip, a trunk standing on it, a branch
+    >>> lab = rgb2lab(rgb)
+    >>> back = row_background(lab, 22, 28, slice(52, 58))       # behind the trunk's foot
+    >>> back.shape, bool(np.allclose(back[0, 3], lab[52, 5]))  # the ground
+    ((6, 7, 3), True)
+    """
     from scipy import ndimage
 
     w = lab.shape[1]

@@ -1,0 +1,206 @@
+"""Refusals and hints: a hint's pixels (:func:`hint_pixels`), the tree among the
+standing objects or a refusal naming the hint that settles it (:func:`choose_tree`), the
+tree inside a box by GrabCut when the scene cannot tell it (:func:`in_box`), and the
+thresholds of the refusals.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from growsim.errors import UserInputError
+from growsim.pictures.reading import check_silhouette
+from growsim.pictures.record import Segmentation
+from growsim.pictures.scene import RIVAL_AREA, RIVAL_HEIGHT, Scene
+from growsim.pictures.trunk import GRABCUT_ITERATIONS, GRABCUT_PIXELS
+
+__all__ = ["choose_tree", "hint_pixels", "in_box"]
+
+#: refused without a box: the tree taken below the cut reaches both sides of its columns
+#: in more than this share of those rows (a wood, a hedge of its colours behind it)
+MAX_SPILL = 0.5
+#: refused without a box: the horizon's clutter (from the band's top to the ground) is
+#: more than this share of the tree's height (from its top to the ground): a tree in
+#: front of a wood
+MAX_CLUTTER = 0.45
+#: refused: the tree's median colour difference from its background under this (Delta E)
+MIN_CONTRAST = 15.0
+#: refused: the tree touching the top, left or right edge with this many pixels or more
+#: (it is cut off; the framing needs the whole tree)
+MAX_EDGE_PIXELS = 3
+
+
+def hint_pixels(values, n: int, per_pixel: float, shape, flag: str, name: str):
+    """A hint ``values`` (``n`` numbers, pixels of the picture as given) in working pixels,
+    checked: inside the picture.
+
+    Examples
+    --------
+    >>> hint_pixels(["10", 20, 30, 40], 4, 0.5, (60, 50), "--box", "tree.jpg")
+    ([5.0, 10.0, 15.0, 20.0], [10.0, 20.0, 30.0, 40.0])
+    """
+    try:
+        v = [float(x) for x in values]
+    except (TypeError, ValueError):
+        v = []
+    if len(v) != n or not np.all(np.isfinite(v)):
+        form = "x0,y0,x1,y1" if n == 4 else "x,y"
+        raise UserInputError(f"{name}: {flag}: expected {form}, got {values!r}")
+    h, w = shape
+    big_w, big_h = w / per_pixel, h / per_pixel
+    xs, ys = v[0::2], v[1::2]
+    outside = (max(xs) <= 0 or min(xs) >= big_w or max(ys) <= 0 or min(ys) >= big_h
+               if n == 4 else not (0 <= xs[0] < big_w and 0 <= ys[0] < big_h))  # fmt: skip
+    if n == 4 and not (v[0] < v[2] and v[1] < v[3]):
+        raise UserInputError(f"{name}: {flag}: expected x0 < x1 and y0 < y1, got {values!r}")
+    if outside:
+        raise UserInputError(
+            f"{name}: {flag} {','.join(f'{x:g}' for x in v)} lies outside the picture "
+            f"({big_w:.0f} x {big_h:.0f} pixels)"
+        )
+    return [x * per_pixel for x in v], v
+
+
+def choose_tree(scene: Scene, point, boxed: bool, name: str, flags, how: str, per_pixel=1.0):
+    """The tree among the scene's standing objects: the one at the ``point`` (coarse
+    ``(x, y)``), else the largest; refused when there is none, or another one nearly as
+    large and no hint (``boxed``: the objects are already those inside a box).
+
+    Examples
+    --------
+    >>> from growsim.pictures.scene import find_scene
+    >>> from growsim.pictures.scene import example_photo
+    >>> rgb = example_photo()  # sky, ground strip, a trunk standing on it, a branch
+    >>> scene = find_scene(rgb, np.ones((60, 50), bool))
+    >>> o = choose_tree(scene, None, False, "tree.jpg", ("--box", "--point"), "")
+    >>> o.left, o.top, o.right, o.bottom
+    (10, 13, 39, 43)
+    """
+    objects = scene.objects
+    hint = f"give {flags[0]} x0,y0,x1,y1 around the tree to fit, or {flags[1]} x,y on it"
+    if not objects:
+        if scene.ground:
+            raise UserInputError(
+                f"{name}: no tree stands on the ground: nothing rises from the horizon into "
+                f"the sky ({how}); {hint}, or a mask"
+            )
+        raise UserInputError(f"{name}: the silhouette is empty ({how})")
+    if point is not None:
+        x, y = point[:2]
+        h, w = scene.shape
+        r, c = min(max(int(y), 0), h - 1), min(max(int(x), 0), w - 1)
+        near = []
+        for o in objects:
+            rr, cc = np.nonzero(o.mask)
+            d = np.min(np.hypot(rr - r, cc - c))
+            # a point on the trunk below the cut: the object whose feet are above it
+            if r >= o.bottom and any(a - 2 <= c <= b + 2 for a, b in o.feet):
+                d = 0.0
+            near.append(d)
+        best = int(np.argmin(near))
+        if near[best] > 0.05 * max(h, w):
+            raise UserInputError(
+                f"{name}: no tree found at {flags[1]} {point[2]:g},{point[3]:g}: nothing "
+                f"standing on the ground there ({how}); give a point on the tree's crown or "
+                f"trunk, or {flags[0]} x0,y0,x1,y1 around it"
+            )
+        return objects[best]
+    tree = objects[0]
+    height = tree.bottom - tree.top + 1
+    rivals = [o for o in objects[1:]
+              if o.area >= RIVAL_AREA * tree.area
+              and o.bottom - o.top + 1 >= RIVAL_HEIGHT * height]  # fmt: skip
+    if rivals and not boxed:
+        boxes = " or ".join(
+            f"{flags[0]} {','.join(map(str, _suggested_box(scene, o, per_pixel)))}"
+            for o in sorted((tree, *rivals[:2]), key=lambda o: o.left)
+        )
+        raise UserInputError(
+            f"{name}: other objects beside the tree stand as tall as it, which is the tree? "
+            f"give {flags[0]} x0,y0,x1,y1 around it ({boxes}), or {flags[1]} x,y on it"
+        )
+    return tree
+
+
+def _suggested_box(scene: Scene, o, per_pixel: float) -> list[int]:
+    """A box around the standing object ``o``, down to the bottom edge, in pixels of the
+    picture as given (``per_pixel`` working pixels a picture pixel): the hint offered."""
+    h, w = scene.shape
+    k = 1.0 / (scene.scale * per_pixel)
+    m = 0.05 * max(o.right - o.left + 1, o.bottom - o.top + 1)
+    x0, y0 = max(0.0, o.left - m) * k, max(0.0, o.top - m) * k
+    x1, y1 = min(float(w), o.right + 1 + m) * k, float(h) * k  # down to the bottom edge
+    return [int(x0), int(y0), int(np.ceil(x1)), int(np.ceil(y1))]
+
+
+def in_box(rgb, keep, sky, hint, per_pixel, name, t_start) -> Segmentation:
+    """The tree in the box of ``keep`` (the hint ``--box``) where the scene could not tell
+    it (no sky, nothing standing out of it, or what stands merges with a wood reaching
+    past the box): GrabCut initialised with the box (and the ``sky``, when known, as
+    background), its largest piece; checked as every silhouette is.
+
+    Examples
+    --------
+    >>> rgb = np.ones((60, 50, 3)) * [0.8, 0.9, 1.0]
+    >>> yy, xx = np.mgrid[0:60, 0:50]
+    >>> rgb[(yy - 25) ** 2 + (xx - 25) ** 2 < 100] = [0.2, 0.4, 0.1]  # a crown
+    >>> rgb[30:50, 24:27] = [0.4, 0.3, 0.2]                             # its trunk
+    >>> keep = np.zeros((60, 50), bool); keep[10:55, 10:40] = True      # --box 10,10,40,55
+    >>> seg = in_box(rgb, keep, None, {"box": [10, 10, 40, 55]}, 1.0, "tree.jpg", 0.0)
+    >>> seg.method, bool(seg.tree[25, 25]), bool(seg.tree[45, 25]), bool(seg.tree[5, 5])
+    ('GrabCut in the box', True, True, False)
+    """
+    import cv2
+    from skimage.measure import label
+
+    h, w = keep.shape
+    rows, cols = np.nonzero(keep)
+    y0, y1, x0, x1 = rows.min(), rows.max() + 1, cols.min(), cols.max() + 1
+    m = max(4, int(0.1 * max(y1 - y0, x1 - x0)))
+    win = (slice(max(0, y0 - m), min(h, y1 + m)), slice(max(0, x0 - m), min(w, x1 + m)))
+    img = np.ascontiguousarray(np.round(255 * rgb[win][..., ::-1]).astype(np.uint8))
+    mask = np.where(keep[win], cv2.GC_PR_FGD, cv2.GC_BGD).astype(np.uint8)
+    if sky is not None:
+        mask[sky[win]] = cv2.GC_BGD
+    size = mask.shape[::-1]
+    f = min(1.0, np.sqrt(2 * GRABCUT_PIXELS / mask.size))
+    if f < 1.0:
+        small = (max(2, round(size[0] * f)), max(2, round(size[1] * f)))
+        img = cv2.resize(img, small, interpolation=cv2.INTER_AREA)
+        mask = cv2.resize(mask, small, interpolation=cv2.INTER_NEAREST)
+    if not (mask == cv2.GC_BGD).any():
+        mask[[0, -1], :] = cv2.GC_BGD
+        mask[:, [0, -1]] = cv2.GC_BGD
+    bgd, fgd = np.zeros((1, 65)), np.zeros((1, 65))
+    cv2.setRNGSeed(0)
+    cv2.grabCut(img, mask, None, bgd, fgd, GRABCUT_ITERATIONS, cv2.GC_INIT_WITH_MASK)
+    if f < 1.0:
+        mask = cv2.resize(mask, size, interpolation=cv2.INTER_NEAREST)
+    fg = ((mask == cv2.GC_FGD) | (mask == cv2.GC_PR_FGD)) & keep[win]
+    parts = label(fg, connectivity=2)
+    tree = np.zeros((h, w), dtype=bool)
+    if parts.max() > 0:
+        sizes = np.bincount(parts.ravel())
+        sizes[0] = 0
+        tree[win] = parts == int(np.argmax(sizes))
+    how = "GrabCut in the box"
+    if not tree.any():
+        raise UserInputError(f"{name}: the silhouette is empty ({how})")
+    seg = Segmentation(
+        tree, np.zeros((h, w), dtype=bool), None, np.zeros((h, w)), 0.0, 0.0, 0.0,
+        np.where(tree, 1.0, 0.0), sky=None, band=None, cut=None, objects=(), hint=hint,
+        method="GrabCut in the box", seconds=time.perf_counter() - t_start,
+        hint_scale=per_pixel,
+    )  # fmt: skip
+    for edge_name, n_edge in (("top", int(tree[0].sum())), ("left", int(tree[:, 0].sum())),
+                              ("right", int(tree[:, -1].sum()))):  # fmt: skip
+        if n_edge >= MAX_EDGE_PIXELS:
+            raise UserInputError(
+                f"{name}: the tree touches the picture's {edge_name} edge ({n_edge} pixels): "
+                "it is cut off, and the whole tree must be in the picture: take it from "
+                f"farther away ({how})"
+            )
+    check_silhouette(tree, keep, name=name, how=how)
+    return seg

@@ -1,0 +1,235 @@
+"""The trunk below the cut: GrabCut in the standing object's columns, seeded by the crown
+above (:func:`below_cut`), the trunk's columns read against the row beside them, a trunk
+hidden behind the horizon's clutter bridged over.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from growsim.pictures.colours import background_coloured
+from growsim.pictures.coverage import MIN_DE, robust_sigma, tree_cover
+from growsim.pictures.crown import row_spans
+from growsim.pictures.reading import SPECK
+from growsim.pictures.scene import row_background, runs
+
+__all__ = ["below_cut"]
+
+#: below the cut: GrabCut in the standing object's columns and this share of its width
+#: either side (the ground's and clutter's colours), so many iterations
+BELOW_MARGIN = 0.15
+GRABCUT_ITERATIONS = 5
+#: ... down to this share of the tree's height below the cut's lowest row, on at most this
+#: many pixels (a larger window is reduced for it)
+BELOW_DEPTH = 0.5
+GRABCUT_PIXELS = 30_000
+#: ... and differing from the row's colour beside the tree by more than this many times
+#: that colour's spread along the row (robust sigma), at least MIN_DE
+ROW_K = 3.0
+#: the trunk's columns below the cut (its feet there, widened by this share of their width
+#: either side, at least FOOT_MARGIN_MIN pixels) are read against the row's colour within
+#: FOOT_REACH pixels beside them
+FOOT_MARGIN, FOOT_MARGIN_MIN, FOOT_REACH = 0.5, 3, 6
+#: ... or taken by GrabCut and differing from it by more than this (Delta E)
+FOOT_DE = 15.0
+#: the trunk, hidden behind the horizon's clutter (a hedge of its colour), is bridged over
+#: gaps of up to this share of the tree's height
+TRUNK_GAP = 0.4
+#: ... when its foot above the gap is at most this share of the crown's width
+TRUNK_WIDTH = 0.3
+
+
+def below_cut(rgb, tree, below, sky, obj, scale, keep):
+    """The tree's pixels below the cut (``below``): GrabCut (OpenCV) in the columns of the
+    standing object ``obj`` (and :data:`BELOW_MARGIN` of its width either side), seeded
+    with the tree found above the cut (``tree``) as sure foreground, the ``sky`` and
+    the columns either side below the cut as sure background, the columns where the tree
+    enters the band as probable foreground. What it takes that looks like the row's
+    ground or clutter beside the tree (within :data:`ROW_K` times that row's spread) is
+    dropped; in the trunk's columns each pixel is read against the row just beside them
+    (:func:`tree_cover`, as the crown against the sky); outside the feet's columns, the
+    pieces of the clutter's colours, not the crown's, are dropped too
+    (:func:`~growsim.pictures.colours.background_coloured`: a hedge's or treeline's top
+    beside the trunk, where the row beside it is half sky). Returns ``(tree, spill)``: what joins
+    the tree above (a trunk hidden by a hedge of its colour bridged over up to
+    :data:`TRUNK_GAP` of the tree's height, :func:`_hidden_trunk`; a trunk's rows filled
+    across), and the share of those rows where it reaches both sides of the object's
+    columns (a wood behind it).
+
+    Examples
+    --------
+    >>> from growsim.pictures.scene import find_scene
+    >>> from growsim.pictures.scene import example_photo
+    >>> rgb = example_photo()  # sky, ground strip, a trunk standing on it, a branch
+    >>> scene = find_scene(rgb, np.ones((60, 50), bool))
+    >>> below = np.arange(60)[:, None] >= scene.cut[None, :]     # rows 44 and lower
+    >>> tree = (rgb[..., 0] == 0.4) & ~below                     # the crown found above
+    >>> low, spill = below_cut(rgb, tree, below, scene.sky & ~below, scene.objects[0], 1.0,
+    ...                        np.ones((60, 50), bool))
+    >>> int(low.sum()), int(low.any(axis=1).nonzero()[0].max()), spill  # the trunk to 54
+    (33, 54, 0.0)
+    """
+    import cv2
+    from scipy import ndimage
+    from skimage.color import rgb2lab
+    from skimage.measure import label
+
+    h, w = tree.shape
+    k = 1.0 / scale
+    rows = np.nonzero(tree.any(axis=1))[0]
+    height = rows.max() - rows.min() + 1
+    width = (obj.right - obj.left + 1) * k
+    m = max(8, int(BELOW_MARGIN * width))
+    x0, x1 = max(0, int(obj.left * k) - m), min(w, int((obj.right + 1) * k) + m)
+    cols = np.arange(x0, x1)
+    top = int(np.nonzero(below[:, cols].any(axis=1))[0].min()) if below[:, cols].any() else h
+    y0 = max(0, top - max(8, int(0.15 * height)))
+    lowest = int(np.ceil(np.max(np.argmax(below[:, cols], axis=0))))
+    y1 = min(h, lowest + int(BELOW_DEPTH * height) + 1)
+    if y0 >= y1 - 1:
+        return np.zeros((h, w), dtype=bool)
+    win = (slice(y0, y1), slice(x0, x1))
+    under, seed, kept = below[win], tree[win], keep[win]
+    mask = np.full(under.shape, cv2.GC_PR_BGD, dtype=np.uint8)
+    mask[sky[win]] = cv2.GC_BGD
+    mask[~under & seed] = cv2.GC_FGD
+    feet = np.zeros(w, dtype=bool)
+    for a, b in obj.feet:
+        feet[int(a * k) : int(np.ceil((b + 1) * k))] = True
+    mask[under & feet[None, x0:x1]] = cv2.GC_PR_FGD
+    inside = np.zeros(w, dtype=bool)
+    inside[int(obj.left * k) : int(np.ceil((obj.right + 1) * k))] = True
+    mask[under & ~inside[None, x0:x1]] = cv2.GC_BGD
+    mask[~kept] = cv2.GC_BGD
+    if not (mask == cv2.GC_FGD).any() or not (mask == cv2.GC_BGD).any():
+        return np.zeros((h, w), dtype=bool)
+    img = np.ascontiguousarray(np.round(255 * rgb[win][..., ::-1]).astype(np.uint8))
+    size = mask.shape[::-1]
+    f = min(1.0, np.sqrt(GRABCUT_PIXELS / mask.size))
+    if f < 1.0:  # a large window: GrabCut on it reduced, its answer enlarged again
+        small = (max(2, round(size[0] * f)), max(2, round(size[1] * f)))
+        img = cv2.resize(img, small, interpolation=cv2.INTER_AREA)
+        mask = cv2.resize(mask, small, interpolation=cv2.INTER_NEAREST)
+    bgd, fgd = np.zeros((1, 65)), np.zeros((1, 65))
+    cv2.setRNGSeed(0)
+    cv2.grabCut(img, mask, None, bgd, fgd, GRABCUT_ITERATIONS, cv2.GC_INIT_WITH_MASK)
+    if f < 1.0:
+        mask = cv2.resize(mask, size, interpolation=cv2.INTER_NEAREST)
+    fg = ((mask == cv2.GC_FGD) | (mask == cv2.GC_PR_FGD)) & under & kept
+    # what GrabCut took but looks like the row's ground or clutter either side of the
+    # tree's columns (a hedge, a treeline running behind it) is not the tree, but in the
+    # feet's columns (the trunk, hidden or not, is bridged below)
+    lab = rgb2lab(rgb[win])
+    a, b = int(obj.left * k) - x0, int(np.ceil((obj.right + 1) * k)) - x0 - 1
+    rows_bg = row_background(lab, max(a, 0), min(b, x1 - x0 - 1), slice(None), reach=m)
+    d_row = np.zeros(under.shape)
+    d_row[:, max(a, 0) : min(b, x1 - x0 - 1) + 1] = np.linalg.norm(
+        lab[:, max(a, 0) : min(b, x1 - x0 - 1) + 1] - rows_bg, axis=-1
+    )
+    flanks = under & ~inside[None, x0:x1]
+    spread = np.linalg.norm(lab - np.median(lab, axis=1, keepdims=True), axis=-1)
+    row_noise = robust_sigma(spread[flanks]) if flanks.any() else 0.0
+    taken = fg.copy()
+    fg &= d_row > max(MIN_DE, ROW_K * row_noise)
+    # the trunk's columns: told apart from the row's ground or clutter just beside them
+    # pixel by pixel, as the crown from the sky (thresholds, unmixing: its outline exact)
+    widened = np.zeros(x1 - x0, dtype=bool)
+    for fa, fb in runs(np.nonzero(feet[x0:x1])[0]):
+        fm = max(FOOT_MARGIN_MIN, int(FOOT_MARGIN * (fb - fa + 1)))
+        widened[max(0, fa - fm) : fb + fm + 1] = True
+    for za, zb in runs(np.nonzero(widened)[0]):
+        zone = under[:, za : zb + 1]
+        back = row_background(lab, za, zb, slice(None), reach=FOOT_REACH)
+        part = (slice(None), slice(za, zb + 1))
+        d = np.linalg.norm(lab[part] - back, axis=-1)
+        local = lab[:, max(0, za - FOOT_REACH) : zb + 1 + FOOT_REACH]
+        noise = robust_sigma(
+            np.linalg.norm(local - np.median(local, axis=1, keepdims=True), axis=-1)[
+                under[:, max(0, za - FOOT_REACH) : zb + 1 + FOOT_REACH]
+            ]
+        )
+        trunk, _, _ = tree_cover(rgb[win][part], lab[part], back, d, max(noise, 0.25), zone)
+        # on a textured ground (stripes of a field) the thresholds may miss it: what
+        # GrabCut took there and differs from the row beside it clearly stays
+        trunk |= taken[part] & (d > FOOT_DE)
+        fg[part] = np.where(zone, trunk, fg[part])
+    # and the pieces of the clutter's colours, not the tree's (a treeline's or a hedge's
+    # top beside the trunk, where the row beside it is half sky), but in the feet's columns
+    sure = ndimage.binary_erosion(seed, np.ones((3, 3), dtype=bool)) & ~under
+    fg &= ~(background_coloured(lab, fg, flanks & kept, under, sure) & ~feet[None, x0:x1])
+    parts = label(fg | seed, connectivity=2)
+    joined = np.isin(parts, np.unique(parts[seed])) & fg
+    joined |= _hidden_trunk(fg & ~joined, seed | joined, under, TRUNK_GAP * height,
+                            TRUNK_WIDTH * width)  # fmt: skip
+    # a trunk is solid across: in the trunk's columns (a zone as narrow as a trunk) each
+    # row's tree runs from its leftmost to its rightmost pixel (where the hedge behind is
+    # of its colour, part of a row is missed)
+    for za, zb in runs(np.nonzero(widened)[0]):
+        if zb - za + 1 <= TRUNK_WIDTH * width:
+            part = (slice(None), slice(za, zb + 1))
+            joined[part] |= row_spans(joined[part]) & under[part]
+    # the spill: the rows below the cut where what was taken reaches the object's sides
+    span = inside[x0:x1]
+    first, last = int(np.argmax(span)), len(span) - 1 - int(np.argmax(span[::-1]))
+    reach = 2 + int(0.02 * width)
+    sides = joined[:, first : first + reach].any(axis=1) & joined[:, last - reach + 1 :].any(axis=1)
+    taken = np.nonzero(joined.any(axis=1) & under.any(axis=1))[0]
+    spill = float(sides[taken].mean()) if len(taken) else 0.0
+    out = np.zeros((h, w), dtype=bool)
+    out[win] = joined
+    return out, spill
+
+
+def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
+    """A trunk hidden for a stretch (by a hedge of its colour): the largest piece of
+    ``loose`` below the foot of ``tree`` (in the rows ``under``) that starts at most
+    ``reach`` rows lower, under it and about as wide, joined to it by the straight trunk
+    between them; nothing when there is none, or when the foot is wider than ``widest``
+    (the crown reaches down there).
+
+    Examples
+    --------
+    >>> tree = np.zeros((30, 10), bool); tree[:8, 4:6] = True
+    >>> loose = np.zeros((30, 10), bool); loose[20:, 4:7] = True
+    >>> under = np.zeros((30, 10), bool); under[8:] = True
+    >>> out = _hidden_trunk(loose, tree, under, 15)
+    >>> bool(out[8:20, 4:6].all()), bool(out[20:, 4:7].all()), bool(out[:8].any())
+    (True, True, False)
+    """
+    from skimage.measure import label, regionprops
+
+    out = np.zeros(tree.shape, dtype=bool)
+    mine = tree & ~under
+    rows = np.nonzero(mine.any(axis=1))[0]
+    if not len(rows) or not loose.any():
+        return out
+    rb = int(rows.max())
+    foot = mine[max(0, rb - 2) : rb + 1].any(axis=0)
+    best = None
+    for p in regionprops(label(loose, connectivity=2)):
+        rt = p.bbox[0]
+        if rt <= rb or rt - rb > reach or p.area < SPECK:
+            continue
+        top = p.coords[p.coords[:, 0] < rt + 5]
+        c, d = int(top[:, 1].min()), int(top[:, 1].max())
+        # the foot above it: the tree's lowest pixels over its columns
+        # the run of the foot's columns that overlaps it most (not the specks beside)
+        slack = max(2, d - c)
+        spans = [(min(e, d) - max(f, c), f, e) for f, e in runs(np.nonzero(foot)[0])
+                 if e >= c - slack and f <= d + slack]  # fmt: skip
+        if not spans:
+            continue
+        _, a, b = max(spans)
+        if b - a + 1 > widest or b - a > 3 * (d - c) + 6 or d - c > 3 * (b - a) + 6:
+            continue  # the crown reaches down there, or it is no trunk below it
+        if best is None or p.area > best[4]:  # the trunk, not a speck of the clutter
+            best = (rt, c, d, p.coords, p.area, a, b)
+    if best is None:
+        return out
+    rt, c, d, coords, _, a, b = best
+    for r in range(rb + 1, rt):
+        t = (r - rb) / (rt - rb)
+        lo, hi = round((1 - t) * a + t * c), round((1 - t) * b + t * d)
+        out[r, lo : hi + 1] = True
+    out[coords[:, 0], coords[:, 1]] = True
+    return out & under
