@@ -19,6 +19,13 @@ silhouette, ``<name>_mask.png`` (the pixels at least half covered).
 
     python benchmarks/make_mtree.py --out runs/mtree --sheet runs/mtree/sheet.png
 
+``--side`` also renders each tree from its right (the camera turned 90 degrees about the
+vertical: the picture's x is the tree's ``-z``, as growsim draws a side view):
+``<name>_side.jpg`` and ``<name>_side_mask.png``, listed in ``sides.json`` (``index.json``
+unchanged); ``--no-front`` renders only these (the front pictures kept as they are).
+
+    python benchmarks/make_mtree.py --out runs/mtree --side --no-front --no-segment
+
 Half the pictures (seeded, one of each pair of the same shape and leafiness) are
 ``held_out``: nobody tunes on them; the other half are ``discovery``. ``index.json`` lists
 each picture's parameters and split; the photo segmentation's result on each (accepted or
@@ -307,6 +314,16 @@ def picture_specs(n: int = 24, seed: int = 20261128) -> list[dict]:
     return specs
 
 
+def side_spec(spec: dict) -> dict:
+    """The spec seen from its tree's right: the tree turned by -90 degrees of yaw (a point
+    ``(x, y, z)`` drawn at ``x' = -z``), everything else the same.
+
+    >>> side_spec({"yaw": 10.0, "name": "a"})["yaw"]
+    -80.0
+    """
+    return {**spec, "yaw": float(spec["yaw"]) - 90.0}
+
+
 def tree_of(spec: dict):
     """The spec's meshes: ``(bark PolyData, leaves PolyData or None, leaf colours)``."""
     import pyvista as pv
@@ -468,26 +485,49 @@ def main(argv=None) -> int:
     ap.add_argument("--only", nargs="*", default=None, help="picture names")
     ap.add_argument("--sheet", default=None, metavar="PATH", help="write a contact sheet PNG")
     ap.add_argument("--no-segment", action="store_true", help="skip the segmentation check")
+    ap.add_argument("--side", action="store_true",
+                    help="also render each tree from its right (<name>_side.jpg, "
+                         "<name>_side_mask.png, sides.json)")  # fmt: skip
+    ap.add_argument(
+        "--no-front", action="store_true", help="with --side: render the side views only"
+    )
     a = ap.parse_args(argv)
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
     rows = []
+    sides: list[dict] = []
     for spec in picture_specs(a.n, a.seed):
         row = {**spec, "photo": f"{spec['name']}.jpg", "mask": f"{spec['name']}_mask.png"}
         rows.append(row)
         if a.only is not None and spec["name"] not in a.only:
             continue
         t = time.perf_counter()
-        _, truth, jpeg = make_picture(spec, a.supersample)
-        (out / row["photo"]).write_bytes(jpeg)
-        Image.fromarray(np.where(truth, 0, 255).astype(np.uint8)).save(out / row["mask"])
+        if not (a.side and a.no_front):
+            _, truth, jpeg = make_picture(spec, a.supersample)
+            (out / row["photo"]).write_bytes(jpeg)
+            Image.fromarray(np.where(truth, 0, 255).astype(np.uint8)).save(out / row["mask"])
+        if a.side:
+            _, truth, jpeg = make_picture(side_spec(spec), a.supersample)
+            (out / f"{spec['name']}_side.jpg").write_bytes(jpeg)
+            Image.fromarray(np.where(truth, 0, 255).astype(np.uint8)).save(
+                out / f"{spec['name']}_side_mask.png"
+            )
+            sides.append({"name": spec["name"], "split": spec["split"],
+                          "side_photo": f"{spec['name']}_side.jpg",
+                          "side_mask": f"{spec['name']}_side_mask.png"})  # fmt: skip
         print(f"{spec['name']}: {time.perf_counter() - t:.1f} s", file=sys.stderr)
     if a.only is not None:
         rows = [r for r in rows if r["name"] in a.only]
     index = {"generator": "modular-tree (m_tree) 5.6.0, MIT licence", "seed": a.seed,
              "supersample": a.supersample, "fov": FOV, "pictures": rows}  # fmt: skip
-    if a.only is None:
+    if a.only is None and not (a.side and a.no_front):
         (out / "index.json").write_text(json.dumps(index, indent=1))
+    if a.side:
+        old = json.loads((out / "sides.json").read_text()) if (out / "sides.json").is_file() else []
+        done = {r["name"] for r in sides}
+        sides = [r for r in old if r["name"] not in done] + sides
+        (out / "sides.json").write_text(json.dumps(sorted(sides, key=lambda r: r["name"]),
+                                                   indent=1))  # fmt: skip
     result = {"out": str(out), "n": len(rows),
               "discovery": [r["name"] for r in rows if r["split"] == "discovery"],
               "held_out": [r["name"] for r in rows if r["split"] == "held_out"]}  # fmt: skip

@@ -10,7 +10,7 @@ in a fresh working directory holding ``experiments/`` and the inputs the command
 ``sweep`` written above it. Budgets are small: a run, a species or a sweep gets
 ``ga.generations=2``, ``ga.population=8`` (and a polish of 16 evaluations where the
 config has one) and no end-of-run meshes, renders or plot; a sweep ``--repeats 1``;
-``fit-image`` ``--budget 0.01 --restarts 1``; screenshots 160 px.
+``fit-image`` ``--budget 0.01 --restarts 1``; screenshots and animations 160 px.
 
 A command that cannot run as written is listed below with the reason: :data:`INSTEAD`
 (what runs in its place: placeholders, interactive windows), :data:`PARSE_ONLY` (needs
@@ -203,6 +203,7 @@ def commands_of(path: Path) -> list[str]:
 def _subparser(name: str) -> argparse.ArgumentParser:
     parser = build_parser()
     sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    sub.choices[name].fill_now()  # options a subcommand adds when first used
     return sub.choices[name]
 
 
@@ -250,7 +251,7 @@ def _with_budget(argv: list[str], cwd: Path) -> list[str]:
         return argv + extra
     if sub == "fit-image":
         return [*argv, "--budget", "0.01", "--restarts", "1"]
-    if sub in ("grow", "show") and "--screenshot" in argv:
+    if sub in ("grow", "show") and ("--screenshot" in argv or "--gif" in argv):
         return [*argv, "--size", "160", "160"]
     return argv
 

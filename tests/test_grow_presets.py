@@ -47,9 +47,9 @@ def test_hormone_demo_3d_is_a_branched_plant(capsys):
     assert info["counts"]["segments"] >= 100 and info["counts"]["branch_points"] > 0
     assert info["environment"] == "preset demo_3d"
     demo_2d = _grow(capsys, "hormone", "--preset", "demo_2d")["counts"]
-    assert demo_2d["segments"] == 66  # docs/models/hormone.md
+    assert demo_2d["segments"] == 140  # docs/models/hormone.md
     stick = _grow(capsys, "hormone", "--preset", "demo_3d", "--environment", "/dev/null")
-    assert stick["counts"]["segments"] == 1
+    assert stick["counts"]["segments"] <= 2  # a stick: walls that see no sun
 
 
 def test_preset_environment_under_an_option(capsys):

@@ -19,6 +19,7 @@ import pkgutil
 import signal
 import sys
 import threading
+from collections.abc import Callable
 
 from growsim import __version__
 from growsim.errors import GrowsimError
@@ -30,8 +31,35 @@ class _Parser(argparse.ArgumentParser):
     """An ``ArgumentParser`` whose usage errors are one line (``growsim: error: ...``),
     exit code 2, like every other growsim error."""
 
+    #: what adds the parser's options when they are first needed (:meth:`fill_later`)
+    _fill: Callable[[argparse.ArgumentParser], None] | None = None
+
     def error(self, message: str):
         self.exit(2, f"growsim: error: {self.prog}: {message} (see '{self.prog} --help')\n")
+
+    def fill_later(self, fill: Callable[[argparse.ArgumentParser], None]) -> None:
+        """Add this parser's options with ``fill(parser)`` the first time it parses or
+        prints its help, not when ``growsim --help`` builds every subcommand: options
+        made from a library's schema then cost nothing to the other commands."""
+        self._fill = fill
+
+    def fill_now(self) -> None:
+        """Add the options :meth:`fill_later` was given, now (once)."""
+        fill, self._fill = self._fill, None
+        if fill is not None:
+            fill(self)
+
+    def parse_known_args(self, args=None, namespace=None):
+        self.fill_now()
+        return super().parse_known_args(args, namespace)
+
+    def format_help(self) -> str:
+        self.fill_now()
+        return super().format_help()
+
+    def format_usage(self) -> str:
+        self.fill_now()
+        return super().format_usage()
 
 
 def build_parser() -> argparse.ArgumentParser:

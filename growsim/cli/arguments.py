@@ -199,8 +199,7 @@ def add_color_options(p: argparse.ArgumentParser) -> None:
         "--color",
         choices=_VizNames("growsim.phenotypes.plant.colors", "COLORS"),
         metavar="FIELD",
-        help="colour the plant's segments by its environment: %(choices)s (light received, "
-        "stress ratio with 1 = breaks, share of water demand met), with a scalar bar",
+        help="colour by the environment: %(choices)s (light received, stress: 1 breaks, water met)",
     )
     p.add_argument(
         "--light-arrow",

@@ -11,7 +11,6 @@ fit and every stage.
 from __future__ import annotations
 
 import argparse
-import math
 
 from growsim.cli.arguments import Later
 from growsim.errors import UserInputError
@@ -25,60 +24,47 @@ def _setups() -> tuple[str, ...]:
     return tuple(FIT_SETUPS)
 
 
-def _leaf_modes() -> tuple[str, ...]:
-    from growsim.fitting.setups import LEAF_MODES
+def _text(name: str, how: str):
+    """An argparse type reading option ``name``'s text (``how``: ``"threshold"``,
+    ``"sizes"`` or ``"hint"``) as :mod:`growsim.fitting.options` does; argparse names the
+    flag in its error."""
+    from growsim.fitting import options
 
-    return LEAF_MODES
+    read = {"threshold": options.parse_threshold, "sizes": options.raster_sizes,
+            "hint": lambda text: tuple(options.parse_hint(name, text))}[how]  # fmt: skip
 
-
-def _threshold(text: str):
-    if text == "otsu":
-        return text
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not 0.0 < value < 1.0:
-        raise argparse.ArgumentTypeError(
-            f"expected 'otsu' or a grey level between 0 (black) and 1 (white), got {text!r}"
-        )
-    return value
-
-
-def _numbers(n: int, form: str):
-    """An argparse type: ``n`` numbers separated by commas (``form`` shows them), pixels
-    of the picture as given; argparse names the flag in its error."""
-
-    def parse(text: str) -> tuple[float, ...]:
+    def parse(text: str):
         try:
-            values = tuple(float(v) for v in text.replace(" ", "").split(","))
-        except ValueError:
-            values = ()
-        if len(values) != n or not all(math.isfinite(v) for v in values):
-            raise argparse.ArgumentTypeError(
-                f"expected {form} (pixels of the picture, separated by commas), got {text!r}"
-            )
-        if n == 4 and not (values[0] < values[2] and values[1] < values[3]):
-            raise argparse.ArgumentTypeError(
-                f"expected {form} with x0 < x1 and y0 < y1 (left, top, right, bottom), got {text!r}"
-            )
-        return values
+            return read(text)
+        except UserInputError as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
 
-    parse.__name__ = form  # argparse's message for a failed type names it
+    parse.__name__ = name  # argparse's message for a failed type names it
     return parse
 
 
-def _sizes(text: str) -> tuple[int, ...]:
-    from growsim.fitting.choices import raster_sizes
-
-    try:
-        return raster_sizes(text)
-    except UserInputError as exc:
-        raise argparse.ArgumentTypeError(str(exc)) from None
+def _add_option(parser, name: str, form: dict, annotation) -> argparse.Action:
+    """Add option ``name`` of :class:`~growsim.fitting.options.FitOptions` (``form``: its
+    :meth:`~growsim.fitting.options.FitOptions.cli` form) to ``parser``: its flag, default,
+    metavar, help, choices and type from the schema."""
+    kw = {"default": form["default"], "metavar": form["metavar"], "help": form["help"]}
+    if form["flag"] is None:
+        return parser.add_argument(name, nargs="?", **kw)
+    if form.get("text"):
+        kw["type"] = _text(name, form["text"])
+    elif form["choices"] is not None:
+        kw["choices"] = form["choices"]
+    elif int in (annotation, *getattr(annotation, "__args__", ())):
+        kw["type"] = int
+    elif float in (annotation, *getattr(annotation, "__args__", ())):
+        kw["type"] = float
+    return parser.add_argument(form["flag"], dest=name, **kw)
 
 
 def register(subparsers) -> None:
-    """Add the ``fit-image`` subcommand.
+    """Add the ``fit-image`` subcommand: its options are the fields of
+    :class:`~growsim.fitting.options.FitOptions` (flags, defaults, help and choices from
+    the schema), and how the fit runs (``--out``, ``--resume``, ``--workers``, ``-q``).
 
     Examples
     --------
@@ -94,106 +80,56 @@ def register(subparsers) -> None:
         "fit-image",
         help="fit a tree to one picture, or to a front and a side picture (PNG/JPEG)",
         usage="growsim fit-image PICTURE [SIDE] --out DIR [options] | --resume DIR",
-        description="Fit a tree model to a picture of a tree, or to a front and a side "
-        "picture. Drawings (grey, two levels) take the fast exact path (threshold, thin "
-        "lines, 64 px), photos the photo one (sky and ground apart, 64,128,256 px); each "
-        "model and a bare and a leafy tree are fitted at the first size and the best kept; "
-        "the choices are printed and kept in DIR/fit.json with the fit "
-        "(fit_<view>.png, framed as silhouette_<view>.png).",
+        description="Fit a tree to a picture of a tree, or to a front and a side picture. "
+        "Drawings (grey, two levels) take the fast exact path: the models' parameters "
+        "searched (threshold, thin lines, 64 px). Photographs (the tree told apart from sky "
+        "and ground) are reconstructed: the tree they show, its visible skeleton lifted into "
+        "3D, twigs grown into its crown, Honda's parameters inferred from it (DIR/model.json); "
+        "--method search (or any option of the search) searches the models instead "
+        "(64,128,256 px, bare and leafy, the best kept). The choices are printed and kept in "
+        "DIR/fit.json with the fit (fit_<view>.png, framed as silhouette_<view>.png).",
     )
-    p.add_argument("front", nargs="?", default=None, metavar="PICTURE",
-                   help="the tree's front (PNG, JPEG, ...)")  # fmt: skip
-    p.add_argument("side", nargs="?", default=None, metavar="SIDE", help="its side (optional)")
+    p.set_defaults(func=_main)
+    p.fill_later(_options)  # the schema's options: only when fit-image parses or helps
+
+
+def _options(p) -> None:
+    """Add fit-image's options to its parser ``p``: the fields of
+    :class:`~growsim.fitting.options.FitOptions`, then how the fit runs."""
+    from growsim.fitting.options import FitOptions
+
+    forms = FitOptions.cli()
+    fields = FitOptions.model_fields
+    groups = {
+        "positional": p,
+        "main": p,
+        "expert": p.add_argument_group("expert options (default: chosen from the picture)"),
+    }
+    for name in ("front", "side"):
+        _add_option(p, name, forms[name], fields[name].annotation)
     p.add_argument("--out", default=None, metavar="DIR", help="results directory (new)")
     p.add_argument("--resume", default=None, metavar="DIR",
                    help="continue the interrupted fit in DIR")  # fmt: skip
-    model = p.add_argument(
-        "--model",
-        default="auto",
-        metavar="NAME",
-        help="auto (each model that fits the picture's kind, the best kept), %(setups)s",
-    )
-    model.setups = Later(_setups)
-    p.add_argument(
-        "--budget",
-        type=float,
-        default=1.0,
-        metavar="X",
-        help="every search's evaluations times X (default 1: a photo in about 90 s)",
-    )
-    p.add_argument("--seed", type=int, default=0, metavar="N", help="random seed (default 0)")
+    for name, form in forms.items():
+        if form["group"] != "positional":
+            action = _add_option(groups[form["group"]], name, form, fields[name].annotation)
+            if name == "model":
+                action.setups = Later(_setups)
     p.add_argument(
         "--workers", type=int, default=None, metavar="N", help="processes (default: the cores)"
     )
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    x = p.add_argument_group("expert options (default: chosen from the picture)")
-    x.add_argument("--segmentation", choices=("auto", "photo", "threshold"), default="auto",
-                   metavar="KIND", help="auto, photo or threshold")  # fmt: skip
-    x.add_argument("--threshold", type=_threshold, default="otsu", metavar="otsu|LEVEL",
-                   help="otsu or a grey level between 0 (black) and 1 (white)")  # fmt: skip
-    x.add_argument("--polarity", choices=("auto", "dark", "light"), default="auto",
-                   metavar="P", help="the tree auto, dark or light")  # fmt: skip
-    x.add_argument("--line-width", choices=("thin", "radius"), default=None, metavar="W",
-                   help="thin (1-pixel lines) or radius (tubes)")  # fmt: skip
-    x.add_argument("--sizes", type=_sizes, default=None, metavar="PX,PX,..",
-                   help="raster sizes, coarse to fine")  # fmt: skip
-    x.add_argument("--size", type=int, default=None, metavar="PX",
-                   help="one raster size (same as --sizes PX)")  # fmt: skip
-    x.add_argument("--leaves", choices=Later(_leaf_modes), default=None, metavar="MODE",
-                   help="%(choices)s (keep: the setup's)")  # fmt: skip
-    for view in ("front", "side"):
-        x.add_argument(f"--mask-{view}", default=None, metavar="PIC",
-                       help="only its white part may be tree")  # fmt: skip
-    for flag, dest in (("--box", "box"), ("--box-side", "box_side")):
-        p.add_argument(flag, dest=dest, type=_numbers(4, "x0,y0,x1,y1"), default=None,
-                       metavar="X0,Y0,X1,Y1",
-                       help="a photo: the tree is in this box (pixels; where several trees "
-                       "stand, or a tree in front of a wood)" if dest == "box"
-                       else "the same for the side picture")  # fmt: skip
-    for flag, dest in (("--point", "point"), ("--point-side", "point_side")):
-        p.add_argument(flag, dest=dest, type=_numbers(2, "x,y"), default=None, metavar="X,Y",
-                       help="a photo: a pixel on the tree (instead of --box)" if dest == "point"
-                       else "the same for the side picture")  # fmt: skip
-    x.add_argument("--evaluations", type=int, default=None, metavar="N",
-                   help="evaluations of the first stage")  # fmt: skip
-    x.add_argument("--refine", type=int, default=None, metavar="N",
-                   help="evaluations of each finer size's refinement")  # fmt: skip
-    x.add_argument("--arrange", type=int, default=None, metavar="N",
-                   help="evaluations of the arrangement search")  # fmt: skip
-    x.add_argument("--blur", type=float, default=None, metavar="SIGMA",
-                   help="blur of the first size's search (pixels)")  # fmt: skip
-    x.add_argument("--restarts", type=int, default=None, metavar="N",
-                   help="fits of each kind of tree, the best kept")  # fmt: skip
-    x.add_argument("--carry", type=int, default=None, metavar="N",
-                   help="restarts carried past the first size (0: all)")  # fmt: skip
-    p.set_defaults(func=_main)
-
-
-#: the options passed on to :func:`growsim.fitting.fit.fit_image` as they are
-_OPTIONS = ("model", "budget", "sizes", "size", "segmentation", "threshold", "polarity",
-            "line_width", "leaves", "mask_front", "mask_side", "box", "point", "box_side",
-            "point_side", "evaluations", "refine", "arrange", "blur", "seed", "restarts",
-            "carry", "workers")  # fmt: skip
-
-
-#: the parser's defaults of :data:`_OPTIONS` (an option given beside --resume is refused)
-_DEFAULTS = {k: None for k in _OPTIONS} | {
-    "model": "auto",
-    "budget": 1.0,
-    "segmentation": "auto",
-    "threshold": "otsu",
-    "polarity": "auto",
-    "seed": 0,
-}
 
 
 def _main(args) -> int:
     from growsim.fitting.fit import fit_image
+    from growsim.fitting.options import FitOptions, flag
 
     progress = not args.quiet
+    forms = FitOptions.cli()
+    names = [k for k, form in forms.items() if form["flag"] is not None]
     if args.resume is not None:
-        given = [f"--{k.replace('_', '-')}" for k in _OPTIONS
-                 if k != "workers" and getattr(args, k) != _DEFAULTS[k]]  # fmt: skip
+        given = [flag(k) for k in names if getattr(args, k) != forms[k]["default"]]
         if args.out is not None or given:
             raise UserInputError(
                 f"--resume: give the fit's directory alone (not {', '.join(given) or '--out'}); "
@@ -204,8 +140,9 @@ def _main(args) -> int:
     else:
         if args.front is None or args.out is None:
             raise UserInputError("give a PICTURE and --out DIR (or --resume DIR)")
-        options = {k: getattr(args, k) for k in _OPTIONS}
-        result = fit_image(args.front, args.side, out=args.out, progress=progress, **options)
+        options = {k: getattr(args, k) for k in names}
+        result = fit_image(args.front, args.side, out=args.out, workers=args.workers,
+                           progress=progress, **options)  # fmt: skip
     summary, leaves = result.summary, result.summary["leaves"]
     shown = ", ".join(f"{k} {v:.4f}" for k, v in result.ncc_views.items())
     print(
@@ -233,12 +170,24 @@ def _main(args) -> int:
         print(f"  {view} picture: the tree found by {found['method']}{hint}, {ground}, "
               f"contrast {found['contrast']:.0f} Delta E, confidence {found['confidence']:.2f} "
               f"(segmentation_{view}.png)")  # fmt: skip
-    for name, choice in summary["choices"].items():
+    choices = summary["choices"]
+    if "method" not in choices and result.method:  # a drawing's fit.json does not hold it
+        choices = {"method": result.method, **choices}
+    for name, choice in choices.items():
         value = choice["value"]
         value = ",".join(map(str, value)) if isinstance(value, list) else value
         print(f"  {name}: {value} ({choice['why']})")
     kind = "picture" if result.shape.suffix == ".png" else "mesh"
     print(f"  {kind}: {result.shape}")
+    if "reconstruction" in summary:
+        rec = summary["reconstruction"]
+        print(f"  reconstructed by {rec['method']}: {rec['visible_branches']} visible branches, "
+              f"{'leafy' if rec['leafy'] else 'bare'} (assumptions in fit.json; "
+              f"skeleton: {result.out / 'skeleton_front.png'})")  # fmt: skip
+        print(
+            f"  a tree of this kind: growsim grow honda --params {result.out / 'model.json'} "
+            f"(statistics beside the photo's tree's: {result.out / 'stats.csv'})"
+        )
     used = result.out / "silhouette_front.png"
     fits = ", ".join(p.name for p in result.files if p.name.startswith("fit_"))
     print(f"  silhouettes: {result.out / 'silhouettes.png'} (used: {used}; fit: {fits})")

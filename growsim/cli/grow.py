@@ -55,15 +55,16 @@ ENVIRONMENT_OPTIONS = {
 }
 
 
-def parse_sets(items: list[str] | None) -> dict[str, float]:
-    """Parse ``["f=0.8", "generations=12"]`` into ``{"f": 0.8, "generations": 12.0}``.
+def parse_sets(items: list[str] | None) -> dict[str, float | str]:
+    """Parse ``["f=0.8", "generations=12"]`` into ``{"f": 0.8, "generations": 12.0}``; a
+    value that is not a number stays a name, for a parameter with named values.
 
     Examples
     --------
-    >>> parse_sets(["f=0.8", "seed=4"])
-    {'f': 0.8, 'seed': 4.0}
+    >>> parse_sets(["f=0.8", "seed=4", "physics=paper"])
+    {'f': 0.8, 'seed': 4.0, 'physics': 'paper'}
     """
-    out: dict[str, float] = {}
+    out: dict[str, float | str] = {}
     for item in items or []:
         name, sep, value = item.partition("=")
         name = name.strip()
@@ -71,8 +72,8 @@ def parse_sets(items: list[str] | None) -> dict[str, float]:
             raise UserInputError(f"--set {item!r}: expected NAME=VALUE")
         try:
             out[name] = float(value)
-        except ValueError:
-            raise UserInputError(f"--set {item!r}: {value!r} is not a number") from None
+        except ValueError:  # a named value (hormone's physics=paper); the model checks it
+            out[name] = value.strip()
     return out
 
 
@@ -334,6 +335,38 @@ def _stand_plants(args: argparse.Namespace, model, params, n: int) -> list[dict]
     return [each[i % len(each)] for i in range(n)]
 
 
+def params_file(path: str, model_name: str) -> dict:
+    """The parameters in the JSON file ``path`` of ``--params``: its ``params`` (a
+    ``fit-image`` reconstruction's ``model.json``, a run's ``best.json``) or the file's
+    own ``{name: value}`` mapping; a file naming another ``model`` than ``model_name``, or
+    one that cannot be read, raises :class:`~growsim.errors.UserInputError` naming
+    ``--params``.
+
+    Examples
+    --------
+    >>> import json, tempfile
+    >>> f = Path(tempfile.mkdtemp()) / "model.json"
+    >>> _ = f.write_text(json.dumps({"model": "honda", "params": {"f": 0.7}}))
+    >>> params_file(str(f), "honda")
+    {'f': 0.7}
+    >>> params_file(str(f), "ifs3d")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    growsim.errors.UserInputError: --params ...model.json: parameters of honda, not of ifs3d
+    """
+    try:
+        data = json.loads(Path(path).read_text())
+    except (OSError, ValueError) as exc:
+        raise UserInputError(f"--params {path}: not a readable JSON file ({exc})") from None
+    values = data.get("params", data) if isinstance(data, dict) else None
+    if not isinstance(values, dict):
+        raise UserInputError(f"--params {path}: expected a JSON object of parameters")
+    named = data.get("model")
+    if isinstance(named, str) and "params" in data and named != model_name:
+        raise UserInputError(f"--params {path}: parameters of {named}, not of {model_name}")
+    return dict(values)
+
+
 def run_grow(args: argparse.Namespace) -> int:
     """Body of ``growsim grow`` (see ``growsim grow --help``); a preset renamed in 0.2 is
     taken with a one-line note (:func:`growsim.cli.arguments.deprecation_notes`)."""
@@ -359,6 +392,8 @@ def _grow(args: argparse.Namespace) -> int:
     params: dict[str, float] = {}
     if args.preset is not None:
         params.update(model.preset(args.preset))
+    if getattr(args, "params", None) is not None:
+        params.update(params_file(args.params, model.name))
     params.update(parse_sets(args.set))
     params = model.resolve(params, where=f"{args.model}.")
     # check every output path before the (possibly long) growth, so nothing is grown
@@ -545,8 +580,12 @@ def register(subparsers) -> None:
     p.add_argument("model", help="model name (growsim.models.MODELS: honda, ifs3d, ...)")
     p.add_argument(
         "--preset",
-        help="named parameter set of the model (listed below); a preset may carry its "
-        "environment (hormone's demo_2d, demo_3d: sun from the side, a sky)",
+        help="named parameter set of the model (listed below), with its environment if it has one",
+    )
+    p.add_argument(
+        "--params",
+        metavar="FILE",
+        help="parameters from a JSON file (model.json, best.json)",
     )
     p.add_argument("--seed", type=int, help="random seed (overrides the preset's)")
     p.add_argument(

@@ -1,5 +1,6 @@
 """What ``growsim fit-image`` chooses for the user: whether the pictures are drawings or
-photos (:func:`picture_kind`), which models are fitted (:func:`candidates`), each model's
+photos (:func:`picture_kind`), whether the tree is reconstructed or searched
+(:func:`method_choice`), which models are fitted (:func:`candidates`), each model's
 line width, raster sizes and leaves (:func:`model_choices`) and keywords
 (:func:`fit_settings`), and which candidate is kept (:func:`kept_candidate`). Every
 choice is a ``{"value": ..., "why": ...}`` that :func:`growsim.fitting.fit.fit_image`
@@ -11,52 +12,22 @@ from __future__ import annotations
 from pathlib import Path
 
 from growsim.errors import UserInputError
-from growsim.fitting.setups import FIT_SETUPS, LEAF_MARGIN, LEAF_MODES, SIZES
+from growsim.fitting.options import LEAF_MODES, SEGMENTATIONS, FitOptions, flag, raster_sizes
+from growsim.fitting.setups import FIT_SETUPS, LEAF_MARGIN, SIZES
 from growsim.pictures.images import classify_picture
 
 __all__ = [
+    "SEARCH_OPTIONS",
     "SEGMENTATIONS",
     "candidates",
     "fit_settings",
     "kept_candidate",
+    "method_choice",
     "model_choices",
     "picture_kind",
     "raster_sizes",
     "table_evaluations",
 ]
-
-
-def raster_sizes(values) -> tuple[int, ...]:
-    """The raster sizes of a coarse-to-fine fit, checked: increasing, each in 8..1024
-    (``values``: ints, or a text such as ``"64,128,256"``). A bad list raises
-    :class:`UserInputError`.
-
-    Examples
-    --------
-    >>> raster_sizes("64,128, 256"), raster_sizes([32])
-    ((64, 128, 256), (32,))
-    >>> raster_sizes("128,64")  # doctest: +ELLIPSIS
-    Traceback (most recent call last):
-    ...
-    growsim.errors.UserInputError: expected increasing raster sizes in 8..1024, ... got '128,64'
-    """
-    try:
-        if isinstance(values, str):
-            sizes = tuple(int(v) for v in values.replace(",", " ").split())
-        else:
-            sizes = tuple(int(v) for v in values)
-    except (TypeError, ValueError):
-        sizes = ()
-    if not sizes or any(not 8 <= v <= 1024 for v in sizes) or list(sizes) != sorted(set(sizes)):
-        raise UserInputError(
-            f"expected increasing raster sizes in 8..1024, e.g. '64,128,256', got {values!r}"
-        )
-    return sizes
-
-
-#: ``segmentation`` of :func:`fit_image`: ``"auto"`` (a drawing by the threshold, a photo by
-#: the photo segmentation: :func:`~growsim.pictures.images.classify_picture`)
-SEGMENTATIONS = ("auto", "photo", "threshold")
 
 
 def picture_kind(front, side, segmentation) -> tuple[bool, dict]:
@@ -70,6 +41,52 @@ def picture_kind(front, side, segmentation) -> tuple[bool, dict]:
         why = "; ".join(f"{Path(p).name}: {w}" for p, _, w in kinds)
         return drawing, {"value": "threshold" if drawing else "photo", "why": why}
     return segmentation == "threshold", {"value": segmentation, "why": "given"}
+
+
+#: the options of the search alone (a model, its budgets, sizes, line width, leaves): one
+#: given (not its default) has a photograph searched under ``method="auto"``
+SEARCH_OPTIONS = ("model", "budget", "line_width", "sizes", "size", "leaves", "evaluations",
+                  "refine", "arrange", "blur", "restarts", "carry")  # fmt: skip
+
+
+def method_choice(options: FitOptions, drawing: bool) -> dict:
+    """The ``method`` choice of a fit (``{"value", "why"}``, the value ``"reconstruct"`` or
+    ``"search"``): as given, else (``"auto"``) a drawing searched (its lines are a model's:
+    the exact search of the seed), a photograph reconstructed (the tree it shows,
+    :func:`growsim.reconstruction.reconstruct`) unless an option of the search alone
+    (:data:`SEARCH_OPTIONS`) is given. ``method="reconstruct"`` with such an option is
+    refused (:class:`~growsim.errors.UserInputError` naming it).
+
+    Examples
+    --------
+    >>> method_choice(FitOptions(front="t.jpg"), drawing=False)["value"]
+    'reconstruct'
+    >>> method_choice(FitOptions(front="t.jpg", model="honda"), drawing=False)["why"]
+    'a photograph, an option of the search given (--model): searched'
+    >>> method_choice(FitOptions(front="t.png"), drawing=True)["value"]
+    'search'
+    >>> method_choice(FitOptions(front="t.jpg", method="reconstruct", restarts=2), False)
+    Traceback (most recent call last):
+    ...
+    growsim.errors.UserInputError: --restarts: an option of the search, not of --method reconstruct
+    """
+    fields = FitOptions.model_fields
+    given = [k for k in SEARCH_OPTIONS if getattr(options, k) != fields[k].default]
+    if options.method != "auto":
+        if options.method == "reconstruct" and given:
+            raise UserInputError(
+                f"{flag(given[0])}: an option of the search, not of --method reconstruct"
+            )
+        return {"value": options.method, "why": "given"}
+    if drawing:
+        return {"value": "search", "why": "a drawing: its model's parameters searched"}
+    if given:
+        shown = ", ".join(flag(k) for k in given)
+        why = f"a photograph, an option of the search given ({shown}): searched"
+        return {"value": "search", "why": why}
+    why = "a photograph: the tree it shows reconstructed; --method search searches a model's "
+    why += "parameters instead"
+    return {"value": "reconstruct", "why": why}
 
 
 def candidates(model: str, drawing: bool, side) -> tuple[list[str], dict]:

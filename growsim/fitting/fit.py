@@ -1,5 +1,15 @@
-"""Fitting a model to one picture of a tree, or to a front and a side picture:
+"""Fitting a tree to one picture of a tree, or to a front and a side picture:
 :func:`fit_image`, the library call ``growsim fit-image`` parses its arguments for.
+
+Two ways (``method``, :func:`~growsim.fitting.choices.method_choice`): a photograph's tree
+is **reconstructed** by default (:func:`growsim.reconstruction.reconstruct`: the visible
+skeleton from the silhouette, lifted into 3D by the side picture or a stated prior, twigs
+and leaves grown into a leafy crown by space colonization; Honda's parameters inferred
+from it, :func:`growsim.reconstruction.infer_honda`), judged and written as a search's
+fit, with ``skeleton_front.png``, ``model.json``, ``stats.csv``, ``trees.png``, the meshes
+and what ``growsim show`` reads (:func:`~growsim.fitting.writing.write`). A drawing, or a
+photograph with ``method="search"`` or an option of the search given, is **searched**, as
+below.
 
 The pictures become silhouettes (:mod:`growsim.pictures`). By default
 (``segmentation="auto"``) each picture is classified
@@ -25,9 +35,13 @@ refinement, :func:`~growsim.fitting.setups.refine`, then the sweep and the arran
 each), and the best at the final size is kept. ``budget`` multiplies every search's
 evaluations. Every stage reports the binary NCC beside the score searched.
 
-One ``out`` holds one fit: a fit into a directory that holds files is refused. The
-options are kept in :data:`FIT_STATE` and each run's finished stages in its
-:data:`RUN_STATE`, so ``resume=True`` continues an interrupted fit to the same result.
+The options are one schema, :class:`~growsim.fitting.options.FitOptions`; the fit runs
+in stages (:mod:`growsim.fitting.stages`: choose, segment, reconstruct or search, grow,
+judge, write). One ``out`` holds one fit: a fit into a directory that holds files is
+refused. The options and the fit's finished stages are kept in its state
+(:class:`~growsim.fitting.state.FitState`, :data:`~growsim.fitting.state.FIT_STATE`) and
+each run's finished searches in its :data:`~growsim.fitting.runs.RUN_STATE`, so
+``resume=True`` continues an interrupted fit to the same result.
 
 Writes into ``out``: each candidate's run results (``config.toml``, ``history.parquet``,
 ``best.json``, ...; with several fits, one directory each: ``bare-0``, ``honda-leafy-1``,
@@ -48,37 +62,37 @@ photo's tree was found (:meth:`~growsim.pictures.photo.Segmentation.record`).
 
 from __future__ import annotations
 
-import json
 import os
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from growsim.errors import UserInputError
-from growsim.experiment import load_plan
-from growsim.files import atomic_write, jsonable
-from growsim.fitting.choices import (
-    SEGMENTATIONS,
-    candidates,
-    fit_settings,
-    kept_candidate,
-    picture_kind,
+from growsim.fitting.options import FitOptions
+from growsim.fitting.stages import (
+    AUTO_ENOUGH,
+    KINDS,
+    Reconstructed,
+    Runs,
+    choose,
+    grow,
+    judge,
+    reconstruct_or_search,
+    segment,
 )
-from growsim.fitting.runs import FitRun, RunJob, run_job, run_jobs
-from growsim.fitting.setups import FIT_SETUPS, search_score
-from growsim.objectives.silhouette import phenotype_views
-from growsim.phenotypes.plant.mesh import export
-from growsim.pictures.images import photo_segmentations, silhouette_image, unframe
-from growsim.pictures.photo import load_rgb, segmentation_picture
-from growsim.render import save_png
+from growsim.fitting.state import (
+    FIT_STATE,
+    RECONSTRUCTION_STAGES,
+    STAGES,
+    FitState,
+    check_fresh,
+)
+from growsim.fitting.writing import write
 
-__all__ = ["FitResult", "fit_image"]
-
-#: each kind of tree (``leaves`` mode of one fit) as results name it
-KINDS = {"fit": "leafy", "bare": "bare", "keep": "setup's"}
+__all__ = ["AUTO_ENOUGH", "FIT_STATE", "KINDS", "FitResult", "fit_image"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -97,7 +111,10 @@ class FitResult:
     were written to; ``run``: the kept fit's run directory (config, history, best);
     ``plan``: its compiled plan at the final size, ``x`` its evolved values
     (``plan.fitness().phenotype_of(x, draws=draws)`` rebuilds it); ``phenotype``: the
-    fitted tree.
+    fitted tree; ``method``: the method choice (``{"value": "reconstruct" or "search",
+    "why": ...}``). A reconstruction's ``model`` is ``"reconstruction"``, its ``params``
+    the Honda parameters inferred from it (``model.json``), its ``run`` the fit's
+    directory, its ``x`` empty.
 
     Examples
     --------
@@ -126,204 +143,36 @@ class FitResult:
     plan: Any
     x: np.ndarray
     phenotype: Any
-
-
-#: ``--model auto`` on a drawing: a model whose fit matches it this well at the first size
-#: (binary NCC) ends the search, the next models are not fitted (none can do much better)
-AUTO_ENOUGH = 0.95
-
-#: a fit's state in its ``--out``: the options it was started with (``--resume``)
-FIT_STATE = "fit-state.json"
-
-
-def _write_masks(objective, out: Path, pictures: dict, found: dict) -> list[Path]:
-    """The silhouettes used, at the pictures' size: ``silhouette_<view>.png`` (black tree
-    on white) and ``segmentation_<view>.png``: for a photo, what its segmentation found
-    (:func:`~growsim.pictures.photo.segmentation_picture`: the tree's outline over the
-    photo beside the sky, ground and clutter it told apart; ``found``: each view's
-    :class:`~growsim.pictures.photo.Segmentation`), else the picture with the tree tinted
-    red."""
-
-    written = []
-    for view, mask in objective.pictures.items():
-        path = save_png(np.where(mask, 0, 255).astype(np.uint8), out / f"silhouette_{view}.png")
-        rgb = load_rgb(pictures[view])
-        if view in found:
-            over = segmentation_picture(found[view], rgb)
-        else:
-            over = 0.35 * rgb + 0.65  # washed out, the tree in red over it
-            over[mask] = 0.4 * rgb[mask] + 0.6 * np.array([1.0, 0.0, 0.0])
-            over = np.round(255 * over).astype(np.uint8)
-        written += [path, save_png(over, out / f"segmentation_{view}.png")]
-    return written
-
-
-def _found(pictures: dict, front, side, n_views: int) -> dict:
-    """Each photo's :class:`~growsim.pictures.photo.Segmentation` (``{}`` for a drawing's
-    threshold), as the objective read it (remembered: no second segmentation)."""
-    if pictures["segmentation"] != "photo":
-        return {}
-    keys = ("mask_front", "mask_side", "box_front", "point_front", "box_side", "point_side")
-    hints = {k: pictures[k] for k in keys}
-    segs = photo_segmentations(front, side if n_views > 1 else None, segmentation="photo",
-                               **hints)  # fmt: skip
-    return dict(zip(("front", "side"), segs))
-
-
-def _write_fits(objective, fitted, phenotype, out: Path) -> tuple[list[Path], dict[str, float]]:
-    """The fitted tree's views framed as the target: ``fit_<view>.png`` (black on white),
-    the size and placement of ``silhouette_<view>.png``
-    (:func:`~growsim.pictures.images.unframe`), so it can be scored any way; and each
-    view's area over the target's there. Branches drawn at their width are drawn again at
-    the picture's resolution (a raster as large as the picture, at most 1024 px), so a
-    thin branch is as thin as the picture's; thin lines take ``fitted`` (the fitted size's
-    views), which frame exactly."""
-
-    masks = list(objective.pictures.values())[: objective.n_views]
-    if objective.line_width == "radius":
-        size = min(1024, max(max(m.shape) for m in masks))
-        fitted = phenotype_views(phenotype, size, "radius", views=objective.n_views)
-    written, areas = [], {}
-    for i, view in enumerate(list(objective.pictures)[: objective.n_views]):
-        back = unframe(fitted[i], *masks, view=i, line_width=objective.line_width)
-        written.append(save_png(np.where(back, 0, 255).astype(np.uint8), out / f"fit_{view}.png"))
-        areas[view] = float(np.count_nonzero(back)) / max(float(np.count_nonzero(masks[i])), 1.0)
-    return written, areas
-
-
-def _write_shape(phenotype, path: Path) -> None:
-    """The fitted tree written to ``path``: a ``.png`` file its front view's picture,
-    any other a mesh (:func:`growsim.phenotypes.plant.mesh.export`: ``.glb``, ...)."""
-    if path.suffix.lower() == ".png":
-        phenotype.screenshot(path, view="front")
-    else:
-        export(phenotype, path)
-
-
-#: the options of :func:`fit_image` a fit is started with, kept in its :data:`FIT_STATE`
-_SAVED = ("front", "side", "model", "budget", "sizes", "size", "segmentation", "threshold",
-          "polarity", "line_width", "leaves", "mask_front", "mask_side", "evaluations",
-          "refine", "arrange", "blur", "seed", "restarts", "carry", "box", "point",
-          "box_side", "point_side")  # fmt: skip
-
-
-def _state(out_dir: Path) -> dict:
-    """The state of the fit in ``out_dir`` (:data:`FIT_STATE`): the ``options`` it was
-    started with and, once the first size's fits are judged, what they ``decided``
-    (:func:`_decide`); refused when there is none, or the fit finished."""
-    path = out_dir / FIT_STATE
-    if (out_dir / "fit.json").is_file():
-        raise UserInputError(f"{out_dir}: this fit is finished (fit.json); nothing to resume")
-    if not path.is_file():
-        raise UserInputError(f"{out_dir}: no fit to resume here (no {FIT_STATE})")
-    return json.loads(path.read_text())
-
-
-def _decide(fits, runs, settings, names, label_of, job) -> dict:
-    """What the fits at the first size decide: each fit's scores there (``first_size``),
-    the best of each model and kind of tree judged at its model's final size
-    (``judged``), the ``kept`` model and kind, and the runs ``carried`` to the finer sizes
-    (the restarts of the kept kind that scored best at the first size: the score there
-    foretells the final one, benchmarks/log/fitting.md)."""
-
-    first_size = {label_of(*r): {"ncc": f.ncc, "score": f.score} for r, f in fits.items()}
-    best_of: dict[tuple[str, str], tuple] = {}
-    for r, f in fits.items():
-        if r[:2] not in best_of or f.score > fits[best_of[r[:2]]].score:
-            best_of[r[:2]] = r
-    judged: dict[tuple[str, str], float] = {}
-    for key, r in best_of.items():
-        last = settings[r[0]]["sizes"][-1]
-        if len(best_of) == 1 or last == settings[r[0]]["sizes"][0]:
-            judged[key] = fits[r].score
-        else:
-            judged[key] = search_score(load_plan(job(r, 0).config(last)), fits[r].x,
-                                       fits[r].draws)  # fmt: skip
-    kept = kept_candidate(judged, names)
-    ranked = sorted((r for r in runs if r[:2] == kept), key=lambda r: -fits[r].score)
-    return {
-        "first_size": first_size,
-        "judged": {"/".join(k): v for k, v in judged.items()},
-        "kept": list(kept),
-        "carried": ranked[: settings[kept[0]]["carry"] or len(ranked)],
-    }
-
-
-def _check_fresh(out_dir: Path) -> None:
-    """Refuse an ``--out`` that holds anything: one directory, one fit."""
-    if out_dir.exists() and (not out_dir.is_dir() or any(out_dir.iterdir())):
-        held = sorted(p.name + ("/" if p.is_dir() else "") for p in out_dir.iterdir())
-        shown = ", ".join(held[:4]) + (", ..." if len(held) > 4 else "")
-        hint = (f"continue it with: growsim fit-image --resume {out_dir}; "
-                if (out_dir / FIT_STATE).is_file() and not (out_dir / "fit.json").is_file()
-                else "")  # fmt: skip
-        raise UserInputError(
-            f"{out_dir} already holds files ({shown}); {hint}a fit needs a new --out"
-        )
+    method: dict = field(default_factory=dict)
 
 
 def fit_image(
     front: str | os.PathLike | None = None,
     side: str | os.PathLike | None = None,
     *,
+    options: FitOptions | None = None,
     out: str | os.PathLike,
     resume: bool = False,
-    model: str = "auto",
-    budget: float = 1.0,
-    sizes=None,
-    size: int | None = None,
-    segmentation: str = "auto",
-    threshold: str | float = "otsu",
-    polarity: str = "auto",
-    line_width: str | None = None,
-    leaves: str | None = None,
-    mask_front: str | os.PathLike | None = None,
-    mask_side: str | os.PathLike | None = None,
-    box=None,
-    point=None,
-    box_side=None,
-    point_side=None,
-    evaluations: int | None = None,
-    refine: int | None = None,
-    arrange: int | None = None,
-    blur: float | None = None,
-    seed: int = 0,
-    restarts: int | None = None,
-    carry: int | None = None,
     workers: int | None = None,
     progress: bool = True,
+    **kwargs,
 ) -> FitResult:
     """Fit a model to the picture ``front`` of a tree, or to it and a ``side`` picture
     (from the right), into the results directory ``out`` (new: one directory, one fit;
     see the module docstring for the stages and the files written); returns the kept fit
     (:class:`FitResult`). ``resume=True`` (no pictures, no options) continues the fit in
-    ``out`` that was interrupted, with the options it was started with, from each run's
-    last finished stage (a GA from its checkpoint): the same fit as an uninterrupted one.
+    ``out`` that was interrupted, with the options it was started with (its
+    :class:`~growsim.fitting.state.FitState`), from each run's last finished stage (a GA
+    from its checkpoint): the same fit as an uninterrupted one.
 
-    The keywords are ``growsim fit-image``'s options, with its defaults: ``model``
-    (``"auto"``: every model of :data:`~growsim.fitting.setups.FIT_SETUPS` for the
-    picture's kind fitted at the first size, the best kept); ``budget``: every search's
-    evaluations times this (a photo: about 90 s at 1 on 2 cores); ``segmentation``
-    (``"auto"``: by the picture, see the module docstring; ``"photo"`` or ``"threshold"``,
-    with ``threshold``, ``"otsu"`` or a grey level, and ``polarity``, ``"auto"``, ``"dark"``
-    or ``"light"``); ``sizes``, the raster sizes coarse to fine (``size``: one size only, no
-    refinement); ``line_width`` (``"radius"`` or ``"thin"``); ``leaves``
-    (:data:`~growsim.fitting.setups.LEAF_MODES`); ``None`` for these three: chosen by the
-    picture (:func:`~growsim.fitting.choices.model_choices`); ``mask_front``, ``mask_side``:
-    mask pictures (only their white part may be tree); ``box``, ``point`` (``box_side``,
-    ``point_side``): a photo's hint where its tree is, a box ``(x0, y0, x1, y1)`` around it
-    or a point ``(x, y)`` on it, in pixels of the picture as given (for a photo where
-    one tree cannot be told apart: the refusal names the hint); ``evaluations``: of the first stage
-    (>= 100; the setup's polish share kept); ``refine``, ``arrange``: evaluations of the
-    refinement at each finer size and of each arrangement search (0: none); ``blur``: sigma
-    of the searches at the first size (pixels, scaled with the size; 0 at the last size);
-    ``seed``: of the first restart; ``restarts``, ``carry``: fits of each kind of tree, and
-    how many of the kept kind go on past the first size (0: all); ``workers``: local
-    processes: a photo's runs side by side (``None``: the machine's cores; the same fit on
-    any number), or a single run's GA evaluations; ``progress``: progress bars naming the
-    stage. ``None``: the model's own (:data:`~growsim.fitting.setups.FIT_SETUPS`, a
-    drawing's :attr:`~growsim.fitting.setups.FitSetup.drawing`). Bad options and pictures
-    raise :class:`UserInputError` before any evolution.
+    The options of the fit are ``options`` (a
+    :class:`~growsim.fitting.options.FitOptions`), or its fields given as keywords (the
+    flags of ``growsim fit-image``, ``line_width`` for ``--line-width``, with their
+    defaults and descriptions there), the keywords over ``options``. How it runs:
+    ``workers``, local processes: a photo's runs side by side (``None``: the machine's
+    cores; the same fit on any number), or a single run's GA evaluations; ``progress``:
+    progress bars naming the stage. Bad options and pictures raise
+    :class:`UserInputError` before any evolution.
 
     Examples
     --------
@@ -339,206 +188,56 @@ def fit_image(
 
     out_dir = Path(out)
     if resume:
-        if front is not None or side is not None:
+        if front is not None or side is not None or options is not None or kwargs:
             raise UserInputError(
                 "--resume: give the fit's directory alone; it goes on with the pictures and "
                 "options it was started with"
             )
-        saved = _state(out_dir)["options"]
-        (front, side, model, budget, sizes, size, segmentation, threshold, polarity, line_width,
-         leaves, mask_front, mask_side, evaluations, refine, arrange, blur, seed, restarts,
-         carry, box, point, box_side, point_side) = (saved.get(k) for k in _SAVED)  # fmt: skip
-    elif front is None:
-        raise UserInputError("no picture given (or --resume DIR to continue a fit)")
-    here = locals()
-    options = {k: here[k] for k in _SAVED}
-    for k in ("front", "side", "mask_front", "mask_side"):
-        if options[k] is not None:
-            options[k] = str(Path(options[k]).absolute())
-    for k, n in (("box", 4), ("point", 2), ("box_side", 4), ("point_side", 2)):
-        if options[k] is not None:
-            flag = "--" + k.replace("_", "-")
-            try:
-                options[k] = [float(v) for v in options[k]]
-            except (TypeError, ValueError):
-                options[k] = []
-            if len(options[k]) != n or not all(np.isfinite(options[k])):
-                raise UserInputError(f"{flag}: expected {n} numbers, got {here[k]!r}")
-    box, point, box_side, point_side = (options[k] for k in ("box", "point", "box_side",
-                                                             "point_side"))  # fmt: skip
-    if segmentation not in SEGMENTATIONS:
-        raise UserInputError(
-            f"--segmentation: expected one of {', '.join(SEGMENTATIONS)}, got {segmentation!r}"
-        )
-    if evaluations is not None and evaluations < 100:
-        raise UserInputError(f"--evaluations: at least 100, got {evaluations}")
-    if refine is not None and refine < 0:
-        raise UserInputError(f"--refine: at least 0, got {refine}")
-    if size is not None and not 8 <= size <= 1024:
-        raise UserInputError(f"--size: expected 8..1024, got {size}")
-    if restarts is not None and restarts < 1:
-        raise UserInputError(f"--restarts: at least 1, got {restarts}")
-    if not 0.01 <= budget <= 100:
-        raise UserInputError(f"--budget: expected 0.01..100, got {budget:g}")
-    if model != "auto":
-        FIT_SETUPS.get(model)
-    drawing, seg_choice = picture_kind(front, side, segmentation)
-    segmentation = seg_choice["value"]
-    names, model_choice = candidates(model, drawing, side)
-    given = dict(line_width=line_width, sizes=sizes, size=size, leaves=leaves,
-                 evaluations=evaluations, refine=refine, arrange=arrange, blur=blur,
-                 restarts=restarts, carry=carry)  # fmt: skip
-    settings = {m: fit_settings(m, drawing, given, budget) for m in names}
+        state = FitState.read(out_dir)
+        options = state.options
+    else:
+        data = {} if options is None else options.model_dump(exclude_unset=True)
+        data.update(kwargs)
+        data.update((k, v) for k, v in (("front", front), ("side", side)) if v is not None)
+        if data.get("front") is None:
+            raise UserInputError("no picture given (or --resume DIR to continue a fit)")
+        options = FitOptions.parse(data)
+        state = FitState(options=options.absolute())
+    chosen = choose(options)
     if not resume:  # the options are sound: one directory, one fit
-        _check_fresh(out_dir)
-    pictures = dict(threshold=threshold, polarity=polarity, mask_front=mask_front,
-                    mask_side=mask_side, segmentation=segmentation, box_front=box,
-                    point_front=point, box_side=box_side, point_side=point_side)  # fmt: skip
-    runs = [(m, mode, seed + r) for m in names for mode in settings[m]["modes"]
-            for r in range(settings[m]["restarts"])]  # fmt: skip
-    processes = 1 if len(runs) == 1 else workers  # a single run's GA takes the workers
+        check_fresh(out_dir)
+    pictures = options.picture_keywords(chosen.segmentation["value"])
+    runs = Runs(options, chosen, pictures, out_dir, resume, workers, progress)
     t0 = time.perf_counter()
-
-    def name_of(m, mode, s):
-        name = KINDS[mode] if mode != "keep" else "run"
-        if len(names) > 1:
-            name = f"{m}-{name}"
-        return name + (f"-{s}" if settings[m]["restarts"] > 1 else "")
-
-    def label_of(m, mode, s):
-        kind = "" if mode == "keep" else f" {KINDS[mode]}"
-        return f"{m}{kind}" + (f" seed {s}" if settings[m]["restarts"] > 1 else "")
-
-    def job(r, last, again=resume):
-        # run r as a job up to its size index last (a single run's GA on the workers)
-        return RunJob(front, side, *r, settings[r[0]], pictures,
-                      out_dir / name_of(*r) if len(runs) > 1 else out_dir, last, again,
-                      workers if len(runs) == 1 else None,
-                      label_of(*r) if progress else None)  # fmt: skip
-
-    # compiling builds the objective once: bad pictures fail here, before any evolution
-    first = {r: load_plan(job(r, 0).config(settings[r[0]]["sizes"][0], settings[r[0]]["blur"]))
-             for r in runs}  # fmt: skip
+    segmented = segment(runs)
     if not resume:
         out_dir.mkdir(parents=True, exist_ok=True)
-        atomic_write(out_dir / FIT_STATE, json.dumps({"options": jsonable(options)}, indent=1))
-    fits: dict[tuple[str, str, int], FitRun] = {}
-    if drawing:
-        # one after the other: a model that matched the drawing ends the search
-        enough = None
-        for r in runs:
-            if enough is not None and r[0] != enough:
-                continue
-            fits[r] = run_job(job(r, 0), first[r])
-            if len(names) > 1 and fits[r].ncc >= AUTO_ENOUGH:
-                enough = r[0]
-        if enough is not None:
-            names = [m for m in names if any(r[0] == m for r in fits)]
-            model_choice["why"] += (f"; {enough}'s fit matched the drawing (NCC >= "
-                                    f"{AUTO_ENOUGH}), the next models were not fitted")  # fmt: skip
-    else:
-        # a photo's runs side by side on the cores (the same runs on any number)
-        label = f"fits at {settings[runs[0][0]]['sizes'][0]} px" if progress else None
-        fits = dict(zip(runs, run_jobs([job(r, 0) for r in runs], processes, label)))
-    # every fit at the end of the first size; the best of each model and kind of tree,
-    # judged at its model's final size (finer: a blob that passes at 64 px shows there);
-    # kept in the fit's state, so a resumed fit carries the same runs on
-    decided = _state(out_dir).get("decided") if resume else None
-    if decided is None:
-        decided = _decide(fits, runs, settings, names, label_of, job)
-        atomic_write(out_dir / FIT_STATE, json.dumps(
-            {"options": jsonable(options), "decided": jsonable(decided)}, indent=1))  # fmt: skip
-    first_size, kept_model, chosen = decided["first_size"], *decided["kept"]
-    judged = {tuple(k.split("/")): v for k, v in decided["judged"].items()}
-    carried = [tuple(r) for r in decided["carried"]]
-    st = settings[kept_model]
-    if len(st["sizes"]) > 1:
-        label = f"fits at {', '.join(map(str, st['sizes'][1:]))} px" if progress else None
-        jobs = [job(r, len(st["sizes"]) - 1, True) for r in carried]
-        fits.update(zip(carried, run_jobs(jobs, 1 if drawing else processes, label)))
-    kept = fits[max(carried, key=lambda r: fits[r].score)]
-    setup = st["setup"]
-    plan, x, draws = kept.plan, kept.x, kept.draws
-    objective = plan.objectives[0]
-    out = kept.out if len(runs) == 1 else out_dir
-    out.mkdir(parents=True, exist_ok=True)
-    leaves_summary = {
-        "mode": st["leaves"],
-        "chosen": KINDS[chosen],
-        # the score of each kind of the kept model's best fit at the first size, judged at
-        # the final size
-        "score": {KINDS[mode]: v for (m, mode), v in judged.items() if m == kept_model},
-        "run": str(kept.out),
-        "runs": {
-            label_of(*r): {"ncc": fits[r].ncc, "score": fits[r].score, "out": str(fits[r].out)}
-            for r in carried
-        },
-        "first_size": first_size,
-    }
-    models_summary = {m: max(v for (mm, _), v in judged.items() if mm == m) for m in names}
-    # the fitted tree, grown as the searches grew it (with the fitted arrangement)
-    tree = plan.fitness().phenotype_of(x, draws=draws)
-    params = {n: round(v) if n in plan.int_names else v for n, v in tree.params.items()}
-    views = objective.view_scores(tree.phenotype)
-    shape = out / setup.shape
-    _write_shape(tree.phenotype, shape)
-    fitted = phenotype_views(
-        tree.phenotype, objective.size, objective.line_width, views=objective.n_views
-    )
-    titles = [
-        f"{v} target" if i % 2 == 0 else f"{v} fit" for v in ("front", "side") for i in (0, 1)
-    ]
-    panels = [a for i in range(objective.n_views) for a in (objective.target[i], fitted[i])]
-    silhouette_image(panels, out / "silhouettes.png", titles=titles[: len(panels)], scale=2)
-    paths = {"front": front, "side": side}
-    found = _found(pictures, front, side, objective.n_views)
-    written = _write_masks(objective, out, paths, found)
-    fit_files, areas = _write_fits(objective, fitted, tree.phenotype, out)
-    written += fit_files
-    choices = {"segmentation": seg_choice, "model": model_choice, **st["choices"]}
-    summary = {
-        "model": kept_model,
-        "pictures": {k: str(v) for k, v in paths.items() if v is not None},
-        "views": ["front", "side"][: objective.n_views],
-        "ncc": float(np.mean(views)),
-        "ncc_views": dict(zip(("front", "side"), views)),
-        "size": objective.size,
-        # the fit's area over the target's in each view, at the picture's size
-        # (fit_<view>.png against silhouette_<view>.png)
-        "area_ratio": areas,
-        "score": kept.score,
-        "seconds": round(time.perf_counter() - t0, 3),
-        "budget": budget,
-        "stages": kept.stages,
-        "models": models_summary,
-        "leaves": leaves_summary,
-        # what was chosen for the user (segmentation, model, line width, sizes, leaves)
-        # and why
-        "choices": choices,
-        # how each photo's tree was found (method, hint, horizon, skyline, contrast, ...)
-        "segmentation": {view: seg.record() for view, seg in found.items()},
-        "params": params,
-        # the arrangement of the branches fitted to the picture (None: the model's own):
-        # model.develop(params, draws=np.array(draws)) grows the fitted tree
-        "draws": None if draws is None else draws.tolist(),
-        "files": [shape.name, "silhouettes.png", *[w.name for w in written]],
-    }
-    text = json.dumps(jsonable(summary), indent=1)
-    atomic_write(out / "fit.json", lambda fh: fh.write(text.encode()))
+        state = state.done("choose", "segment")
+        state.write(out_dir)
+    # the kept fit: a photograph's tree reconstructed, or a model searched
+    found = reconstruct_or_search(runs, segmented, state)
+    stages = RECONSTRUCTION_STAGES if isinstance(found, Reconstructed) else STAGES
+    found.state.done(*stages[:3]).write(out_dir)
+    tree = grow(found)
+    judged = judge(tree)
+    where, summary, files = write(runs, segmented, found, tree, judged,
+                                  lambda: round(time.perf_counter() - t0, 3))  # fmt: skip
+    found.state.done(*stages).write(out_dir)
     return FitResult(
-        model=kept_model,
-        params=params,
-        draws=draws,
-        stages=tuple(kept.stages),
+        model=summary["model"],
+        params=tree.params,
+        draws=tree.draws,
+        stages=tuple(summary["stages"]),
         ncc=summary["ncc"],
         ncc_views=summary["ncc_views"],
-        size=objective.size,
+        size=summary["size"],
         summary=summary,
-        out=out,
-        run=kept.out,
-        shape=shape,
-        files=(shape, out / "silhouettes.png", *written, out / "fit.json"),
-        plan=plan,
-        x=x,
+        out=where,
+        run=where if isinstance(found, Reconstructed) else found.run.out,
+        shape=files[0],
+        files=(*files, where / "fit.json"),
+        plan=tree.plan,
+        x=tree.x,
         phenotype=tree.phenotype,
+        method=chosen.method,
     )

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.fitting.options import LEAF_MODES
 from growsim.ga.polish import PolishOptions, polish_steps
 from growsim.models.ifs2d import FIT_N_MAPS, fit_tables
 from growsim.registry import Registry
@@ -106,10 +107,6 @@ HONDA_GA: dict = {
 #: next (``--sizes``).
 SIZES = (64, 128, 256)
 
-#: ``--leaves``: ``auto`` fits a bare and a leafy tree and keeps the better (the leafy one
-#: only if it beats the bare one by :data:`LEAF_MARGIN`); ``fit``: the leaves are fitted;
-#: ``bare``: no leaves; ``keep``: the setup's leaves, fixed.
-LEAF_MODES = ("auto", "fit", "bare", "keep")
 
 #: ``--leaves auto``: the leafy fit is kept only when its final NCC beats the bare fit's by
 #: more than this (leaves are two more parameters and can stand in for thickness; a bare

@@ -1,12 +1,18 @@
-"""Pin every shipped experiment at a small budget: ``python -m tests.golden.make``.
+"""Pin every shipped experiment at a small budget, and a small fit of a picture:
+``python -m tests.golden.make [NAME ...]``.
 
 Runs each ``experiments/*.toml`` with the overrides of :data:`BUDGETS` (a few generations
 of a small population, a short polish) into a temporary directory and writes
 ``tests/golden/<name>.json``: every history column but the wall-clock ``seconds`` (as
 text: a float's shortest round-trip repr, so the comparison is bit for bit) and
 ``best.json`` (params, genome, fitness, terms).
-``tests/test_golden.py`` re-runs the same and compares. Re-make the files only for a
-change that is meant to alter results, and say so in the commit.
+``tests/test_golden.py`` re-runs the same and compares. A fit of :data:`FITS`
+(``growsim.fitting.fit_image`` on a drawing it makes) is pinned in
+``tests/golden/fits/<name>.json``: its ``fit.json`` (but the seconds and the paths), the
+run's ``best.json`` and a digest of each mask picture it writes (decoded pixels, not PNG
+bytes; ``silhouettes.png``'s titles are a font's); ``tests/test_fit_golden.py``
+compares. Re-make the files only for a change that is meant to alter results, and say
+so in the commit.
 """
 
 from __future__ import annotations
@@ -54,6 +60,14 @@ BUDGETS: dict[str, list[str]] = {
     ],
     "ifs_tree_fit": ["ga.population=12", "ga.generations=2"],
 }
+#: small fits of a picture: name -> the keywords of fit_image (the picture: the Table 1
+#: tree's front and side views at 64 px, drawn 4x on grey paper, as tests/test_silhouette_cli.py)
+FITS: dict[str, dict] = {
+    "fit_table1_drawing": {"evaluations": 300, "workers": 1},
+}
+#: where the fits' pins are
+FIT_PINS = HERE / "fits"
+
 #: outputs off: the golden pins the search, not the renders (tested elsewhere)
 QUIET = ["output.mesh=[]", "output.screenshots=[]", "output.plot=false"]
 
@@ -81,12 +95,79 @@ def golden(name: str, out: Path) -> dict:
     }
 
 
+def table1_drawing(where: Path) -> list[Path]:
+    """The Table 1 tree's front and side drawn into ``where`` (its 64 px thin-line views
+    enlarged 4x, dark on light grey, a 30 px margin): the pictures' paths."""
+    import numpy as np
+    from PIL import Image
+
+    from growsim.models import ifs3d
+    from growsim.objectives.silhouette import plant_views
+
+    where.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for view, label in zip(plant_views(ifs3d.develop(ifs3d.PRESETS["table1"]), 64),
+                           ("front", "side")):  # fmt: skip
+        img = np.where(np.kron(view, np.ones((4, 4))) > 0, 20, 240).astype(np.uint8)
+        Image.fromarray(np.pad(img, 30, constant_values=240)).save(where / f"{label}.png")
+        paths.append(where / f"{label}.png")
+    return paths
+
+
+def _without(x, keys=("seconds",)):
+    """``x`` (JSON data) without the keys ``keys``, at any depth."""
+    if isinstance(x, dict):
+        return {k: _without(v, keys) for k, v in x.items() if k not in keys}
+    if isinstance(x, list):
+        return [_without(v, keys) for v in x]
+    return x
+
+
+def golden_fit(name: str, tmp: Path) -> dict:
+    """Fit :data:`FITS` ``name`` in ``tmp``: its ``fit.json`` (no seconds; no paths: the
+    pictures', the runs' directories), the run's ``best.json`` and the SHA-256 of each
+    written picture's pixels."""
+    import hashlib
+
+    import numpy as np
+    from PIL import Image
+
+    from growsim.fitting import fit_image
+
+    pictures = table1_drawing(tmp / "pictures")
+    r = fit_image(*pictures, out=tmp / "fit", progress=False, **FITS[name])
+    fit = _without(json.loads((r.out / "fit.json").read_text()), ("seconds", "pictures"))
+    fit["leaves"] = _without(fit["leaves"], ("run", "out"))
+    pixels = {
+        p.name: hashlib.sha256(
+            np.ascontiguousarray(np.asarray(Image.open(p))).tobytes()
+        ).hexdigest()
+        for p in r.files
+        if p.name.startswith(("fit_", "silhouette_", "segmentation_"))  # no text drawn
+    }
+    return {
+        "options": {k: v for k, v in FITS[name].items() if k != "workers"},
+        "fit": fit,
+        "best": json.loads((r.run / "best.json").read_text()),
+        "pixels": pixels,
+    }
+
+
 def main(names: list[str]) -> None:
-    for name in names or sorted(BUDGETS):
+    for name in names or [*sorted(BUDGETS), *sorted(FITS)]:
         with tempfile.TemporaryDirectory() as tmp:
-            data = golden(name, Path(tmp) / name)
-        (HERE / f"{name}.json").write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
-        print(name, data["rows"], "rows; best", data["best"].get("fitness"))
+            if name in FITS:
+                data = golden_fit(name, Path(tmp))
+                FIT_PINS.mkdir(exist_ok=True)
+                path = FIT_PINS / f"{name}.json"
+            else:
+                data = golden(name, Path(tmp) / name)
+                path = HERE / f"{name}.json"
+        path.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
+        if name in FITS:
+            print(name, "NCC", data["fit"]["ncc"])
+        else:
+            print(name, data["rows"], "rows; best", data["best"].get("fitness"))
 
 
 if __name__ == "__main__":

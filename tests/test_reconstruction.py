@@ -1,0 +1,199 @@
+"""The reconstruction of a particular tree from its picture (issue 42,
+:mod:`growsim.reconstruction`): synthetic masks of known trees, end to end, and the space
+colonization kernel against its oracle."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from naive.colonize import colonize_step as colonize_oracle
+
+from growsim.kernels.colonize import colonize_step
+from growsim.models import honda
+from growsim.objectives.silhouette import plant_views
+from growsim.phenotypes.plant import LEAF, STEM
+from growsim.reconstruction import (
+    branch_table,
+    infer_honda,
+    judge,
+    reconstruct,
+    skeleton_picture,
+    tree_summary,
+)
+from growsim.reconstruction.skeleton import extract_skeleton
+
+
+def _stroke(mask, a, b, r):
+    """A capsule from ``a`` to ``b`` ((row, col)) of radius ``r`` set in ``mask``."""
+    rr, cc = np.mgrid[0 : mask.shape[0], 0 : mask.shape[1]]
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    d = b - a
+    t = np.clip(((rr - a[0]) * d[0] + (cc - a[1]) * d[1]) / max(d @ d, 1e-12), 0, 1)
+    mask |= np.hypot(rr - a[0] - t * d[0], cc - a[1] - t * d[1]) <= r
+
+
+#: the Y tree: base row 159, fork at row 90 (69 px up), limbs 30 degrees from vertical
+FORK_ROW, BASE_ROW, LIMB, HALF_ANGLE = 90, 159, 60, 30.0
+
+
+def y_tree(lean: float = 0.0) -> np.ndarray:
+    """A Y-shaped tree: a trunk 9 px wide to the fork, two limbs 5 px wide."""
+    m = np.zeros((160, 140), bool)
+    top = (FORK_ROW, 70 + lean)
+    _stroke(m, (BASE_ROW + 3, 70), top, 4.5)
+    for s in (-1, 1):
+        a = math.radians(HALF_ANGLE)
+        end = (FORK_ROW - LIMB * math.cos(a), top[1] + s * LIMB * math.sin(a))
+        _stroke(m, top, end, 2.5)
+    return m
+
+
+def _forks(plant):
+    stem = plant.kind == STEM
+    kids = np.bincount(plant.parent[stem & (plant.parent >= 0)], minlength=plant.n_segments)
+    return np.flatnonzero(stem & (kids >= 2))
+
+
+def _check_tree(plant):
+    """One connected tree from one base, the pipe model held on the stems."""
+    roots = np.flatnonzero(plant.parent < 0)
+    assert roots.size == 1
+    # every segment reaches the root through its parents
+    depth = np.zeros(plant.n_segments, int)
+    for s in range(plant.n_segments):
+        k, hops = s, 0
+        while plant.parent[k] >= 0 and hops <= plant.n_segments:
+            k, hops = plant.parent[k], hops + 1
+        assert k == roots[0]
+        depth[s] = hops
+    # each segment starts where its parent ends
+    has = plant.parent >= 0
+    assert np.allclose(plant.start[has], plant.end[plant.parent[has]])
+    stem = (plant.kind == STEM) & has
+    assert np.all(plant.radius[stem] <= plant.radius[plant.parent[stem]] + 1e-12)
+
+
+def test_y_tree_reconstructs_its_fork_height_and_angles():
+    m = y_tree()
+    rec = reconstruct(m, height_m=float(BASE_ROW - np.flatnonzero(m.any(1)).min()))
+    p = rec.plant
+    _check_tree(p)
+    assert abs(rec.scale - 1.0) < 1e-9 and not rec.leafy
+    assert p.n_tips == 2
+    forks = _forks(p)
+    assert forks.size == 1
+    fork_y = p.end[forks[0], 1]
+    assert abs(fork_y - (BASE_ROW - FORK_ROW)) <= 4.0
+    # each limb's direction in the picture: 30 degrees either side of vertical
+    t = branch_table(p)
+    limbs = t[t.parent >= 0]
+    assert len(limbs) == 1  # one limb continues the trunk's axis, the other is a branch
+    kids = np.flatnonzero(p.parent == forks[0])
+    for k in kids:
+        tip = k
+        while np.any(p.parent == tip):
+            tip = int(np.flatnonzero(p.parent == tip)[0])
+        d = p.end[tip] - p.end[forks[0]]
+        angle = math.degrees(math.atan2(abs(d[0]), d[1]))
+        assert abs(angle - HALF_ANGLE) <= 5.0, angle
+    # the front view is the picture's: NCC and skeleton near 1
+    s = judge(p, m)
+    assert s["ncc"] >= 0.85 and 0.85 <= s["area"] <= 1.2
+    assert s["precision"] >= 0.9 and s["recall"] >= 0.9
+
+
+def test_y_tree_depth_is_deterministic_for_a_seed_and_the_front_kept():
+    m = y_tree()
+    a, b, c = (reconstruct(m, seed=s) for s in (3, 3, 4))
+    assert np.array_equal(a.plant.end, b.plant.end)
+    assert np.array_equal(a.plant.radius, b.plant.radius)
+    assert np.allclose(a.plant.end[:, :2], c.plant.end[:, :2])  # the front view kept
+    assert not np.allclose(a.plant.end[:, 2], c.plant.end[:, 2])  # the depth prior's draw
+    json.dumps(a.assumptions)  # JSON-able, for fit.json
+    assert a.assumptions["lift"]["golden_angle_deg"] == pytest.approx(137.5077640500378)
+
+
+def test_side_view_gives_the_depth():
+    m = y_tree()
+    side = y_tree(lean=-12.0)  # seen from the right, the fork leans to the picture's left
+    rec = reconstruct(m, side, height_m=10.0)
+    _check_tree(rec.plant)
+    fork = rec.plant.end[_forks(rec.plant)[0]]
+    # picture's left in the side view is +z (the side view shows -z to the right)
+    assert fork[2] > 0.5
+    s = judge(rec.plant, m, side)
+    assert s["ncc_side"] >= 0.6
+
+
+def test_leafy_crown_grows_into_its_envelope():
+    m = np.zeros((150, 130), bool)
+    _stroke(m, (152, 65), (60, 65), 3.5)
+    rr, cc = np.mgrid[0:150, 0:130]
+    m |= ((rr - 55) / 45.0) ** 2 + ((cc - 65) / 50.0) ** 2 <= 1.0
+    rec = reconstruct(m, seed=1)
+    p = rec.plant
+    assert rec.leafy and p.n_leaves > 100
+    _check_tree(p)
+    s = judge(p, m)
+    assert s["ncc"] >= 0.8 and s["outline_iou"] >= 0.8
+    assert s["depth_to_width"] >= 0.4
+    # the leaves are inside the crown's height
+    top = (150 - 1) - 10  # mask's height in px: rows 10..149
+    assert p.end[p.kind == LEAF, 1].max() <= 1.05 * p.height()
+    assert rec.assumptions["colonization"]["nodes_grown"] > 0
+    assert top > 0
+
+
+def test_skeleton_drops_spurs_and_keeps_a_single_base():
+    m = y_tree()
+    m[120, 74:77] = True  # a bump on the trunk: a spur, not a branch
+    sk = extract_skeleton(m)
+    assert len(sk.branches) == 4  # the foot, the trunk, two limbs
+    assert sk.parent[0] == -1 and np.all(sk.parent[1:] >= 0)
+    df = sk.segments()
+    assert {"row0", "col0", "row1", "col1", "radius"} <= set(df.columns)
+
+
+def test_kernel_matches_its_oracle_step_by_step():
+    rng = np.random.default_rng(5)
+    points = rng.uniform(-1, 1, (300, 3))
+    nodes = np.zeros((400, 3))
+    nodes[:5] = rng.uniform(-1, 1, (5, 3))
+    n, first = 5, 0
+    alive_k, alive_o = np.ones(300, bool), np.ones(300, bool)
+    best_k, best_o = np.full(300, -1), np.full(300, -1)
+    d2_k, d2_o = np.full(300, np.inf), np.full(300, np.inf)
+    for _ in range(12):
+        pk, ck = colonize_step(points, alive_k, nodes, n, first, best_k, d2_k, (0.6, 0.08))
+        po, co = colonize_oracle(points, alive_o, nodes, n, first, best_o, d2_o, (0.6, 0.08))
+        assert np.array_equal(alive_k, alive_o) and np.array_equal(ck, co)
+        live = alive_k
+        assert np.array_equal(best_k[live], best_o[live])
+        np.testing.assert_allclose(pk, po, atol=1e-12)
+        grow = np.flatnonzero(ck > 0)
+        if grow.size == 0:
+            break
+        new = nodes[grow] + 0.05 * pk[grow] / np.linalg.norm(pk[grow], axis=1)[:, None]
+        first = n
+        nodes[n : n + grow.size] = new
+        n += grow.size
+    assert n > 5
+
+
+def test_infer_honda_regrows_a_tree_of_this_kind(tmp_path):
+    rec = reconstruct(y_tree(), height_m=8.0)
+    tree = honda.develop(honda.PRESETS["cherry"])
+    for plant in (tree,):
+        params = infer_honda(plant, seed=0)
+        json.dumps(params)
+        a, b = tree_summary(plant), tree_summary(honda.develop(params))
+        assert abs(b["angle"] / a["angle"] - 1) <= 0.15
+        assert abs(b["length_ratio"] / a["length_ratio"] - 1) <= 0.15
+        assert b["height"] == pytest.approx(a["height"], rel=1e-6)
+    # the pictures of the skeleton over its mask and of the views
+    path = skeleton_picture(rec, y_tree(), tmp_path / "sk.png")
+    assert path.stat().st_size > 0
+    assert plant_views(rec.plant, 32, "radius").shape == (2, 32, 32)
