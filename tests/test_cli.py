@@ -14,7 +14,6 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-import pytest
 from conftest import ROOT, growsim
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -60,29 +59,46 @@ def test_run_then_show(tmp_path):
     assert lit.stat().st_size > 1000 and lit.read_bytes() != png.read_bytes()
 
 
-@pytest.mark.parametrize(
-    ("args", "needle"),
-    [
-        (["run", "nope.toml"], "nope.toml: no such config file"),
-        (["run", QUICK, "--set", "ga.population=-3"], "ga.population: Input should be greater"),
-        (["run", QUICK, "--set", "ga.popul=3"], "ga.popul: unknown key; allowed: population"),
-        (["run", QUICK, "--set", "model.evolve.zz=true"], "model.evolve.zz: unknown parameter"),
-        (["run", QUICK, "--set", "ga.population"], "expected key.path=value"),
-        (["run", QUICK, "--workers", "0"], "--workers: expected an integer >= 1"),
-        (["run", QUICK, "--scheduler", "foo"], "--scheduler: 'foo' is not 'local'"),
-        (["run", QUICK, "--scheduler", "tcp://127.0.0.1:1"], "cannot reach tcp://127.0.0.1:1"),
-        (["run"], "give a CONFIG to run, or --resume DIR"),
-        (["run", "--resume", "/nonexistent/dir"], "nothing to resume"),
-        (["sweep", QUICK, "--vary", "env.light"], "expected key.path=v1,v2"),
-        (["sweep", QUICK, "--vary", "env.light=1,-1"], "environment.light"),
-        (["compare", "/nonexistent/dir"], "no such directory"),
-        (["show", "/nonexistent/dir"], "not a growsim results directory"),
-    ],
-)
-def test_bad_input_exits_2_with_one_line(args, needle, tmp_path):
-    p = growsim(*args, cwd=tmp_path)
-    assert_clean_error(p, needle)
-    assert not (tmp_path / "runs").exists()  # nothing written
+#: bad input on the command line: the arguments and what the one-line error names
+BAD_INPUT = [
+    (["run", "nope.toml"], "nope.toml: no such config file"),
+    (["run", QUICK, "--set", "ga.population=-3"], "ga.population: Input should be greater"),
+    (["run", QUICK, "--set", "ga.popul=3"], "ga.popul: unknown key; allowed: population"),
+    (["run", QUICK, "--set", "model.evolve.zz=true"], "model.evolve.zz: unknown parameter"),
+    (["run", QUICK, "--set", "ga.population"], "expected key.path=value"),
+    (["run", QUICK, "--workers", "0"], "--workers: expected an integer >= 1"),
+    (["run", QUICK, "--scheduler", "foo"], "--scheduler: 'foo' is not 'local'"),
+    (["run", QUICK, "--scheduler", "tcp://127.0.0.1:1"], "cannot reach tcp://127.0.0.1:1"),
+    (["run"], "give a CONFIG to run, or --resume DIR"),
+    (["run", "--resume", "/nonexistent/dir"], "nothing to resume"),
+    (["sweep", QUICK, "--vary", "env.light"], "expected key.path=v1,v2"),
+    (["sweep", QUICK, "--vary", "env.light=1,-1"], "environment.light"),
+    (["compare", "/nonexistent/dir"], "no such directory"),
+    (["show", "/nonexistent/dir"], "not a growsim results directory"),
+]
+
+
+def test_bad_input_exits_2_with_one_line(tmp_path):
+    """Every case of :data:`BAD_INPUT` in its own process and working directory, as a user
+    types it; the processes run side by side (each is mostly an interpreter's start, one
+    waits for an unreachable scheduler), and every failing case is reported."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    def case(i: int):
+        cwd = tmp_path / str(i)
+        cwd.mkdir()
+        return cwd, growsim(*BAD_INPUT[i][0], cwd=cwd)
+
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        done = list(pool.map(case, range(len(BAD_INPUT))))
+    failed = []
+    for (args, needle), (cwd, p) in zip(BAD_INPUT, done, strict=True):
+        try:
+            assert_clean_error(p, needle)
+            assert not (cwd / "runs").exists()  # nothing written
+        except AssertionError as exc:
+            failed.append(f"{args}: {exc}")
+    assert not failed, "\n".join(failed)
 
 
 def test_bad_toml_file_exits_2(tmp_path):

@@ -250,23 +250,35 @@ def test_cli_run_show_and_compare_end_to_end(tmp_path):
     assert p.returncode == 0, p.stderr
 
 
-@pytest.mark.parametrize(
-    ("override", "key"),
-    [
-        ('environment.tank.obstacles=[{shape="sphere", center=[900, 10, 10], size=5}]',
-         "obstacles[0]"),
-        ("environment.tank.size=[70, 400, 300]", "margin"),
-        ('environment.tank.preset="tiny"', "environment.tank.preset"),
-        ("model.params.frames=0", "model.params.frames"),
-        ("model.evolve.scale=[1, 5]", "model.evolve.scale"),
-    ],
-)  # fmt: skip
-def test_bad_input_exits_2_naming_the_key_and_writes_nothing(tmp_path, override, key):
-    out = tmp_path / "r"
-    p = growsim("run", str(CONFIG), "--out", str(out), "--set", override)
-    assert p.returncode == 2, p.stderr
-    assert key in p.stderr and "growsim: error:" in p.stderr
-    assert not out.exists()
+#: a bad override and the key its error names
+BAD_INPUT = [
+    ('environment.tank.obstacles=[{shape="sphere", center=[900, 10, 10], size=5}]',
+     "obstacles[0]"),
+    ("environment.tank.size=[70, 400, 300]", "margin"),
+    ('environment.tank.preset="tiny"', "environment.tank.preset"),
+    ("model.params.frames=0", "model.params.frames"),
+    ("model.evolve.scale=[1, 5]", "model.evolve.scale"),
+]  # fmt: skip
+
+
+def test_bad_input_exits_2_naming_the_key_and_writes_nothing(tmp_path):
+    """Each case of :data:`BAD_INPUT` in its own process (side by side: each is mostly an
+    interpreter's start); every failing case is reported."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    def case(i: int):
+        out = tmp_path / f"r{i}"
+        return out, growsim("run", str(CONFIG), "--out", str(out), "--set", BAD_INPUT[i][0])
+
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        done = list(pool.map(case, range(len(BAD_INPUT))))
+    failed = []
+    for (override, key), (out, p) in zip(BAD_INPUT, done, strict=True):
+        if p.returncode != 2 or key not in p.stderr or "growsim: error:" not in p.stderr:
+            failed.append(f"{override}: exit {p.returncode}, not naming {key!r}: {p.stderr}")
+        if out.exists():
+            failed.append(f"{override}: wrote {out}")
+    assert not failed, "\n".join(failed)
 
 
 def test_default_tank_is_the_small_preset():
