@@ -1,6 +1,6 @@
 """Every picture of ``docs/images/``, re-made from the current code by one command.
 
-    python benchmarks/gallery.py                      # every picture it can re-make (~3 min)
+    python benchmarks/gallery.py                      # every picture it can re-make (~20 min)
     python benchmarks/gallery.py --only fish_calm.png honda_presets.png
     python benchmarks/gallery.py --list               # each picture: how it is made, its page
     python benchmarks/gallery.py --save runs/h2d runs/h3d runs/h2dp runs/h3dp   # see below
@@ -13,9 +13,10 @@ results saved in ``benchmarks/results/gallery/`` (the best genome of each enviro
 the run's resolved config): ``--save SWEEP ...`` writes them from ``growsim sweep``
 directories (``hormone_2d.toml``, ``hormone_3d.toml``, their ``*_paper_ga`` twins,
 ``stand_density_3d.toml``). A picture whose inputs are not saved, or that another
-command makes (``fit-image``'s, the photo benchmarks'), is listed with what re-makes it
-and left as it is. ``docs/gallery.md`` shows every picture (``tests/test_gallery.py``:
-every file of ``docs/images/`` is listed here and shown on a page).
+command makes, is listed with what re-makes it and left as it is. The fitting pictures
+(``fit_image``, ``fit_mtree``) take 15 and 2 minutes of fits. ``docs/gallery.md`` shows
+every picture (``tests/test_gallery.py``: every file of ``docs/images/`` is listed here
+and shown on a page).
 """
 
 from __future__ import annotations
@@ -353,10 +354,35 @@ def make_fit_mtree(out: Path) -> None:
             subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
 
 
-FIT_IMAGE = (
-    "fit-image's pictures: re-made by the fitting benchmarks (python benchmarks/photo_fit.py "
-    "--figures docs/images, python benchmarks/mtree_fit.py --sheet ...), minutes of fits each"
-)
+#: the pictures of ``fitting_arrangement.png``: fits whose start is not the picture's own
+#: arrangement (``benchmarks/log/fitting.md``)
+ARRANGED = ("ginkgo_bare", "columnar_bare_overcast", "zelkova_leafy_evening")
+
+
+def make_fit_image(out: Path) -> None:
+    """The photo benchmark's pictures (``benchmarks/photo_fit.py``): the worked example
+    (``cherry_leafy``'s photo, silhouette and fit), the fits of ``ARRANGED`` before
+    (``--arrange 0 --blur 0``) and with the arrangement search, and the segmentation's
+    errors on the two pictures of the set it reads worst. Seven fits, about 15 min."""
+    import photo_fit
+    from make_photos import EXTRA_PICTURES, PICTURES, SUPERSAMPLE, write_set
+
+    bench = str(ROOT / "benchmarks" / "photo_fit.py")
+    with tempfile.TemporaryDirectory() as tmp:
+        for sub, extra in (("fits", ()), ("before", ("--arrange", "0", "--blur", "0"))):
+            names = ARRANGED + (("cherry_leafy",) if sub == "fits" else ())
+            cmd = [sys.executable, bench, "--extra", "--only", *names, "--out",
+                   f"{tmp}/{sub}", *extra]  # fmt: skip
+            subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        photo_fit.figures(Path(tmp, "fits", "fits", "cherry_leafy"), out)
+        photo_fit.comparison_figure(f"{tmp}/fits", f"{tmp}/before", out, ARRANGED)
+        pics = PICTURES + EXTRA_PICTURES
+        camera = {"supersample": SUPERSAMPLE, "blur": 0.0, "linear": True}
+        table = photo_fit.segmentation_table(pics, camera, limit=False)
+        worst = [r["picture"] for r in sorted(table["pictures"], key=lambda r: r["iou"])[:2]]
+        write_set(Path(tmp, "photos"), [p for p in pics if p.name in worst], **camera)
+        photo_fit.error_figure(Path(tmp, "photos"), out, worst, 830)
+
 
 MAKERS: dict[str, Maker] = {
     "env": Maker(
@@ -479,15 +505,15 @@ MAKERS: dict[str, Maker] = {
         else ("needs runs/mtree: python benchmarks/make_mtree.py --out runs/mtree"),
     ),
     "fit_image": Maker(
-        None,
+        make_fit_image,
         (
             "fitting_arrangement.png",
             "fitting_photo.png",
             "fitting_silhouettes.png",
             "photo_segmentation.png",
         ),
-        "the fitting benchmarks",
-        FIT_IMAGE,
+        "benchmarks/photo_fit.py's figures: cherry_leafy's fit, three fits before and with "
+        "the arrangement search, the two worst segmentations (seven fits, ~15 min)",
     ),
 }
 
