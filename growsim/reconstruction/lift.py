@@ -28,9 +28,11 @@ the front picture; the side picture, seen from the right, shows ``-z`` to the ri
 
 **Two pictures** (:func:`lift_two_views`; after Shlyakhter, Rozenoer, Dorsey and Teller,
 *Reconstructing 3D tree models from instrumented photographs*, 2001, who intersect the
-views): the height is shared. Each visible branch of the front picture is matched to one
-of the side picture's (greedily, least cost first: the difference of their bases' and tips'
-heights and lengths, as shares of the tree's height, at most :data:`MATCH_COST`); a
+views): the height is shared. The trunk (the branches of order 0) takes the side
+trunk's depth at each point's own height. Each other visible branch of the front picture
+is matched to one of the side picture's other branches (greedily, least cost first: the
+difference of their bases' and tips' heights and lengths, as shares of the tree's height,
+at most :data:`MATCH_COST`); a
 matched branch takes the side branch's place (``z = -u``) at the same share of its
 length, reached from its parent's end (the offset at its start fading linearly along
 it; tried on the discovery renders: keeping the side branch's offsets instead, or only
@@ -271,21 +273,25 @@ def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: in
         arc = _arc(p[:, :2])
         return p[0, 1], p[-1, 1], arc[-1]
 
-    fk = [key(p) for p in world]
     sk_ = [key(p) for p in side_world]
+    # the trunk: the front's order-0 branches take the side trunk's depth at their height
+    trunk = [j for j in range(len(side_world)) if side.order[j] == 0]
+    tp = np.concatenate([side_world[j] for j in trunk]) if trunk else np.zeros((0, 3))
+    tp = tp[np.argsort(tp[:, 1], kind="stable")]
+    match: dict[int, int] = {}
+    used: set[int] = set(trunk)
     pairs = []
-    for i, (a0, a1, al) in enumerate(fk):
+    for i, p in enumerate(world):
+        if sk.order[i] == 0 and len(tp):
+            continue
+        a0, a1, al = key(p)
         for j, (b0, b1, bl) in enumerate(sk_):
-            if exclude_self and i == j:
+            if j in used or (exclude_self and i == j):
                 continue
             cost = (abs(a0 - b0) + abs(a1 - b1) + abs(al - bl)) / height
-            if sk.order[i] == 0 and side.order[j] == 0:
-                cost *= 0.5  # the trunks are matched first
             if cost <= MATCH_COST:
                 pairs.append((cost, i, j))
     pairs.sort()
-    match: dict[int, int] = {}
-    used: set[int] = set()
     for _c, i, j in pairs:
         if i in match or j in used:
             continue
@@ -301,10 +307,15 @@ def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: in
     out: list[np.ndarray] = []
     for b, p in enumerate(world):
         z0 = 0.0 if sk.parent[b] < 0 else float(out[sk.parent[b]][-1, 2])
-        if b in match:
+        t = _arc(p[:, :2])
+        t = t / max(t[-1], 1e-12)
+        if sk.order[b] == 0 and len(tp):
+            match[b] = trunk[0]
+            q = p.copy()
+            q[:, 2] = -np.interp(p[:, 1], tp[:, 1], tp[:, 0])
+            q[:, 2] += (z0 - q[0, 2]) * (1.0 - t)
+        elif b in match:
             s = side_world[match[b]]
-            t = _arc(p[:, :2])
-            t = t / max(t[-1], 1e-12)
             ts = _arc(s[:, :2])
             ts = ts / max(ts[-1], 1e-12)
             u = np.interp(t, ts, s[:, 0])
