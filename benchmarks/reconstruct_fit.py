@@ -25,7 +25,9 @@ the front alone, no flags, and judged (:func:`growsim.reconstruction.judge`):
 ``--dev DIR``: also the pictures ``DIR/*_mask.png`` (bare or leafy by their name), with no
 side view. ``--png DIR``: target beside fit (``<name>_fit.png``), the skeleton over the photo
 (``<name>_skeleton.png``), the photo's tree beside the regrown Honda tree
-(``<name>_honda.png``).
+(``<name>_honda.png``). ``--sheet PNG``: one sheet of the worst and the best picture of
+each kind (bare, leafy) by the side view from the front alone, front and side target
+beside fit (``docs/images/fitting_side.png``).
 
     python benchmarks/make_mtree.py --out runs/mtree --side --no-front --no-segment
     nice -n 10 python benchmarks/reconstruct_fit.py --pictures runs/mtree --infer \\
@@ -38,6 +40,7 @@ import argparse
 import json
 import os
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -147,6 +150,38 @@ def summary(rows: list[dict], label: str) -> dict:
     return out
 
 
+def sheet(rows: list[dict], png: Path, dest: Path) -> Path:
+    """The worst and the best row of each kind (bare, leafy) by ``side_blurred_ncc``: their
+    ``<name>_fit.png`` (in ``png``) one under the other, each with a caption; a PNG."""
+    from PIL import Image, ImageDraw, ImageFont
+
+    from growsim.files import atomic_write
+
+    picked = []
+    for leafy in (False, True):
+        sel = sorted((r for r in rows if r["true_leafy"] == leafy and "side_blurred_ncc" in r),
+                     key=lambda r: r["side_blurred_ncc"])  # fmt: skip
+        picked += [(r, w) for r, w in ((sel[0], "worst"), (sel[-1], "best"))] if sel else []
+    font = ImageFont.load_default(size=28)
+    ims = []
+    for r, which in picked:
+        im = Image.open(png / f"{r['name']}_fit.png").convert("RGB")
+        cap = Image.new("RGB", (im.width, 40), "white")
+        ImageDraw.Draw(cap).text(
+            (8, 4), f"{r['name']} ({which} {'leafy' if r['true_leafy'] else 'bare'}): front NCC "
+            f"{r['ncc']:.3f}; side from the front alone, blurred NCC at 64 px "
+            f"{r['side_blurred_ncc']:.3f}", fill="black", font=font)  # fmt: skip
+        ims += [cap, im]
+    out = Image.new("RGB", (max(i.width for i in ims), sum(i.height for i in ims)), "white")
+    y = 0
+    for im in ims:
+        out.paste(im, (0, y))
+        y += im.height
+    out = out.resize((out.width // 2, out.height // 2), Image.LANCZOS)
+    atomic_write(dest, lambda fh: out.save(fh, format="PNG", optimize=True))
+    return dest
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--pictures", default="runs/mtree", help="make_mtree's output ('': none)")
@@ -156,10 +191,13 @@ def main(argv=None) -> int:
     ap.add_argument("--infer", action="store_true", help="infer Honda parameters, regrow")
     ap.add_argument("--two-views", action="store_true", help="also fit from front and side")
     ap.add_argument("--png", default=None, metavar="DIR", help="write pictures here")
+    ap.add_argument("--sheet", default=None, metavar="PNG", help="worst and best, front and side")
     ap.add_argument("--seed", type=int, default=0)
     a = ap.parse_args(argv)
     src = Path(a.pictures)
     png = Path(a.png) if a.png else None
+    if a.sheet and png is None:
+        png = Path(tempfile.mkdtemp())
     if png:
         png.mkdir(parents=True, exist_ok=True)
     index = json.loads((src / "index.json").read_text()) if a.pictures else {"pictures": []}
@@ -194,6 +232,8 @@ def main(argv=None) -> int:
             if sel:
                 print(json.dumps(summary(sel, f"{split} {'leafy' if kind else 'bare'}")))
     print(json.dumps({"load_average": os.getloadavg(), "python": sys.version.split()[0]}))
+    if a.sheet:
+        sheet(rows, png, Path(a.sheet))
     return 0
 
 

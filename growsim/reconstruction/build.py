@@ -200,14 +200,14 @@ def reconstruct(front_mask, side_mask=None, *, height_m: float | None = None,
     scale = height / sk.height
     world = to_world(sk, scale)
     if side is None and is_leafy:
-        # a leafy crown seen from the side looks like it does from the front: each limb is
-        # placed in depth where another limb of its height and length lies across
+        # a leafy crown seen from the side looks like it does from the front: each limb
+        # runs in depth as another limb of its height and length runs across
         mirrored = [p * np.array([-1.0, 1.0, 1.0]) for p in world]
-        lifted, why = lift_two_views(sk, world, sk, mirrored, seed, exclude_self=True)
+        lifted, why = lift_two_views(sk, world, sk, mirrored, seed, same_picture=True)
         why = {
             **why,
-            "depth": "one leafy view: limbs placed in depth as other limbs of "
-            "their height lie across (the side seen as the front), the rest by the prior",
+            "depth": "one leafy view: limbs run in depth as other limbs of their height "
+            "run across (the side seen as the front), the rest by the prior",
         }
         side_sk = None
     elif side is None:

@@ -43,6 +43,10 @@ Shlyakhter et al.): along the branch, every point may take the depth of a side-s
 point at its height or keep its guess (at a cost of :data:`OFF_SIDE` pixels), and the
 path of least total change of depth from the branch's start is chosen (Viterbi), so the
 side view's branches lie on the side picture's where the heights allow.
+
+**One leafy picture** is read as its own side picture, mirrored (a crown looks much the
+same from the side as from the front): a limb is matched as above to another limb and
+runs in depth as that one runs across, from its parent's end.
 """
 
 from __future__ import annotations
@@ -248,12 +252,15 @@ def _carve(q: np.ndarray, z0: float, bins: dict, pix: float) -> np.ndarray:
 
 
 def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: int = 0,
-                   *, exclude_self: bool = False):  # fmt: skip
+                   *, same_picture: bool = False):  # fmt: skip
     """Depth for the front branches ``world`` from the side picture's branches
     ``side_world`` (both :func:`to_world`, at one scale: the height is shared), matched as
     the module docstring says; the unmatched ones by :func:`lift_prior`. Returns
-    ``(branches, assumptions)``. ``exclude_self``: a front branch is never matched to the
-    side branch of its own index (the front picture standing for the side picture).
+    ``(branches, assumptions)``. ``same_picture``: the front picture stands for the side
+    one (a leafy crown seen from one side): a front branch is never matched to its own,
+    a matched branch takes the other's run in depth from its parent's end (its shape, not
+    its place: placed, short branches became long strokes in depth), and nothing is
+    carved.
 
     Examples
     --------
@@ -286,7 +293,7 @@ def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: in
             continue
         a0, a1, al = key(p)
         for j, (b0, b1, bl) in enumerate(sk_):
-            if j in used or (exclude_self and i == j):
+            if j in used or (same_picture and i == j):
                 continue
             cost = (abs(a0 - b0) + abs(a1 - b1) + abs(al - bl)) / height
             if cost <= MATCH_COST:
@@ -320,14 +327,18 @@ def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: in
             ts = ts / max(ts[-1], 1e-12)
             u = np.interp(t, ts, s[:, 0])
             q = p.copy()
-            # the side branch's place (z = -u), reached from the parent's end: the offset
-            # at the start fades along the branch
-            q[:, 2] = -u + (z0 + u[0]) * (1.0 - t)
+            if same_picture:  # another limb's run in depth, from the parent's end
+                q[:, 2] = z0 - (u - u[0])
+            else:  # the side branch's place (z = -u), reached from the parent's end: the
+                # offset at the start fades along the branch
+                q[:, 2] = -u + (z0 + u[0]) * (1.0 - t)
         else:
             q = p.copy()
             q[:, 2] = z0 + (prior[b][:, 2] - prior[b][0, 2])
+        if not same_picture:  # onto the side picture's skeleton
+            q[:, 2] = _carve(q, z0, bins, pix)
         # within the side picture's extent: a chain of unmatched branches cannot run away
-        q[:, 2] = np.clip(_carve(q, z0, bins, pix), -sp[:, 0].max(), -sp[:, 0].min())
+        q[:, 2] = np.clip(q[:, 2], -sp[:, 0].max(), -sp[:, 0].min())
         out.append(q)
     why = {**why, "depth": "two views: branches matched by height, the rest by the prior",
            "side_extent": "every depth within the side picture's skeleton's extent",
