@@ -35,8 +35,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from growsim.objectives.silhouette import TRUNK_ROWS
+from growsim.objectives.silhouette import TRUNK_ROWS, plant_views
 from growsim.phenotypes.plant import LEAF, Plant
+from growsim.pictures.images import frame_silhouettes
 from growsim.reconstruction.colonize import ColonizeSettings, colonize, envelope_points
 from growsim.reconstruction.lift import lift_prior, lift_two_views, to_world
 from growsim.reconstruction.skeleton import (
@@ -167,6 +168,57 @@ def _visible_plant(sk: Skeleton2D, lifted: list[np.ndarray], scale: float):
     return pts_a, pp, np.asarray(seg_r), np.asarray(seg_o, np.int32)
 
 
+#: the leaves a grown node may carry when ``ColonizeSettings.leaves`` is ``None``: the
+#: count whose front view covers the picture's area best is kept
+LEAF_COUNTS = (1, 2, 3, 4)
+
+
+def _leaves(g, par_pos, gseg, gorder, per: int, height: float, seed: int, settings):
+    """The leaves on the grown twigs' nodes, ``per`` a node, turned by the golden angle:
+    their segments' ``(start, end, radius, parent, order, kind)``."""
+    k = len(g.nodes)
+    ll = settings.leaf_length * height
+    if per <= 0 or ll <= 0 or k == 0:
+        e = np.zeros(0)
+        return (np.zeros((0, 3)), np.zeros((0, 3)), e, e.astype(np.int64),
+                e.astype(np.int32), e.astype(np.int8))  # fmt: skip
+    rng = np.random.default_rng(seed + 1)
+    host = np.repeat(np.arange(k), per)
+    d = g.nodes[host] - par_pos[host]
+    d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-12)
+    turn = _GOLDEN * np.arange(host.size) + rng.uniform(0, 2 * np.pi)
+    tilt = np.radians(rng.uniform(30.0, 70.0, host.size))
+    horiz = np.stack([np.cos(turn), np.zeros(host.size), np.sin(turn)], axis=1)
+    leaf_dir = np.cos(tilt)[:, None] * horiz + np.sin(tilt)[:, None] * np.array([0.0, 1.0, 0.0])
+    leaf_dir = 0.6 * leaf_dir + 0.4 * d
+    leaf_dir /= np.maximum(np.linalg.norm(leaf_dir, axis=1, keepdims=True), 1e-12)
+    return (g.nodes[host], g.nodes[host] + ll * leaf_dir,
+            np.full(host.size, 0.5 * settings.leaf_width * ll), gseg[host],
+            gorder[host] + 1, np.full(host.size, LEAF, np.int8))  # fmt: skip
+
+
+def _leaf_count(leaves, mask, parts, grown, height, seed, settings):
+    """``(count, why)``: ``leaves`` if given, else the count of :data:`LEAF_COUNTS` whose
+    Plant's front view (framed as the picture's silhouette at 256 px) has the area
+    nearest the picture's (the ratio nearest 1 in log terms): a crown as dense as the
+    picture shows it."""
+    if leaves is not None:
+        return int(leaves), f"{int(leaves)}, given"
+    target = float(frame_silhouettes(mask, None, 256, "radius").sum())
+    ratios = {}
+    for per in LEAF_COUNTS:
+        cols = [list(x) for x in parts]
+        for part, arr in zip(cols, _leaves(*grown, per, height, seed, settings)):
+            part.append(arr)
+        plant = Plant(*(np.concatenate(c) for c in cols))
+        ratios[per] = float(plant_views(plant, 256, "radius", views=1).sum()) / max(target, 1.0)
+    per = min(LEAF_COUNTS, key=lambda n: (abs(math.log(max(ratios[n], 1e-9))), n))
+    return per, (
+        f"{per}: of {list(LEAF_COUNTS)}, the front area nearest the picture's "
+        f"(area ratios {', '.join(f'{n}: {r:.2f}' for n, r in ratios.items())})"
+    )
+
+
 def reconstruct(front_mask, side_mask=None, *, height_m: float | None = None,
                 leafy: bool | None = None, seed: int = 0,
                 settings: ColonizeSettings | None = None) -> Reconstruction:  # fmt: skip
@@ -265,28 +317,13 @@ def reconstruct(front_mask, side_mask=None, *, height_m: float | None = None,
         parent_seg.append(par_seg)
         order.append(gorder)
         kind.append(np.zeros(k, np.int8))
-        # leaves: on the grown twigs' tips and nodes, turned by the golden angle
-        rng = np.random.default_rng(seed + 1)
-        ll = settings.leaf_length * height
-        per = max(int(settings.leaves), 0)
-        if per and ll > 0:
-            host = np.repeat(np.arange(k), per)
-            d = g.nodes[host] - par_pos[host]
-            d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-12)
-            turn = _GOLDEN * np.arange(host.size) + rng.uniform(0, 2 * np.pi)
-            tilt = np.radians(rng.uniform(30.0, 70.0, host.size))
-            horiz = np.stack([np.cos(turn), np.zeros(host.size), np.sin(turn)], axis=1)
-            leaf_dir = np.cos(tilt)[:, None] * horiz + np.sin(tilt)[:, None] * np.array(
-                [0.0, 1.0, 0.0]
-            )
-            leaf_dir = 0.6 * leaf_dir + 0.4 * d
-            leaf_dir /= np.maximum(np.linalg.norm(leaf_dir, axis=1, keepdims=True), 1e-12)
-            start.append(g.nodes[host])
-            end.append(g.nodes[host] + ll * leaf_dir)
-            radius.append(np.full(host.size, 0.5 * settings.leaf_width * ll))
-            parent_seg.append(gseg[host])
-            order.append(gorder[host] + 1)
-            kind.append(np.full(host.size, LEAF, np.int8))
+        parts = (start, end, radius, parent_seg, order, kind)
+        twigs = (g, par_pos, gseg, gorder)
+        per, leaf_why = _leaf_count(settings.leaves, m, parts, twigs, height, seed, settings)
+        for part, arr in zip(parts, _leaves(*twigs, per, height, seed, settings)):
+            part.append(arr)
+    else:
+        leaf_why = None
     assumptions = {
         "method": METHOD,
         "seed": int(seed),
@@ -318,6 +355,7 @@ def reconstruct(front_mask, side_mask=None, *, height_m: float | None = None,
             "nodes_grown": len(grown.nodes),
             "envelope": "crown mask swept by revolution about each row's centre"
             + ("" if side is None else ", cut by the side view's sweep"),
+            "leaves_per_node": leaf_why,
         },
     }
     plant = Plant(

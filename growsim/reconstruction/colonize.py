@@ -46,7 +46,8 @@ class ColonizeSettings:
     attraction points, ``step`` (``D``), ``influence`` (``d_i``), ``kill`` (``d_k``),
     ``iterations`` at most; ``tip_radius`` the twigs' radius at their tips (metres a
     metre of height); ``leaf_length`` a leaf's length, ``leaf_width`` its width over its
-    length; ``leaves`` per grown node.
+    length; ``leaves`` per grown node (``None``: as many as make the crown as dense as the
+    picture shows it, :func:`growsim.reconstruction.build.reconstruct` chooses).
 
     Examples
     --------
@@ -62,7 +63,7 @@ class ColonizeSettings:
     tip_radius: float = 0.0006
     leaf_length: float = 0.03
     leaf_width: float = 0.6
-    leaves: int = 1
+    leaves: int | None = None
 
     def record(self) -> dict:
         """The settings as a JSON-able dict.
