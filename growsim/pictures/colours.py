@@ -3,14 +3,38 @@ tree's foreground whose colour is the background's, not the tree's (a cloud behi
 beside the crown, taken for it because it differs from the sky filled in around it; the
 top of a hedge or a treeline beside the trunk), found by comparing how often their colour
 occurs among the background's own pixels and among the tree's sure pixels
-(:func:`background_coloured`).
+(:func:`background_coloured`); and two trees of clearly different colours whose crowns
+touch, one standing object of the scene, split apart (:func:`split_touching`).
 """
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
-__all__ = ["background_coloured"]
+from growsim.pictures.scene import Scene, Standing, runs, sky_background
+
+__all__ = ["background_coloured", "split_touching"]
+
+#: two touching trees (:func:`split_touching`): a standing object's pixels are read for
+#: their hue where their colour lies at least SPLIT_CHROMA (Delta E, a* b*) from the sky
+#: behind them (an edge pixel mixed with the sky is not); the two hues' pieces differ by
+#: at least SPLIT_DE (their median a* b*: clearly different colours, not a crown's lit
+#: and shaded sides)
+SPLIT_CHROMA = 15.0
+SPLIT_DE = 20.0
+#: ... each hue held mostly (this share of its pixels, after a majority over
+#: SPLIT_WINDOW pixels) by one piece (a crown of its own, not leaves mixed through
+#: another's), each piece compact (its area this share of its convex hull's: a crown, not
+#: a trunk and its limbs), the smaller at least SPLIT_MIN of the larger's area
+SPLIT_COHERENT = 0.8
+SPLIT_WINDOW = 5
+SPLIT_SOLID = 0.7
+SPLIT_MIN = 0.1
+#: ... and touching along at most this share of the smaller part's outline (side by side,
+#: not one crown's halves)
+SPLIT_SHARED = 0.4
 
 #: a foreground pixel has the background's colour when the background's own pixels are
 #: this many times as frequent around its colour (within COLOUR_REACH, Delta E) as the
@@ -91,3 +115,122 @@ def background_coloured(lab, fg, background, region, sure=None) -> np.ndarray:
         return none
     opened = ndimage.binary_opening(like, np.ones((3, 3), dtype=bool))
     return ndimage.binary_propagation(opened, mask=like)
+
+
+def split_touching(scene: Scene) -> Scene:
+    """The ``scene`` with each standing object that is two trees whose crowns touch split
+    in two (each part's ``apart`` the other's pixels, grown by two pixels): the object's
+    pixels of clear colour (:data:`SPLIT_CHROMA` from the sky behind them) fall in two hues
+    (around the sky's colour: mixing with the sky keeps a pixel's hue), each held by one
+    compact piece (:data:`SPLIT_COHERENT`, :data:`SPLIT_SOLID`, :data:`SPLIT_MIN`) of
+    clearly different colours (:data:`SPLIT_DE`), touching along a short part of their
+    outlines (:data:`SPLIT_SHARED`), and each part (every pixel of the object goes with
+    the piece nearer it) standing on the band by itself. A tree and its trunk or limbs
+    (thin, not compact), a crown's lit and shaded sides (touching all along), leaves of
+    two colours mixed through one crown stay one object. Objects less than a tenth of
+    the largest's area are left as they are; without ground nothing is split.
+
+    Examples
+    --------
+    >>> from growsim.pictures.scene import find_scene
+    >>> rng = np.random.default_rng(0)
+    >>> rgb = np.ones((80, 120, 3)) * [0.6, 0.75, 0.95]              # blue sky
+    >>> rgb[65:] = [0.3, 0.45, 0.2]                                   # the ground
+    >>> yy, xx = np.mgrid[0:80, 0:120]
+    >>> rgb[(yy - 30) ** 2 + (xx - 70) ** 2 < 400] = [0.8, 0.5, 0.15]  # an orange crown
+    >>> rgb[45:68, 68:73] = [0.5, 0.5, 0.48]                          # its trunk
+    >>> rgb[(yy - 52) ** 2 + (xx - 42) ** 2 < 144] = [0.2, 0.4, 0.15]  # a green one
+    >>> rgb[60:68, 40:44] = [0.3, 0.25, 0.2]                          # its trunk
+    >>> rgb = np.clip(rgb + rng.normal(0, 0.04, rgb.shape), 0, 1)    # leaves' texture
+    >>> scene = find_scene(rgb)
+    >>> len(scene.objects), len(split_touching(scene).objects)
+    (1, 2)
+    """
+    from scipy import ndimage
+
+    if not scene.ground or not scene.objects:
+        return scene
+    h, w = scene.shape
+    edge = np.clip(np.ceil(scene.cut).astype(int) - 1, 0, h - 1)
+    cols = np.arange(w)
+    bg = None
+    objects = []
+    for o in scene.objects:
+        parts = None
+        if o.area >= SPLIT_MIN * scene.objects[0].area:
+            if bg is None:
+                bg = sky_background(scene.lab, scene.sky)
+            parts = _two_crowns(scene.lab, bg, o)
+        if parts is None:
+            objects.append(o)
+            continue
+        feet = [runs(np.nonzero(p[edge, cols] | p[np.clip(edge - 1, 0, h - 1), cols])[0])
+                for p in parts]  # fmt: skip
+        if not all(feet):  # a part not standing by itself: a crown on a trunk of its own
+            objects.append(o)
+            continue
+        grown = [ndimage.binary_dilation(p, np.ones((5, 5), dtype=bool)) for p in parts]
+        for i, p in enumerate(parts):
+            rr, cc = np.nonzero(p)
+            apart = grown[1 - i] & ~p
+            region = None if o.region is None else o.region & ~apart
+            objects.append(Standing(p, int(p.sum()), int(rr.min()), int(rr.max()), int(cc.min()),
+                                    int(cc.max()), tuple(feet[i]), region, apart))  # fmt: skip
+    if len(objects) == len(scene.objects):
+        return scene
+    objects.sort(key=lambda o: -o.area)
+    return replace(scene, objects=objects)
+
+
+def _two_crowns(lab, bg, o):
+    """The standing object ``o`` as two crowns of clearly different colours touching (the
+    tests of :func:`split_touching` but the feet): its two parts (masks), or ``None``."""
+    from scipy import ndimage
+    from skimage.filters import threshold_otsu
+    from skimage.measure import label
+    from skimage.morphology import convex_hull_image
+
+    v = lab[..., 1:] - bg[..., 1:]
+    clear = o.mask & (np.hypot(v[..., 0], v[..., 1]) >= SPLIT_CHROMA)
+    if clear.sum() < 100:
+        return None
+    hue = np.degrees(np.arctan2(v[..., 1], v[..., 0]))
+    mid = float(np.median(hue[clear]))
+    hue = (hue - mid + 180.0) % 360.0 - 180.0  # around the median: no wrap-around
+    t = hue[clear]
+    if np.ptp(t) < 1e-6:
+        return None
+    cut = threshold_otsu(t)
+    upper = clear & (hue > cut)
+    # a majority over the window, among the clear pixels
+    share = ndimage.uniform_filter(upper.astype(float), SPLIT_WINDOW) / np.maximum(
+        ndimage.uniform_filter(clear.astype(float), SPLIT_WINDOW), 1e-9
+    )
+    pieces = []
+    for side in (clear & (share <= 0.5), clear & (share > 0.5)):
+        comps = label(side, connectivity=2)
+        if comps.max() == 0:
+            return None
+        sizes = np.bincount(comps.ravel())
+        sizes[0] = 0
+        piece = comps == int(np.argmax(sizes))
+        if piece.sum() < SPLIT_COHERENT * side.sum():
+            return None
+        if piece.sum() < SPLIT_SOLID * convex_hull_image(piece).sum():
+            return None
+        pieces.append(piece)
+    a, b = sorted(pieces, key=lambda p: -int(p.sum()))
+    if b.sum() < SPLIT_MIN * a.sum():
+        return None
+    col_a, col_b = (np.median(lab[p][:, 1:], axis=0) for p in (a, b))
+    if np.linalg.norm(col_a - col_b) < SPLIT_DE:
+        return None
+    # every pixel of the object with the piece nearer it
+    near_b = ndimage.distance_transform_edt(~b) < ndimage.distance_transform_edt(~a)
+    part_a, part_b = o.mask & ~near_b, o.mask & near_b
+    k = np.ones((3, 3), dtype=bool)
+    outline = part_b & ~ndimage.binary_erosion(part_b, k)
+    shared = outline & ndimage.binary_dilation(part_a, k)
+    if shared.sum() > SPLIT_SHARED * max(int(outline.sum()), 1):
+        return None
+    return part_a, part_b

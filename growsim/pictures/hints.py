@@ -117,8 +117,11 @@ def choose_tree(scene: Scene, point, boxed: bool, name: str, flags, how: str, pe
             f"{flags[0]} {','.join(map(str, _suggested_box(scene, o, per_pixel)))}"
             for o in sorted((tree, *rivals[:2]), key=lambda o: o.left)
         )
+        beside = ("another tree whose crown touches the tree's stands nearly as tall as it"
+                  if any(o.apart is not None for o in (tree, *rivals))
+                  else "other objects beside the tree stand as tall as it")  # fmt: skip
         raise UserInputError(
-            f"{name}: other objects beside the tree stand as tall as it, which is the tree? "
+            f"{name}: {beside}, which is the tree? "
             f"give {flags[0]} x0,y0,x1,y1 around it ({boxes}), or {flags[1]} x,y on it"
         )
     return tree

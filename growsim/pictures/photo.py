@@ -19,11 +19,12 @@ from __future__ import annotations
 
 import os
 import time
+from dataclasses import replace
 
 import numpy as np
 
 from growsim.errors import UserInputError
-from growsim.pictures.colours import background_coloured
+from growsim.pictures.colours import background_coloured, split_touching
 from growsim.pictures.coverage import (
     MIN_DE,
     NOISE_K,
@@ -104,7 +105,10 @@ def segment_photo(
        skyline, the horizon's band of clutter (its lower envelope), the objects standing
        on the band and rising into the sky; the tree is the largest (or the one at the
        hint), its crown's region that object, its trunk's columns where it enters the
-       band;
+       band; an object that is two trees of clearly different colours whose crowns touch
+       is split in two (:func:`~growsim.pictures.colours.split_touching`: the other's
+       pixels are never the tree's, :attr:`Segmentation.split` records it; a box around
+       one of them is read against the split of the whole picture);
     2. each pixel's **background**: in the crown's region the sky filled in from the sky
        around and between the branches (:func:`~growsim.pictures.scene.sky_background`,
        thin lines left out: :data:`~growsim.pictures.sky.THIN_DE`), the sky's pockets in the crown
@@ -191,6 +195,7 @@ def segment_photo(
         (x0, y0, x1, y1), given = hint_pixels(box, 4, per_pixel, (h, w), flags[0], name)
         inside = np.zeros((h, w), dtype=bool)
         inside[max(0, int(y0)) : int(np.ceil(y1)), max(0, int(x0)) : int(np.ceil(x1))] = True
+        allowed = keep.copy()
         keep &= inside
         hint["box"] = given
     at = None
@@ -199,7 +204,7 @@ def segment_photo(
         hint["point"] = given
         at = (px, py, *given)
     try:
-        scene = find_scene(rgb, keep, name=name, hint=flags[0])
+        scene = split_touching(find_scene(rgb, keep, name=name, hint=flags[0]))
         s = scene.scale
         how = f"{len(scene.objects)} standing object(s)"
         coarse_at = None if at is None else (at[0] * s, at[1] * s, at[2], at[3])
@@ -210,6 +215,16 @@ def segment_photo(
         # no sky, or nothing standing out of it: the tree is what the box holds apart
         # from what lies around it (GrabCut)
         return in_box(rgb, keep, None, hint, per_pixel, name, t_start)
+    if box is not None and obj.apart is None:
+        obj = _split_in_whole(rgb, allowed, obj, name, flags[0])
+    split: tuple = ()
+    if obj.apart is not None:
+        # another tree touching it, split off: its pixels are never the tree's
+        keep = keep & ~upsample(obj.apart, (h, w), s)
+        rr, cc = np.nonzero(obj.apart)
+        k = 1.0 / s
+        split = ((round(cc.min() * k), round(rr.min() * k), round((cc.max() + 1) * k),
+                  round((rr.max() + 1) * k)),)  # fmt: skip
     # the object reaching the picture's side (the box's, with a box): a tree cut off, or
     # one merging with a wood or other trees that do
     w_c = scene.shape[1]
@@ -372,7 +387,7 @@ def segment_photo(
         sky=upsample(scene.sky, (h, w), s) & ~tree, band=band, cut=cut,
         objects=tuple(tuple(round(v) for v in o) for o in objects), hint=hint or None,
         method="sky and skyline", outline_contrast=outline_contrast, confidence=confidence,
-        seconds=time.perf_counter() - t_start, hint_scale=per_pixel,
+        seconds=time.perf_counter() - t_start, hint_scale=per_pixel, split=split,
     )  # fmt: skip
     if contrast < MIN_CONTRAST:
         raise UserInputError(
@@ -399,3 +414,21 @@ def segment_photo(
             )
     check_silhouette(tree, keep, name=name, how=how)
     return seg
+
+
+def _split_in_whole(rgb, allowed, obj, name, flag):
+    """The standing object ``obj`` found in a box, less the tree touching it that the box
+    reaches into (a box around one of two touching crowns holds a piece of the other's):
+    the two split on the whole picture (where ``allowed``), the part the box holds most of
+    is ``obj``; ``obj`` as it is when there is none."""
+    try:
+        whole = split_touching(find_scene(rgb, allowed, name=name, hint=flag))
+    except UserInputError:
+        return obj
+    parts = [o for o in whole.objects if o.apart is not None and o.mask.shape == obj.mask.shape]
+    if not parts:
+        return obj
+    best = max(parts, key=lambda o: int((o.mask & obj.mask).sum()))
+    if (best.mask & obj.mask).sum() < 0.5 * obj.area:
+        return obj
+    return replace(obj, mask=obj.mask & ~best.apart, apart=best.apart)

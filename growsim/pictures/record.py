@@ -34,7 +34,9 @@ class Segmentation:
     pixels), ``method``, ``outline_contrast`` (the median difference of the outline's
     pixels, Delta E) and ``confidence`` (the share of the outline differing from its
     background by more than :data:`CONFIDENT` times the threshold), ``seconds``,
-    ``hint_scale`` (working pixels a pixel of the picture as given: the hint's).
+    ``hint_scale`` (working pixels a pixel of the picture as given: the hint's), ``split``
+    (the boxes of the trees whose crowns touched the tree's, split off it:
+    :func:`~growsim.pictures.colours.split_touching`; their pixels are not the tree's).
 
     Examples
     --------
@@ -63,11 +65,15 @@ class Segmentation:
     confidence: float = 0.0
     seconds: float = 0.0
     hint_scale: float = 1.0
+    split: tuple = ()
 
     def describe(self) -> str:
         """One line: what was found (for messages and logs)."""
         ground = "no ground" if self.horizon is None else f"ground from row {self.horizon}"
         hint = "" if not self.hint else f", hint {_hint_text(self.hint)}"
+        if self.split:
+            boxes = " and ".join(",".join(map(str, b)) for b in self.split)
+            hint += f", a touching tree split off at {boxes}"
         return (
             f"photo segmentation ({self.method}{hint}): {ground}, {len(self.objects)} "
             f"standing object(s), sky noise {self.sky_noise:.1f}, tree/background threshold "
@@ -90,6 +96,7 @@ class Segmentation:
             "horizon": self.horizon,
             "band": band,
             "objects": [list(map(int, o)) for o in self.objects],
+            "split_off": [list(map(int, b)) for b in self.split],
             "tree_box": _box_of(rows, cols),
             "tree_pixels": int(rows.size),
             "sky_noise": round(self.sky_noise, 2),

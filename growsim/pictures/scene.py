@@ -96,7 +96,9 @@ class Standing:
     ``top`` and lowest row, its columns ``left``..``right`` and the columns where it
     enters the band, ``feet`` (``[(c0, c1), ...]``, the runs of its row just above the
     cut); ``region``: the textured pixels around it, joined to it (within
-    :data:`REGION_REACH` of its height: pale twigs the sky's colours hid, frost)."""
+    :data:`REGION_REACH` of its height: pale twigs the sky's colours hid, frost);
+    ``apart``: the pixels of another tree it touched, split off it
+    (:func:`~growsim.pictures.colours.split_touching`; ``None``: none), never its own."""
 
     mask: np.ndarray
     area: int
@@ -106,6 +108,7 @@ class Standing:
     right: int
     feet: tuple = ()
     region: np.ndarray | None = None
+    apart: np.ndarray | None = None
 
     def box(self, scale: float) -> tuple[int, int, int, int]:
         """``(x0, y0, x1, y1)`` in pixels of a picture ``1 / scale`` times larger."""
