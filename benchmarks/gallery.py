@@ -1,6 +1,6 @@
 """Every picture of ``docs/images/``, re-made from the current code by one command.
 
-    python benchmarks/gallery.py                      # every picture it can re-make (~20 min)
+    python benchmarks/gallery.py                      # every picture it can re-make (about an hour)
     python benchmarks/gallery.py --only fish_calm.png honda_presets.png
     python benchmarks/gallery.py --list               # each picture: how it is made, its page
     python benchmarks/gallery.py --save runs/h2d runs/h3d runs/h2dp runs/h3dp   # see below
@@ -14,9 +14,10 @@ the run's resolved config): ``--save SWEEP ...`` writes them from ``growsim swee
 directories (``hormone_2d.toml``, ``hormone_3d.toml``, their ``*_paper_ga`` twins,
 ``stand_density_3d.toml``). A picture whose inputs are not saved, or that another
 command makes, is listed with what re-makes it and left as it is. The fitting pictures
-(``fit_image``, ``fit_mtree``) take 15 and 2 minutes of fits. ``docs/gallery.md`` shows
-every picture (``tests/test_gallery.py``: every file of ``docs/images/`` is listed here
-and shown on a page).
+(``fit_image``, ``fit_mtree``, ``ifs2d_fern_fit``) take 15, 2 and 3-14 minutes of fits,
+``ifs3d_identifiability`` a search of 3-26 minutes (by the machine's load).
+``docs/gallery.md`` shows every picture (``tests/test_gallery.py``: every file of
+``docs/images/`` is listed here and shown on a page).
 """
 
 from __future__ import annotations
@@ -251,6 +252,53 @@ def make_ifs3d_fit(out: Path) -> None:
         )
 
 
+def make_ifs2d_fern_fit(out: Path) -> None:
+    """Two runs of ``experiments/ifs_fern_fit.toml``, seed 0 (2-7 min each): its
+    ``collage`` objective left out (row 1), then as it is (row 2). Each row: the fern, its
+    64 px view (the target), the fitted code's view (as the run drew it) with its binary
+    NCC, and the fitted code's attractor drawn with the fern's 100,000 points."""
+    import tomllib
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from growsim.experiment import load_plan, run
+    from growsim.models import ifs2d
+
+    config = EXP / "ifs_fern_fit.toml"
+    alone = tomllib.loads(config.read_text())
+    alone["objective"] = [o for o in alone["objective"] if o["kind"] != "collage"]
+    fern = ifs2d.develop(ifs2d.PRESETS["fern"])
+    fig, axes = plt.subplots(2, 4, figsize=(12, 6.6))
+    with tempfile.TemporaryDirectory() as tmp:
+        for row, (label, cfg) in zip(
+            axes, (("silhouette only", alone), ("silhouette + collage", config))
+        ):
+            r = run(cfg, Path(tmp) / label.replace(" ", "_"), seed=0, progress=False,
+                    overrides=["output.mesh=[]", "output.screenshots=[]",
+                               "output.plot=false"])  # fmt: skip
+            silhouette = load_plan(r.config).objectives[0]  # the binary NCC, not the blurred
+            fit, dense = r.best_plant, {**r.best_params, "iterations": fern.n_points}
+            panels = (
+                (fern.render_image(view="front", size=(300, 300)), "the fern (Table 1)"),
+                (silhouette.target[0], "target view, 64 px"),
+                (silhouette.views(fit)[0], f"{label}: NCC {silhouette.exact(fit):.3f}"),
+                (
+                    ifs2d.develop(dense).render_image(view="front", size=(300, 300)),
+                    "the fitted code's attractor",
+                ),
+            )
+            for ax, (img, title) in zip(row, panels):
+                ax.imshow(img, cmap="gray_r", interpolation="nearest")
+                ax.set_title(title)
+                ax.set_axis_off()
+    fig.tight_layout()
+    fig.savefig(out / "ifs2d_fern_fit.png", dpi=75)
+    plt.close(fig)
+
+
 def make_quickstart(out: Path) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         run = Path(tmp) / "quickstart-doc"
@@ -352,6 +400,23 @@ def make_fit_mtree(out: Path) -> None:
                    str(MTREE), "--split", split, "--out", f"{tmp}/{split}", "--sheet",
                    str(out / f"fitting_mtree_{split}.png")]  # fmt: skip
             subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+
+
+def make_ifs3d_identifiability(out: Path) -> None:
+    """Table 1 beside the farthest tree found at NCC >= 0.95 and the worst tree within
+    tolerance (``benchmarks/ifs_identifiability.py``'s search: 200 s at load 2 in its log,
+    26 min at load 5 here)."""
+    cmd = [sys.executable, str(ROOT / "benchmarks" / "ifs_identifiability.py"), "--restarts",
+           "4", "--iters", "1000", "--png", str(out / "ifs3d_identifiability.png")]  # fmt: skip
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+
+
+def make_fit_side(out: Path) -> None:
+    """The reconstruction's worst and best held-out fit of each kind, front and side
+    (``benchmarks/reconstruct_fit.py --sheet``, the true masks, about 1 min)."""
+    cmd = [sys.executable, str(ROOT / "benchmarks" / "reconstruct_fit.py"), "--pictures",
+           str(MTREE), "--split", "held_out", "--sheet", str(out / "fitting_side.png")]  # fmt: skip
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 
 
 #: the pictures of ``fitting_arrangement.png``: fits whose start is not the picture's own
@@ -484,17 +549,16 @@ MAKERS: dict[str, Maker] = {
         "the examples/ scripts, run as their docstrings show",
     ),
     "ifs2d_fern_fit": Maker(
-        None,
+        make_ifs2d_fern_fit,
         ("ifs2d_fern_fit.png",),
-        "two runs of experiments/ifs_fern_fit.toml (silhouette only; with the collage term)",
-        "its fitted codes are not saved: two runs of 330-394 s",
+        "two runs of experiments/ifs_fern_fit.toml, seed 0 (silhouette only; with the collage "
+        "term; 2-7 min each): the fern, its 64 px view, the fit's view and NCC, its attractor",
     ),
     "ifs3d_identifiability": Maker(
-        None,
+        make_ifs3d_identifiability,
         ("ifs3d_identifiability.png",),
         "python benchmarks/ifs_identifiability.py --restarts 4 "
-        "--iters 1000 --png docs/images/ifs3d_identifiability.png",
-        "a search of about 200 s; the trees it found are not saved",
+        "--iters 1000 --png docs/images/ifs3d_identifiability.png (a search of 3-26 min)",
     ),
     "fit_mtree": Maker(
         make_fit_mtree,
@@ -503,6 +567,14 @@ MAKERS: dict[str, Maker] = {
         None
         if (MTREE / "index.json").is_file()
         else ("needs runs/mtree: python benchmarks/make_mtree.py --out runs/mtree"),
+    ),
+    "fit_side": Maker(
+        make_fit_side,
+        ("fitting_side.png",),
+        "python benchmarks/reconstruct_fit.py --split held_out --sheet ... (12 reconstructions)",
+        None
+        if (MTREE / "index.json").is_file()
+        else ("needs runs/mtree: python benchmarks/make_mtree.py --out runs/mtree --side"),
     ),
     "fit_image": Maker(
         make_fit_image,
