@@ -658,14 +658,14 @@ ROWS: list[Row] = [
         "`stand_density_2d.toml`'s sweep (24 runs), `--workers 2`",
         "min",
         "timings/sweeps.json#stand_density_2d",
-        lambda d: num(d["figures"]["sweep_min"], 1),
+        lambda d: span(*d["figures"]["sweep_min"], 0),
     ),
     Row(
         "stand-density-3d-sweep",
         "`stand_density_3d.toml`'s sweep (24 runs), `--workers 2`",
         "min",
         "timings/sweeps.json#stand_density_3d",
-        lambda d: num(d["figures"]["sweep_min"], 0),
+        lambda d: span(*d["figures"]["sweep_min"], 0),
     ),
     Row(
         "stand-mixture-2d-sweep",
