@@ -15,6 +15,7 @@ from growsim.kernels.colonize import colonize_step
 from growsim.models import honda
 from growsim.objectives.silhouette import plant_views
 from growsim.phenotypes.plant import LEAF, STEM
+from growsim.pictures.images import frame_silhouettes
 from growsim.reconstruction import (
     branch_table,
     infer_honda,
@@ -23,6 +24,8 @@ from growsim.reconstruction import (
     skeleton_picture,
     tree_summary,
 )
+from growsim.reconstruction.build import LEAF_COUNTS
+from growsim.reconstruction.colonize import ColonizeSettings
 from growsim.reconstruction.skeleton import extract_skeleton
 
 
@@ -145,6 +148,28 @@ def test_leafy_crown_grows_into_its_envelope():
     assert p.end[p.kind == LEAF, 1].max() <= 1.05 * p.height()
     assert rec.assumptions["colonization"]["nodes_grown"] > 0
     assert top > 0
+
+
+def test_leafy_crown_carries_the_leaves_that_make_it_as_dense_as_the_picture():
+    m = np.zeros((150, 130), bool)
+    _stroke(m, (152, 65), (60, 65), 3.5)
+    rr, cc = np.mgrid[0:150, 0:130]
+    m |= ((rr - 55) / 45.0) ** 2 + ((cc - 65) / 50.0) ** 2 <= 1.0
+    chosen = reconstruct(m, seed=1)
+    why = chosen.assumptions["colonization"]["leaves_per_node"]
+    per = int(why.split(":")[0])
+    assert per in LEAF_COUNTS
+    # the choice is the count whose front area (at 256 px, framed) is nearest the picture's
+    target = frame_silhouettes(m, None, 256, "radius").sum()
+    off = {}
+    for n in LEAF_COUNTS:
+        rec = reconstruct(m, seed=1, settings=ColonizeSettings(leaves=n))
+        assert rec.assumptions["colonization"]["leaves_per_node"] == f"{n}, given"
+        off[n] = abs(math.log(plant_views(rec.plant, 256, "radius", views=1).sum() / target))
+        if n == per:
+            assert rec.plant.n_leaves == chosen.plant.n_leaves
+    assert off[per] == min(off.values())
+    assert len(set(off.values())) > 1  # the counts differ in area: a real choice
 
 
 def test_skeleton_drops_spurs_and_keeps_a_single_base():
