@@ -36,6 +36,8 @@ BUDGETS: dict[str, list[str]] = {
     "hormone_2d_paper_ga": ["ga.population=8", "ga.generations=2"],
     "hormone_3d_paper_ga": ["ga.population=8", "ga.generations=2"],
     "stand_density_2d": ["ga.population=6", "ga.generations=2"],
+    # the dry end of the gradient (its base, the full supply, is pinned by hormone_2d)
+    "water_supply_2d": ["ga.population=6", "ga.generations=2", "environment.water.supply=0.3"],
     # the dense variant: a periodic stand (the alone path is pinned by hormone_3d)
     "stand_density_3d": [
         "ga.population=6",
