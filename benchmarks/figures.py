@@ -654,6 +654,20 @@ ROWS: list[Row] = [
         lambda d: span(*d["figures"]["monoculture_run_s"], 0),
     ),
     Row(
+        "water-supply-2d-run",
+        "one run of `water_supply_2d.toml`, 2 workers",
+        "s",
+        "timings/sweeps.json#water_supply_2d",
+        lambda d: span(*d["figures"]["run_s"], 0),
+    ),
+    Row(
+        "water-supply-2d-sweep",
+        "`water_supply_2d.toml`'s sweep (32 runs), `--workers 2` (two blocks of seeds)",
+        "min",
+        "timings/sweeps.json#water_supply_2d",
+        lambda d: span(*d["figures"]["sweep_min"], 0),
+    ),
+    Row(
         "stand-density-2d-sweep",
         "`stand_density_2d.toml`'s sweep (24 runs), `--workers 2`",
         "min",
