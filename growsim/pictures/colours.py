@@ -3,8 +3,9 @@ tree's foreground whose colour is the background's, not the tree's (a cloud behi
 beside the crown, taken for it because it differs from the sky filled in around it; the
 top of a hedge or a treeline beside the trunk), found by comparing how often their colour
 occurs among the background's own pixels and among the tree's sure pixels
-(:func:`background_coloured`); and two trees of clearly different colours whose crowns
-touch, one standing object of the scene, split apart (:func:`split_touching`).
+(:func:`background_coloured`; the clouds' colours seen away from the tree counted with
+the sky's, :func:`cloud_colours`); and two trees of clearly different colours whose
+crowns touch, one standing object of the scene, split apart (:func:`split_touching`).
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ import numpy as np
 
 from growsim.pictures.scene import Scene, Standing, runs, sky_background
 
-__all__ = ["background_coloured", "split_touching"]
+__all__ = ["background_coloured", "cloud_colours", "split_touching"]
 
 #: two touching trees (:func:`split_touching`): a standing object's pixels are read for
 #: their hue where their colour lies at least SPLIT_CHROMA (Delta E, a* b*) from the sky
@@ -52,17 +53,28 @@ SAMPLES = 4000
 #: background's colour (a white tree against white clouds: the colours do not tell them
 #: apart)
 MAX_BACKGROUND_LIKE = 0.25
+#: ... and at least this many pixels of the background, of the tree's sure pixels, of its
+#: own colours (and of the clouds seen elsewhere, :func:`cloud_colours`, for them to count)
+MIN_PIXELS = 50
+#: the clouds seen away from the tree (:func:`cloud_colours`): the scene's floating pieces
+#: farther than this share of the tree's height (at least CLOUD_MIN_AWAY coarse pixels)
+#: from every standing object
+CLOUD_AWAY = 0.1
+CLOUD_MIN_AWAY = 3.0
 
 
-def background_coloured(lab, fg, background, region, sure=None) -> np.ndarray:
+def background_coloured(lab, fg, background, region, sure=None, extra=None) -> np.ndarray:
     """The pixels of the foreground ``fg`` in ``region`` that are the ``background``'s
     colour (``lab``: CIELAB; ``background``: the background's own pixels, e.g. the sky's),
     not the colour of the tree's ``sure`` pixels (by default the interior of ``fg`` in
     ``region``, 3 x 3 erosion), in pieces at least 3 x 3 wide (an opening; a piece is
     then taken whole): clouds taken for the crown, clutter for the trunk. Thin twigs,
-    whose pixels are mixed with the sky, are never taken. Nothing when the two cannot be
-    told apart by colour (:data:`MAX_BACKGROUND_LIKE`), the tree is grey
-    (:data:`MIN_CHROMA`) or there are too few of either.
+    whose pixels are mixed with the sky, are never taken. ``extra``: colours ``(N, 3)`` of
+    the background seen elsewhere (the clouds away from the tree, :func:`cloud_colours`;
+    not its own pixels: their streaks and rims are textured) counted with the
+    ``background``'s own when at least :data:`MIN_PIXELS`. Nothing when the two cannot be
+    told apart by colour (:data:`MAX_BACKGROUND_LIKE`, judged on the ``background``'s own
+    pixels), the tree is grey (:data:`MIN_CHROMA`) or there are too few of either.
 
     Examples
     --------
@@ -84,7 +96,7 @@ def background_coloured(lab, fg, background, region, sure=None) -> np.ndarray:
     none = np.zeros(fg.shape, dtype=bool)
     if sure is None:
         sure = ndimage.binary_erosion(fg, np.ones((3, 3), dtype=bool)) & region
-    if sure.sum() < 50 or background.sum() < 50:
+    if sure.sum() < MIN_PIXELS or background.sum() < MIN_PIXELS:
         return none
     if np.median(np.hypot(lab[sure][:, 1], lab[sure][:, 2])) < MIN_CHROMA:
         return none
@@ -96,25 +108,100 @@ def background_coloured(lab, fg, background, region, sure=None) -> np.ndarray:
             pts = pts[rng.choice(len(pts), SAMPLES, replace=False)]
         return pts
 
-    backs = sample(background)
-    near_back = cKDTree(backs)
-    # the tree's own colours: its sure pixels none of the background's colours is near
-    trees = sample(sure)
-    trees = trees[near_back.query_ball_point(trees, COLOUR_REACH, return_length=True) == 0]
-    if len(trees) < 50:
-        return none
     cand = fg & region
     # the candidates' colours, rounded to whole units: each looked up once
     colours, back = np.unique(np.round(lab[cand]), axis=0, return_inverse=True)
-    n_back = near_back.query_ball_point(colours, COLOUR_REACH, return_length=True)
-    n_tree = cKDTree(trees).query_ball_point(colours, COLOUR_REACH, return_length=True)
-    odds = ((n_back + 1) / len(backs)) / ((n_tree + 1) / len(trees))
-    like = none.copy()
-    like[cand] = (odds > BACKGROUND_ODDS)[back.ravel()]
-    if like[sure].mean() > MAX_BACKGROUND_LIKE:
+    backs = sample(background)
+    picked = sample(sure)
+
+    def counts(points):
+        # how many of ``points`` lie near each candidate colour; which sure pixels have one
+        near = cKDTree(points)
+        return (near.query_ball_point(colours, COLOUR_REACH, return_length=True),
+                near.query_ball_point(picked, COLOUR_REACH, return_length=True) > 0)  # fmt: skip
+
+    def like_of(n_back, n_backs, own):
+        # the tree's own colours: its sure pixels none of the background's colours is near
+        trees = picked[own]
+        if len(trees) < MIN_PIXELS:
+            return None
+        n_tree = cKDTree(trees).query_ball_point(colours, COLOUR_REACH, return_length=True)
+        odds = ((n_back + 1) / n_backs) / ((n_tree + 1) / len(trees))
+        like = none.copy()
+        like[cand] = (odds > BACKGROUND_ODDS)[back.ravel()]
+        return like
+
+    n_back, near_back = counts(backs)
+    like = like_of(n_back, len(backs), ~near_back)
+    if like is None or like[sure].mean() > MAX_BACKGROUND_LIKE:
         return none
+    if extra is not None and len(extra) >= MIN_PIXELS:
+        # and the background seen elsewhere (the clouds away from the tree): the tree's
+        # own colours are then its sure pixels none of those is near either
+        more = np.asarray(extra, dtype=np.float64)
+        if len(more) > SAMPLES:
+            more = more[rng.choice(len(more), SAMPLES, replace=False)]
+        n_more, near_more = counts(more)
+        like = like_of(n_back + n_more, len(backs) + len(more), ~near_back & ~near_more)
+        if like is None:
+            return none
     opened = ndimage.binary_opening(like, np.ones((3, 3), dtype=bool))
     return ndimage.binary_propagation(opened, mask=like)
+
+
+def cloud_colours(rgb, scene, obj, keep=None) -> np.ndarray:
+    """The colours (CIELAB, ``(N, 3)``, at most :data:`SAMPLES`) of the clouds seen away
+    from the tree in the working picture ``rgb``: the pieces of the coarse ``scene``
+    above the cut that are neither its sky (smooth) nor part of a standing object (a
+    sunset's streaks, a cumulus's textured rims and shadows: what the scene leaves
+    floating), farther than :data:`CLOUD_AWAY` of the tree's (``obj``'s) height from
+    every standing object (a leaf clump hanging apart from the crown on twigs too thin to
+    see is not a cloud), where ``keep`` (the working picture's mask, a hint's box: where
+    the scene looked for objects; everywhere by default). The same clouds behind the
+    crown, between its leaves and branches, have their colours
+    (:func:`background_coloured`'s ``extra``).
+
+    Examples
+    --------
+    >>> from skimage.color import rgb2lab
+    >>> from growsim.pictures.scene import find_scene
+    >>> rng = np.random.default_rng(0)
+    >>> rgb = np.ones((80, 120, 3)) * [0.95, 0.7, 0.45]             # an orange sky
+    >>> rgb[60:] = [0.3, 0.45, 0.2]                                  # the ground
+    >>> rgb[20:24, 80:110] = [0.55, 0.4, 0.5]                        # a streak of cloud
+    >>> rgb[30:61, 28:32] = [0.3, 0.2, 0.1]                          # a trunk
+    >>> rgb[10:35, 15:45] = [0.2, 0.35, 0.1]                         # its crown
+    >>> rgb = np.clip(rgb + rng.normal(0, 0.02, rgb.shape), 0, 1)
+    >>> scene = find_scene(rgb)
+    >>> colours = cloud_colours(rgb, scene, scene.objects[0])  # the streak and its rim
+    >>> streak, leaf = rgb2lab(np.array([[[0.55, 0.4, 0.5], [0.2, 0.35, 0.1]]]))[0]
+    >>> near = lambda c: int((np.linalg.norm(colours - c, axis=1) < 6).sum())
+    >>> len(colours) > 100, near(streak) > 50, near(leaf)
+    (True, True, 0)
+    """
+    from scipy import ndimage
+    from skimage.color import rgb2lab
+
+    h, w = scene.shape
+    taken = np.zeros((h, w), dtype=bool)
+    for o in scene.objects:
+        taken |= o.mask
+    away = max(CLOUD_MIN_AWAY, CLOUD_AWAY * (obj.bottom - obj.top + 1))
+    far = ndimage.distance_transform_edt(~taken) > away if taken.any() else ~taken
+    up = np.arange(h)[:, None] < scene.cut[None, :]
+    clouds = up & ~scene.sky & far
+    if not clouds.any():
+        return np.zeros((0, 3))
+    # each working pixel in the coarse pixel it falls in
+    rows = np.minimum((np.arange(rgb.shape[0]) * scene.scale).astype(np.int64), h - 1)
+    cols = np.minimum((np.arange(rgb.shape[1]) * scene.scale).astype(np.int64), w - 1)
+    big = clouds[rows[:, None], cols[None, :]]
+    if keep is not None:
+        big &= keep
+    px = rgb[big]
+    if len(px) > SAMPLES:
+        px = px[np.random.default_rng(0).choice(len(px), SAMPLES, replace=False)]
+    return rgb2lab(px[:, None, :])[:, 0, :]
 
 
 def split_touching(scene: Scene) -> Scene:

@@ -24,7 +24,12 @@ from dataclasses import replace
 import numpy as np
 
 from growsim.errors import UserInputError
-from growsim.pictures.colours import background_coloured, split_touching
+from growsim.pictures.colours import (
+    MIN_PIXELS,
+    background_coloured,
+    cloud_colours,
+    split_touching,
+)
 from growsim.pictures.coverage import (
     MIN_DE,
     NOISE_K,
@@ -134,8 +139,13 @@ def segment_photo(
        defined) and more than the sky's noise, or fully covered;
     4b. under a sky that is not plain, the **clouds** taken for the crown (pieces of the
        sky's colours, not the crown's: a per-picture colour model,
-       :func:`~growsim.pictures.colours.background_coloured`) are sky: the sky is filled in
-       again with them and steps 3-4 run again (at most :data:`CLOUD_ROUNDS` times);
+       :func:`~growsim.pictures.colours.background_coloured`; the sky's colours are its own
+       pixels' and those of the clouds seen away from the tree,
+       :func:`~growsim.pictures.colours.cloud_colours`: a sunset's streaks, a cumulus's
+       rims) are sky: the sky is filled in again with them and steps 3-4 run again (at
+       most :data:`CLOUD_ROUNDS` times). Under a plain gradient with clouds away from the
+       tree (a sunset's streaks) the pieces of their colours in the crown are sky too, the
+       crown still read against the gradient;
     5. **connectivity** (:func:`skimage.measure.label`, 8-connected): the tree is the
        piece that holds most of the standing object, the pieces up to
        :data:`~growsim.pictures.crown.GAP` pixels from it (a twig broken by a pixel as pale as the
@@ -327,19 +337,25 @@ def segment_photo(
             bg = sky_background(lab, ref | pockets)
             dist = np.linalg.norm(lab - bg, axis=-1)
     fg, coverage, floor = tree_cover(part, lab, bg, dist, noise, crown_c)
-    if not plain:
-        # clouds behind or beside the crown, taken for it: pieces of the sky's colours;
-        # they are sky, and the sky is filled in again with them (the leaves beside them
-        # are read against the cloud, not the blue sky around the crown)
+    # the colours of the clouds seen away from the tree (a sunset's streaks, a cumulus's
+    # rims and shadows): the same clouds behind the crown have them
+    afar = cloud_colours(rgb, scene, obj, keep)
+    if not plain or len(afar) >= MIN_PIXELS:
+        # clouds behind or beside the crown, taken for it: pieces of the sky's colours
+        # (its own, the clouds' away from the tree); they are sky. Under a sky that is
+        # not plain the sky is filled in again with them (the leaves beside them are read
+        # against the cloud, not the blue sky around the crown); a plain gradient with
+        # streaks of cloud is still the gradient around them
         clouds = np.zeros_like(fg)
         for _ in range(CLOUD_ROUNDS):
-            more = background_coloured(lab, fg, ref, crown_c) & ~clouds
+            more = background_coloured(lab, fg, ref, crown_c, extra=afar) & ~clouds
             if not more.any():
                 break
             clouds |= more
-            bg = sky_background(lab, ref | pockets | clouds)
-            dist = np.linalg.norm(lab - bg, axis=-1)
-            fg, coverage, floor = tree_cover(part, lab, bg, dist, noise, crown_c)
+            if not plain:
+                bg = sky_background(lab, ref | pockets | clouds)
+                dist = np.linalg.norm(lab - bg, axis=-1)
+                fg, coverage, floor = tree_cover(part, lab, bg, dist, noise, crown_c)
             fg &= ~clouds
     tree_c = connected_tree(fg, obj, hull[crop], (r0, c0), (h, w), s)
     tree = np.zeros((h, w), dtype=bool)

@@ -87,7 +87,7 @@ def below_cut(rgb, tree, below, sky, obj, scale, keep):
     lowest = int(np.ceil(np.max(np.argmax(below[:, cols], axis=0))))
     y1 = min(h, lowest + int(BELOW_DEPTH * height) + 1)
     if y0 >= y1 - 1:
-        return np.zeros((h, w), dtype=bool)
+        return np.zeros((h, w), dtype=bool), 0.0
     win = (slice(y0, y1), slice(x0, x1))
     under, seed, kept = below[win], tree[win], keep[win]
     mask = np.full(under.shape, cv2.GC_PR_BGD, dtype=np.uint8)
@@ -102,7 +102,7 @@ def below_cut(rgb, tree, below, sky, obj, scale, keep):
     mask[under & ~inside[None, x0:x1]] = cv2.GC_BGD
     mask[~kept] = cv2.GC_BGD
     if not (mask == cv2.GC_FGD).any() or not (mask == cv2.GC_BGD).any():
-        return np.zeros((h, w), dtype=bool)
+        return np.zeros((h, w), dtype=bool), 0.0
     img = np.ascontiguousarray(np.round(255 * rgb[win][..., ::-1]).astype(np.uint8))
     size = mask.shape[::-1]
     f = min(1.0, np.sqrt(GRABCUT_PIXELS / mask.size))
