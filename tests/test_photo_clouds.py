@@ -93,3 +93,22 @@ def test_streaks_of_cloud_between_the_leaves_are_sky():
     assert (seg.tree & seen).sum() < 0.1 * seen.sum()
     assert (seg.tree & tree).sum() > 0.95 * tree.sum()
     assert (seg.tree & tree).sum() / (seg.tree | tree).sum() > 0.95
+
+
+def test_specks_in_the_crowns_rows_far_from_the_tree_are_not_the_tree():
+    """The crown's region (its rows' spans) may reach a cloud beside the crown; the
+    cloud's specks left there, far from the tree, are not the tree; a clump near it is."""
+    from growsim.pictures.crown import CROWN_REACH, connected_tree
+    from growsim.pictures.scene import example_photo, find_scene
+
+    rgb = example_photo()  # sky, ground strip, a trunk standing on it, a branch
+    obj = find_scene(rgb, np.ones((60, 50), bool)).objects[0]
+    fg = rgb[..., 0] == 0.4
+    height = np.ptp(np.flatnonzero(obj.mask.any(axis=1))) + 1
+    crown = np.zeros_like(fg)
+    crown[10:30, :] = True  # the region reaches across the picture
+    cols = np.flatnonzero(fg[20])
+    far, near = cols.max() + int(CROWN_REACH * height) + 6, cols.max() + 3
+    fg[20, far] = fg[22, near] = True
+    tree = connected_tree(fg, obj, crown, (0, 0), (60, 50), 1.0)
+    assert not tree[20, far] and tree[22, near]

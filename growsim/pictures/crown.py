@@ -18,6 +18,9 @@ CROWN_PAD = 0.05
 #: the crown's region: the standing object of the coarse scene grown by this many coarse
 #: pixels (twigs thinner than a coarse pixel, the texture's smoothing)
 CROWN_MARGIN = 2
+#: the crown region's pieces kept: those within this share of the standing object's
+#: height of the tree's piece (specks of cloud left in the region are farther)
+CROWN_REACH = 0.1
 
 
 def upsample(coarse: np.ndarray, shape, scale: float) -> np.ndarray:
@@ -98,5 +101,9 @@ def connected_tree(fg, obj, crown, origin, shape, scale):
     main = int(np.argmax(hits)) if hits.max() > 0 else int(np.argmax(sizes))
     bridged = label(ndimage.binary_dilation(fg, disk(GAP)), connectivity=2)
     group = bridged == bridged[labels == main][0]
-    ids = np.unique(labels[(group | crown) & fg])
+    # the crown region's pieces near the tree: within CROWN_REACH of its height of it
+    rows = np.flatnonzero(core.any(axis=1))
+    reach = max(float(GAP), CROWN_REACH * (rows.max() - rows.min() + 1 if rows.size else 0))
+    near = ndimage.distance_transform_edt(~group) <= reach
+    ids = np.unique(labels[(group | (crown & near)) & fg])
     return np.isin(labels, ids[ids > 0])
