@@ -20,7 +20,7 @@ CROWN_PAD = 0.05
 CROWN_MARGIN = 2
 #: the crown region's pieces kept: those within this share of the standing object's
 #: height of the tree's piece (specks of cloud left in the region are farther)
-CROWN_REACH = 0.1
+CROWN_REACH = 0.15
 
 
 def upsample(coarse: np.ndarray, shape, scale: float) -> np.ndarray:
