@@ -17,6 +17,12 @@
   grown 2D and 3D demo plant, a whole step, the light (all its passes; the sun's; one sky
   direction's; with the walls sharing their module's exposure) and the hormone step
   alone.
+- ``sizes``: where a module-step's time goes by plant size (:func:`sizes`): the 3D demo
+  genome made to branch more (:data:`BIG`: shorter modules, 4 laterals, less upkeep; the
+  demo itself levels off at about 450 modules) grown to a cap of 100, 300, 1,000 and
+  3,000 modules (``max_modules``, up to 600 steps), then one step timed per module
+  (CPU time): whole, the light and each of its passes, the rest, water, the hormone
+  step, mechanics (thickening, gravity, the loads' design), placing and drawing.
 - ``generation``: one generation of ``--population`` individuals in 3D at the model's
   default number of steps (40), scored by the ``nutrient`` objective through the
   experiment's fitness, serially and on a process pool of 2: random genomes (generation
@@ -178,6 +184,132 @@ def breakdown(env, repeats: int, dims: int = 3) -> dict:
     }
 
 
+#: the demo genome made to branch more, for plants of thousands of modules (``sizes``):
+#: 1,000 modules after about 90 steps, 2,600 after 300 (the demo levels off near 450)
+BIG = {"max_length": 0.2, "new_length": 0.1, "laterals": 4, "upkeep": 5.0, "leaf_upkeep": 0.5}
+
+
+def _grown(p, env, cap, max_steps=600):
+    """The plant of resolved parameters ``p`` with ``max_modules = cap`` grown in ``env``
+    until it holds ``cap`` modules (or ``max_steps`` steps, or it stops: the module count
+    before the stopping step): ``(n, state, steps)``."""
+    from growsim.kernels import hormone as K
+    from growsim.models import hormone
+
+    n, s = hormone.seedling({**p, "max_modules": cap}, env)
+    steps = 0
+    while steps < max_steps and n < cap:
+        steps += 1
+        n2, code = K.grow_step(n, *s.values())
+        if code not in (K.STOP_NONE, K.STOP_CAP):
+            break
+        n = n2
+    return n, s, steps
+
+
+def sizes(env, repeats: int, caps=(100, 300, 1000, 3000)) -> dict:
+    """Where a 3D module-step's time goes by plant size: the :data:`BIG` genome grown to
+    each cap (:func:`_grown`), then its next step timed part by part (:func:`_size_row`)."""
+    from growsim.models import hormone
+
+    p = hormone.resolve_params(hormone.PARAMS, {**hormone.PRESETS["demo_3d"], **BIG})
+    out = {"genome": "demo_3d with " + json.dumps(BIG)}
+    for cap in caps:
+        n, s, steps = _grown(p, env, cap)
+        out[str(cap)] = {"modules": n, "steps_grown": steps, **_size_row(n, s, repeats)}
+    return out
+
+
+def _size_row(n, s, repeats):
+    """One step of the plant of ``n`` modules in state ``s`` (:func:`seedling`'s) timed
+    from copies of it (CPU time, best of ``repeats``, each the mean over enough copies for
+    about 0.1 s), per module in us: the whole step; the light kernel alone
+    (:func:`~growsim.kernels.hormone_light.lights_kernel`, walls and leaves, every light;
+    then one light at a time); the rest (whole less light); water, the hormone step,
+    mechanics (thickening, gravity, the loads' design) and placing with drawing alone."""
+    from growsim.kernels import hormone as K
+    from growsim.kernels.hormone_light import LEAVES, WALLS, lights_kernel, module_ends
+    from growsim.kernels.hormone_mechanics import design_kernel, gravity_kernel, thicken_kernel
+    from growsim.kernels.water import transport_into_kernel
+
+    m0, e = s["modules"], s["env"]
+    w = e.weights
+
+    def copy():
+        return {**s, "modules": K.Modules(*(a.copy() for a in m0))}
+
+    def timed(fn) -> float:
+        fn(copy())  # compile
+        t0 = time.process_time()
+        fn(copy())
+        k = max(3, min(200, int(0.1 / max(time.process_time() - t0, 1e-6))))
+        best = np.inf
+        for _ in range(repeats):
+            states = [copy() for _ in range(k)]
+            t0 = time.process_time()
+            for x in states:
+                fn(x)
+            best = min(best, (time.process_time() - t0) / k)
+        return best
+
+    def step(x):
+        K.grow_step(n, *x.values())
+
+    def light(weights):  # the light kernel alone, on the placed and drawn plant
+        def fn(x):
+            lights_kernel(n, x["dims"], x["modules"], e._replace(weights=weights),
+                          x["shifts"], x["scratch"], WALLS | LEAVES)  # fmt: skip
+
+        return fn
+
+    def hormone_step(x):
+        K.step_kernel(n, x["dims"], x["modules"], x["genes"], x["c"])
+
+    start = m0.origin[:n]
+    ends = module_ends(n, m0.origin, m0.length, m0.R, np.empty((n, 3)))
+    demand = s["c"][0, K.C_TRANSPIRATION] * m0.leaf[:n] * m0.leaf_light[:n]
+
+    def water(x):
+        m = x["modules"]
+        transport_into_kernel(start, ends, m.radius[:n], m.parent[:n], demand,
+                              e.supply * e.soil, e.resistance, e.lift, m.water[:n],
+                              m.met[:n])  # fmt: skip
+
+    def mechanics(x):
+        m = x["modules"]
+        thicken_kernel(n, m, x["c"])
+        n2, _ = gravity_kernel(n, m, x["c"], x["strength_young"], e, False)
+        design_kernel(n2, m, x["c"], x["strength_young"],
+                      (e.density, e.leaf_mass_per_area, e.g, e.strength))  # fmt: skip
+
+    def place_draw(x):
+        m = x["modules"]
+        K.place_kernel(n, m.parent, m.R, m.length, m.origin)
+        K.drawn_kernel(n, m)
+
+    t = {"full": timed(step), "light": timed(light(w))}
+    lit = np.flatnonzero(w)
+    for j in lit:
+        t[f"pass_{j}"] = timed(light(np.where(np.arange(len(w)) == j, w, 0.0)))
+    for name, fn in (("water", water), ("hormone_step", hormone_step),
+                     ("mechanics", mechanics), ("place_draw", place_draw)):  # fmt: skip
+        t[name] = timed(fn)
+    us = {k: v / n * 1e6 for k, v in t.items()}
+    parts = ("water", "hormone_step", "mechanics", "place_draw")
+    return {
+        "step_ms": round(t["full"] * 1e3, 3),
+        "module_steps_per_s": round(n / t["full"]),
+        "us_per_module": {
+            "full": round(us["full"], 3),
+            "light": round(us["light"], 3),
+            # one light at a time (each with the kernel's own setup): the sun's, the sky's
+            "light_passes": [round(us[f"pass_{j}"], 3) for j in lit],
+            "rest": round(us["full"] - us["light"], 3),
+            **{k: round(us[k], 3) for k in parts},
+        },
+    }
+
+
 def generation(population: int) -> dict:
     from concurrent.futures import ProcessPoolExecutor
 
@@ -217,7 +349,7 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--population", type=int, default=10000)
-    ap.add_argument("--only", choices=["module_steps", "breakdown", "generation"])
+    ap.add_argument("--only", choices=["module_steps", "breakdown", "sizes", "generation"])
     args = ap.parse_args()
     from growsim.env import Environment
 
@@ -228,6 +360,8 @@ def main() -> None:
         out["module_steps"] = module_steps(env, args.repeats)
     if args.only in (None, "breakdown"):
         out["breakdown"] = {f"{d}d": breakdown(env, args.repeats, d) for d in (2, 3)}
+    if args.only in (None, "sizes"):
+        out["sizes"] = sizes(env, args.repeats)
     if args.only in (None, "generation"):
         out["generation"] = generation(args.population)
     out["load_1min"] = [round(load, 2), round(os.getloadavg()[0], 2)]
