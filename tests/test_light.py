@@ -174,7 +174,7 @@ def test_point_exposure_matches_oracle(seed):
     assert np.all(np.isclose(got, want, rtol=1e-12, atol=0) | edge)
 
 
-@pytest.mark.parametrize(("seed", "soft"), [(0, False), (1, False), (2, True), (3, True)])
+@pytest.mark.parametrize(("seed", "soft"), [(0, False), (2, True)])
 def test_points_among_copies_match_the_oracle(seed, soft):
     """Points among copies of their plants (a periodic stand's ``shifts``): each copy
     shades a point as the plant shades the point moved back by its shift, the answers
