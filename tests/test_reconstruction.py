@@ -131,11 +131,17 @@ def test_side_view_gives_the_depth():
     assert s["ncc_side"] >= 0.6
 
 
-def test_leafy_crown_grows_into_its_envelope():
+def _leafy_mask():
+    """A trunk under an elliptic crown, 150 x 130 px."""
     m = np.zeros((150, 130), bool)
     _stroke(m, (152, 65), (60, 65), 3.5)
     rr, cc = np.mgrid[0:150, 0:130]
     m |= ((rr - 55) / 45.0) ** 2 + ((cc - 65) / 50.0) ** 2 <= 1.0
+    return m
+
+
+def test_leafy_crown_grows_into_its_envelope():
+    m = _leafy_mask()
     rec = reconstruct(m, seed=1)
     p = rec.plant
     assert rec.leafy and p.n_leaves > 100
@@ -151,10 +157,7 @@ def test_leafy_crown_grows_into_its_envelope():
 
 
 def test_leafy_crown_carries_the_leaves_that_make_it_as_dense_as_the_picture():
-    m = np.zeros((150, 130), bool)
-    _stroke(m, (152, 65), (60, 65), 3.5)
-    rr, cc = np.mgrid[0:150, 0:130]
-    m |= ((rr - 55) / 45.0) ** 2 + ((cc - 65) / 50.0) ** 2 <= 1.0
+    m = _leafy_mask()
     chosen = reconstruct(m, seed=1)
     why = chosen.assumptions["colonization"]["leaves_per_node"]
     per = int(why.split(":")[0])
