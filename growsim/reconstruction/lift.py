@@ -85,6 +85,9 @@ OFF_SIDE = 3.0
 #: ... and a side-skeleton depth this much a pixel of its distance from the guess
 GUESS_WEIGHT = 1.0
 MAX_CANDIDATES = 24
+#: a matched branch takes the side branch's place only when it lies within this share of
+#: the branch's length (in the picture) of the parent's end; else its run in depth
+PLACE_REACH = 1.0
 
 
 def to_world(sk: Skeleton2D, scale: float) -> list[np.ndarray]:
@@ -327,7 +330,10 @@ def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: in
             ts = ts / max(ts[-1], 1e-12)
             u = np.interp(t, ts, s[:, 0])
             q = p.copy()
-            if same_picture:  # another limb's run in depth, from the parent's end
+            run = float(t_len[-1]) if (t_len := _arc(p[:, :2])).size else 0.0
+            if same_picture or abs(z0 + u[0]) > PLACE_REACH * run:
+                # another limb's run in depth, from the parent's end (the side branch's
+                # place lies farther from the parent's end than the branch can reach)
                 q[:, 2] = z0 - (u - u[0])
             else:  # the side branch's place (z = -u), reached from the parent's end: the
                 # offset at the start fades along the branch
