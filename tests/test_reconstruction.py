@@ -119,6 +119,22 @@ def test_y_tree_depth_is_deterministic_for_a_seed_and_the_front_kept():
     assert a.assumptions["lift"]["golden_angle_deg"] == pytest.approx(137.5077640500378)
 
 
+def _depth_travel(plant) -> float:
+    """How far the branches run in depth for their run in the front picture."""
+    d = plant.end - plant.start
+    return float(np.abs(d[:, 2]).sum() / np.linalg.norm(d[:, :2], axis=1).sum())
+
+
+def test_two_views_give_a_tree_not_hatching():
+    """From a Honda tree's front and side views, the reconstruction's branches run in
+    depth about as far as the tree's own (matched short branches sent to far side
+    branches' places drew horizontal hatching: depth travelled 3.5 times the tree's)."""
+    tree = honda.develop(honda.PRESETS["zelkova"], seed=1)
+    front, side = plant_views(tree, 384, "radius", views=2)
+    rec = reconstruct(front, side, height_m=10.0)
+    assert _depth_travel(rec.plant) <= 2.0 * _depth_travel(tree)
+
+
 def test_side_view_gives_the_depth():
     m = y_tree()
     side = y_tree(lean=-12.0)  # seen from the right, the fork leans to the picture's left

@@ -35,9 +35,12 @@ difference of their bases' and tips' heights and lengths, as shares of the tree'
 at most :data:`MATCH_COST`); a
 matched branch takes the side branch's place (``z = -u``) at the same share of its
 length, reached from its parent's end (the offset at its start fading linearly along
-it; tried on the discovery renders: keeping the side branch's offsets instead, or only
-when the offset is short, lowers the side view's NCC); an unmatched one the prior's
-depth offsets. Then each branch's depths
+it), when that place lies within :data:`PLACE_REACH` of its length in the picture from
+the parent's end; farther, it runs in depth as the side branch runs across, from its
+parent's end (a short branch sent to a far side branch's place became a long stroke in
+depth: the side view was horizontal hatching, depths travelled 2-16 times the branches'
+length in the picture, and scored well at 256 px by filling the side silhouette); an
+unmatched one the prior's depth offsets. Then each branch's depths
 are carved onto the side picture's skeleton (after the silhouette intersection of
 Shlyakhter et al.): along the branch, every point may take the depth of a side-skeleton
 point at its height or keep its guess (at a cost of :data:`OFF_SIDE` pixels), and the
@@ -64,6 +67,7 @@ __all__ = [
     "MATCH_COST",
     "MAX_CANDIDATES",
     "OFF_SIDE",
+    "PLACE_REACH",
     "TAN_CAP",
     "lift_prior",
     "lift_two_views",
@@ -317,8 +321,8 @@ def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: in
     out: list[np.ndarray] = []
     for b, p in enumerate(world):
         z0 = 0.0 if sk.parent[b] < 0 else float(out[sk.parent[b]][-1, 2])
-        t = _arc(p[:, :2])
-        t = t / max(t[-1], 1e-12)
+        arc = _arc(p[:, :2])
+        t = arc / max(arc[-1], 1e-12)
         if sk.order[b] == 0 and len(tp):
             match[b] = trunk[0]
             q = p.copy()
@@ -330,8 +334,7 @@ def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: in
             ts = ts / max(ts[-1], 1e-12)
             u = np.interp(t, ts, s[:, 0])
             q = p.copy()
-            run = float(t_len[-1]) if (t_len := _arc(p[:, :2])).size else 0.0
-            if same_picture or abs(z0 + u[0]) > PLACE_REACH * run:
+            if same_picture or abs(z0 + u[0]) > PLACE_REACH * arc[-1]:
                 # another limb's run in depth, from the parent's end (the side branch's
                 # place lies farther from the parent's end than the branch can reach)
                 q[:, 2] = z0 - (u - u[0])
