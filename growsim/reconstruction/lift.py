@@ -36,11 +36,11 @@ at most :data:`MATCH_COST`); a
 matched branch takes the side branch's place (``z = -u``) at the same share of its
 length, reached from its parent's end (the offset at its start fading linearly along
 it), when that place lies within :data:`PLACE_REACH` of its length in the picture from
-the parent's end; farther, it runs in depth as the side branch runs across, from its
-parent's end (a short branch sent to a far side branch's place became a long stroke in
-depth: the side view was horizontal hatching, depths travelled 2-16 times the branches'
-length in the picture, and scored well at 256 px by filling the side silhouette); an
-unmatched one the prior's depth offsets. Then each branch's depths
+the parent's end; farther, the match is taken for wrong and the branch, like an
+unmatched one, takes the prior's depth offsets (a short branch sent to a far side
+branch's place became a long stroke in depth: the side view was horizontal hatching,
+depths travelled 2-16 times the branches' length in the picture, and scored well at 256
+px by filling the side silhouette). Then each branch's depths
 are carved onto the side picture's skeleton (after the silhouette intersection of
 Shlyakhter et al.): along the branch, every point may take the depth of a side-skeleton
 point at its height or keep its guess (at a cost of :data:`OFF_SIDE` pixels), and the
@@ -334,10 +334,12 @@ def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: in
             ts = ts / max(ts[-1], 1e-12)
             u = np.interp(t, ts, s[:, 0])
             q = p.copy()
-            if same_picture or abs(z0 + u[0]) > PLACE_REACH * arc[-1]:
-                # another limb's run in depth, from the parent's end (the side branch's
-                # place lies farther from the parent's end than the branch can reach)
+            if same_picture:  # another limb's run in depth, from the parent's end
                 q[:, 2] = z0 - (u - u[0])
+            elif abs(z0 + u[0]) > PLACE_REACH * arc[-1]:
+                # the side branch's place lies farther from the parent's end than the
+                # branch can reach: a wrong match; the prior's depths
+                q[:, 2] = z0 + (prior[b][:, 2] - prior[b][0, 2])
             else:  # the side branch's place (z = -u), reached from the parent's end: the
                 # offset at the start fades along the branch
                 q[:, 2] = -u + (z0 + u[0]) * (1.0 - t)
