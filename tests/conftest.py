@@ -34,6 +34,18 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 
 
+def benchmark_module(name: str):
+    """The script ``benchmarks/<name>.py`` imported as module ``name`` (registered in
+    ``sys.modules``: its dataclasses look their module up)."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(name, ROOT / "benchmarks" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
 def growsim(*args, cwd=None, timeout=240, env=None) -> subprocess.CompletedProcess:
     """Run ``python -m growsim ARGS`` as a user types it; its exit code and text output.
 

@@ -6,23 +6,12 @@ no row, or when the figure before a citation is not the row's."""
 
 from __future__ import annotations
 
-import importlib.util
 import re
-import sys
 
 import pytest
-from conftest import ROOT
+from conftest import ROOT, benchmark_module
 
-
-def _figures():
-    spec = importlib.util.spec_from_file_location("figures", ROOT / "benchmarks" / "figures.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # the dataclasses look their module up
-    spec.loader.exec_module(module)
-    return module
-
-
-FIGURES = _figures()
+FIGURES = benchmark_module("figures")
 TABLE = ROOT / "docs" / "figures.md"
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
 CITE = re.compile(r"\[figures\]\((?:\.\./)*(?:docs/)?figures\.md#([A-Za-z0-9_-]+)\)")

@@ -4,21 +4,9 @@ under both physics."""
 
 from __future__ import annotations
 
-import importlib.util
-import sys
+from conftest import ROOT, benchmark_module
 
-from conftest import ROOT
-
-
-def _findings():
-    spec = importlib.util.spec_from_file_location("findings", ROOT / "benchmarks" / "findings.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
-
-
-FINDINGS = _findings()
+FINDINGS = benchmark_module("findings")
 
 
 def test_page_holds_the_current_table():

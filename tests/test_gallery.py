@@ -3,22 +3,12 @@
 
 from __future__ import annotations
 
-import importlib.util
 import re
-import sys
 
-from conftest import ROOT
+from conftest import ROOT, benchmark_module
 
 IMAGES = ROOT / "docs" / "images"
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
-
-
-def _gallery():
-    spec = importlib.util.spec_from_file_location("gallery", ROOT / "benchmarks" / "gallery.py")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
-    return module
 
 
 def test_every_picture_is_shown_on_a_page():
@@ -30,7 +20,7 @@ def test_every_picture_is_shown_on_a_page():
 
 
 def test_the_gallery_script_makes_every_picture():
-    listed = set(_gallery().pictures())
+    listed = set(benchmark_module("gallery").pictures())
     files = {p.name for p in IMAGES.iterdir()}
     assert files - listed == set(), f"not made by benchmarks/gallery.py: {sorted(files - listed)}"
     assert listed - files == set(), f"listed but missing: {sorted(listed - files)}"
