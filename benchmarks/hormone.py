@@ -23,6 +23,12 @@
   3,000 modules (``max_modules``, up to 600 steps), then one step timed per module
   (CPU time): whole, the light and each of its passes, the rest, water, the hormone
   step, mechanics (thickening, gravity, the loads' design), placing and drawing.
+- ``strictness``: not a timing but how strict issue 44's model check is
+  (:func:`strictness`), judged by ``tests/test_hormone_speed.py``'s :func:`agreement` on
+  its grown states (the share of modules whose light is within 2 %, of steps and of
+  module-steps with the same growth decisions): one step with the shadow maps at 48 to
+  192 px against the same step at 256 px, and the current step with the sun and the sky
+  turned by 0.1 to 1 degree about the vertical against the current step.
 - ``generation``: one generation of ``--population`` individuals in 3D at the model's
   default number of steps (40), scored by the ``nutrient`` objective through the
   experiment's fitness, serially and on a process pool of 2: random genomes (generation
@@ -345,11 +351,58 @@ def generation(population: int) -> dict:
     return out
 
 
+def strictness(resolutions=(48, 64, 96, 128, 192), reference=256, turns=(0.1, 0.5, 1.0)):
+    """Issue 44's check (``tests/test_hormone_speed.py``) applied to changes that leave the
+    model as it is: one step of the current kernels at each of ``resolutions`` px against
+    one at ``reference`` px, and with every light turned by ``turns`` degrees about the
+    vertical against the current step, from the check's grown states."""
+    import math
+    import sys
+    from pathlib import Path
+
+    from growsim.kernels import hormone as K
+    from growsim.kernels.light import shadow_scratch
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+    from test_hormone_speed import agreement, grown_states
+
+    def at(res):
+        def step(n, state):
+            state["env"] = state["env"]._replace(resolution=res)
+            state["scratch"] = shadow_scratch(res)
+            return K.grow_step(n, *state.values())
+
+        return step
+
+    def turned(deg):
+        c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+        rot = np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]]).T
+
+        def step(n, state):
+            e = state["env"]
+            state["env"] = e._replace(dirs=e.dirs @ rot, us=e.us @ rot, vs=e.vs @ rot)
+            return K.grow_step(n, *state.values())
+
+        return step
+
+    def judged(candidate, ref):
+        a = agreement(candidate, ref, states)
+        return {k: round(v, 3) for k, v in a.items() if k != "steps"}
+
+    states = grown_states()
+    return {
+        "states": len(states),
+        "modules": sum(n for n, _ in states),
+        "resolution_against_256px": {str(r): judged(at(r), at(reference)) for r in resolutions},
+        "turned_deg": {str(t): judged(turned(t), turned(0.0)) for t in turns},
+    }
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--population", type=int, default=10000)
-    ap.add_argument("--only", choices=["module_steps", "breakdown", "sizes", "generation"])
+    ap.add_argument("--only", choices=["module_steps", "breakdown", "sizes", "strictness", "generation"])
     args = ap.parse_args()
     from growsim.env import Environment
 
@@ -362,6 +415,8 @@ def main() -> None:
         out["breakdown"] = {f"{d}d": breakdown(env, args.repeats, d) for d in (2, 3)}
     if args.only in (None, "sizes"):
         out["sizes"] = sizes(env, args.repeats)
+    if args.only in (None, "strictness"):
+        out["strictness"] = strictness()
     if args.only in (None, "generation"):
         out["generation"] = generation(args.population)
     out["load_1min"] = [round(load, 2), round(os.getloadavg()[0], 2)]
