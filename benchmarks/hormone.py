@@ -402,7 +402,9 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--population", type=int, default=10000)
-    ap.add_argument("--only", choices=["module_steps", "breakdown", "sizes", "strictness", "generation"])
+    ap.add_argument(
+        "--only", choices=["module_steps", "breakdown", "sizes", "strictness", "generation"]
+    )
     args = ap.parse_args()
     from growsim.env import Environment
 
