@@ -524,7 +524,7 @@ ROWS: list[Row] = [
     ),
     Row(
         "hormone-generation",
-        "hormone model, a generation of 10,000 grown 3D plants (40 steps, 106 modules on "
+        "hormone model, a generation of 10,000 grown 3D plants (40 steps, 111 modules on "
         "average), a process pool of 2",
         "s",
         "timings/hormone.json#generation",
