@@ -166,6 +166,22 @@ def make_hormone_2d(out: Path) -> None:
 
 def make_hormone_3d(out: Path) -> None:
     _saved_best("hormone_3d", out, gifs=True)
+    _largest_growth("hormone_3d", out / "hormone_3d_growth.gif")
+
+
+def _largest_growth(name: str, path: Path) -> None:
+    """The growth, a frame a week, of the largest best plant of a saved sweep (its
+    ``largest`` run: the one whose best plant has the most modules)."""
+    import numpy as np
+
+    from growsim.experiment import load_plan
+    from growsim.phenotypes.plant.views import growth_animation
+
+    best = json.loads((SAVED / f"{name}.json").read_text())["largest"]
+    f = load_plan(best["config"]).fitness()
+    params = f.param_dict(np.array([float(best["params"][n]) for n in f.names]))
+    steps = list(load_plan(best["config"]).model.grow(params, env=f.env))
+    growth_animation(steps, path, view="iso", size=(300, 300), fps=6)
 
 
 def make_hormone_2d_paper_ga(out: Path) -> None:
@@ -488,8 +504,9 @@ MAKERS: dict[str, Maker] = {
             "hormone_3d_ample.gif",
             "hormone_3d_half_water.gif",
             "hormone_3d_half_light.gif",
+            "hormone_3d_growth.gif",
         ),
-        "the same for hormone_3d.toml",
+        "the same for hormone_3d.toml, and the growth of its largest best plant",
         _saved("hormone_3d"),
     ),
     "hormone_2d_paper_ga": Maker(
@@ -656,19 +673,23 @@ def save_sweep(sweep: Path) -> Path:
         for v in best
         if v not in ("ample", "half_water", "half_light", "alone", "sparse", "dense")
     )
+    def entry(r):
+        return {
+            "seed": r.summary["seed"],
+            "fitness": r.best_fitness,
+            "params": r.best["params"],
+            "config": r.config,
+        }
+
+    runs = find_runs([sweep])
+    largest = max(runs, key=lambda r: r.summary["measures"].get("n_segments", 0))
     saved = {
         "experiment": name,
         "made": f"growsim sweep experiments/{name}.toml ({time.strftime('%Y-%m-%d')}): the "
-        f"best run of each variant ({len(find_runs([sweep]))} runs in all)",
-        "variants": {
-            v: {
-                "seed": best[v].summary["seed"],
-                "fitness": best[v].best_fitness,
-                "params": best[v].best["params"],
-                "config": best[v].config,
-            }
-            for v in order
-        },
+        f"best run of each variant ({len(runs)} runs in all), and the run whose best plant "
+        "has the most modules",
+        "variants": {v: entry(best[v]) for v in order},
+        "largest": {"variant": largest.path.parent.name, **entry(largest)},
     }
     SAVED.mkdir(parents=True, exist_ok=True)
     path = SAVED / f"{name}.json"
