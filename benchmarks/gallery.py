@@ -673,6 +673,7 @@ def save_sweep(sweep: Path) -> Path:
         for v in best
         if v not in ("ample", "half_water", "half_light", "alone", "sparse", "dense")
     )
+
     def entry(r):
         return {
             "seed": r.summary["seed"],
