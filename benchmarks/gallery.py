@@ -130,18 +130,13 @@ def make_hormone_demo(out: Path) -> None:
 def _saved_best(name: str, out: Path, gifs: bool, picture: str | None = None) -> None:
     """The best plant of each environment of a saved sweep, side by side (and each one's
     growth as a GIF): ``benchmarks/results/gallery/<name>.json``."""
-    import numpy as np
 
-    from growsim.experiment import load_plan
     from growsim.phenotypes.plant.views import growth_animation, render_grid
 
     saved = json.loads((SAVED / f"{name}.json").read_text())
     plants, titles = [], []
     for variant, best in saved["variants"].items():
-        plan = load_plan(best["config"])
-        f = plan.fitness()
-        params = f.param_dict(np.array([float(best["params"][n]) for n in f.names]))
-        steps = list(plan.model.grow(params, env=f.env))
+        steps = _grown(best)
         plants.append(steps[-1])
         titles.append(f"{variant.replace('_', ' ')}: {steps[-1].n_segments} modules")
         view = "front" if int(best["params"]["dims"]) == 2 else "iso"
@@ -169,19 +164,26 @@ def make_hormone_3d(out: Path) -> None:
     _largest_growth("hormone_3d", out / "hormone_3d_growth.gif")
 
 
-def _largest_growth(name: str, path: Path) -> None:
-    """The growth, a frame a week, of the largest best plant of a saved sweep (its
-    ``largest`` run: the one whose best plant has the most modules)."""
+def _grown(best: dict) -> list:
+    """A saved run's best genome (``params``, ``config``: :func:`save_sweep`) grown again
+    in its run's environment: the plant after each step."""
     import numpy as np
 
     from growsim.experiment import load_plan
+
+    plan = load_plan(best["config"])
+    f = plan.fitness()
+    params = f.param_dict(np.array([float(best["params"][n]) for n in f.names]))
+    return list(plan.model.grow(params, env=f.env))
+
+
+def _largest_growth(name: str, path: Path) -> None:
+    """The growth, a frame a week, of the largest best plant of a saved sweep (its
+    ``largest`` run: the one whose best plant has the most modules)."""
     from growsim.phenotypes.plant.views import growth_animation
 
     best = json.loads((SAVED / f"{name}.json").read_text())["largest"]
-    f = load_plan(best["config"]).fitness()
-    params = f.param_dict(np.array([float(best["params"][n]) for n in f.names]))
-    steps = list(load_plan(best["config"]).model.grow(params, env=f.env))
-    growth_animation(steps, path, view="iso", size=(300, 300), fps=6)
+    growth_animation(_grown(best), path, view="iso", size=(300, 300), fps=6)
 
 
 def make_hormone_2d_paper_ga(out: Path) -> None:
