@@ -1,7 +1,5 @@
 """``python -m growsim`` is the ``growsim`` command."""
 
-import sys
+from growsim.cli import command
 
-from growsim.cli import main
-
-sys.exit(main())
+command()

@@ -287,3 +287,22 @@ def test_fuzz_mangled_quickstart_exits_2_or_runs(tmp_path, monkeypatch, edits):
     lines = [ln for ln in err.getvalue().splitlines() if ln.strip()]
     assert code == 2, err.getvalue()
     assert len(lines) == 1 and lines[0].startswith("growsim: error: "), err.getvalue()
+
+
+def test_an_interrupted_command_in_process_puts_ctrl_c_back(tmp_path, monkeypatch):
+    """Called from Python, an interrupted command reports 130 and leaves Ctrl-C's handler
+    as it found it: ignored, it would stay ignored in the caller and in every process the
+    caller starts later (they inherit it), so none could be interrupted."""
+    import growsim.experiment.runner as ex
+    from growsim.cli import main
+
+    def interrupted(*a, **k):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(ex, "_run_locked", interrupted)
+    before = signal.getsignal(signal.SIGINT)
+    err = StringIO()
+    with redirect_stderr(err):
+        code = main(["run", QUICK, "--out", str(tmp_path / "o"), "--quiet"])
+    assert code == 130 and "growsim: interrupted" in err.getvalue()
+    assert signal.getsignal(signal.SIGINT) is before is signal.default_int_handler

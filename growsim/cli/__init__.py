@@ -24,7 +24,7 @@ from collections.abc import Callable
 from growsim import __version__
 from growsim.errors import GrowsimError
 
-__all__ = ["build_parser", "main"]
+__all__ = ["build_parser", "command", "main"]
 
 
 class _Parser(argparse.ArgumentParser):
@@ -99,9 +99,14 @@ def _on_sigterm(signum, frame) -> None:
     signal.raise_signal(signal.SIGINT)
 
 
-def main(argv: list[str] | None = None) -> int:
+def main(argv: list[str] | None = None, *, process: bool = False) -> int:
     """Run the command line; returns the exit code (0 ok, 2 bad input, 130 interrupted by
     Ctrl-C, 143 by SIGTERM).
+
+    Once interrupted, further Ctrl-Cs are ignored while it reports; ``process`` (the
+    ``growsim`` command, :func:`command`: the process exits next) keeps them ignored while
+    the interpreter shuts down, else (called from Python) Ctrl-C's handler is put back as
+    it was, so the caller and the processes it starts later can still be interrupted.
 
     Examples
     --------
@@ -115,6 +120,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     main_thread = threading.current_thread() is threading.main_thread()
     previous = signal.getsignal(signal.SIGTERM) if main_thread else None
+    previous_int = signal.getsignal(signal.SIGINT) if main_thread else None
     if previous == signal.SIG_DFL:
         signal.signal(signal.SIGTERM, _on_sigterm)
     try:
@@ -123,9 +129,12 @@ def main(argv: list[str] | None = None) -> int:
         print(f"growsim: error: {exc}", file=sys.stderr)
         return exc.exit_code
     except KeyboardInterrupt:
-        # a second Ctrl-C while the interpreter shuts down must not kill it by the signal
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        # a second Ctrl-C while it reports (and, for the command, while the interpreter
+        # shuts down) must not interrupt it again or kill it by the signal
+        if main_thread:
+            signal.signal(signal.SIGINT, signal.SIG_IGN)
         if _terminated:
+            _terminated.clear()
             print("growsim: terminated", file=sys.stderr)
             return 143
         print("growsim: interrupted", file=sys.stderr)
@@ -133,6 +142,21 @@ def main(argv: list[str] | None = None) -> int:
     finally:
         if previous == signal.SIG_DFL:
             signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        if main_thread and not process and previous_int is not None:
+            signal.signal(signal.SIGINT, previous_int)
+
+
+def command() -> None:
+    """The ``growsim`` command (and ``python -m growsim``): :func:`main` as its own
+    process, which then exits with its code.
+
+    Examples
+    --------
+    >>> import subprocess, sys
+    >>> subprocess.run([sys.executable, "-m", "growsim", "--version"]).returncode  # doctest: +SKIP
+    0
+    """
+    sys.exit(main(process=True))
 
 
 if __name__ == "__main__":  # pragma: no cover
