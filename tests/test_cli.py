@@ -300,9 +300,10 @@ def test_an_interrupted_command_in_process_puts_ctrl_c_back(tmp_path, monkeypatc
         raise KeyboardInterrupt
 
     monkeypatch.setattr(ex, "_run_locked", interrupted)
-    before = signal.getsignal(signal.SIGINT)
+    # Python's own handler, whatever this process inherited (a background job ignores it)
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     err = StringIO()
     with redirect_stderr(err):
         code = main(["run", QUICK, "--out", str(tmp_path / "o"), "--quiet"])
     assert code == 130 and "growsim: interrupted" in err.getvalue()
-    assert signal.getsignal(signal.SIGINT) is before is signal.default_int_handler
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler

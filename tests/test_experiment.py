@@ -528,6 +528,9 @@ def test_ctrl_c_during_the_artefacts_ends_with_the_hint_and_resumes(tmp_path, st
         stderr=subprocess.PIPE,
         text=True,
         env={**os.environ, "MPLBACKEND": "Agg"},
+        # Ctrl-C as a terminal delivers it, even when these tests run where it is ignored
+        # (a background job): an ignored SIGINT is inherited, a default one is not
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     err: list[str] = []
     reader = threading.Thread(target=lambda: err.extend(proc.stderr), daemon=True)
