@@ -24,7 +24,13 @@ the front picture; the side picture, seen from the right, shows ``-z`` to the ri
   along the branch in proportion to its length, towards the viewer when ``sin phi > 0``;
 - the tree reaches no deeper than it reaches across: ``|z|`` stays below the largest
   ``|x|`` from the base, ``R``, smoothly (a branch's depth offsets ``dz`` from its start's
-  ``z0`` are added as ``z = R tanh(atanh(z0 / R) + dz / R)``).
+  ``z0`` are added as ``z = R tanh(atanh(z0 / R) + dz / R)``);
+- at each height the crown is as deep as it is wide (a crown about round in plan, as
+  forest mensuration takes a crown's projection for a circle): in each of
+  :data:`ENVELOPE_BANDS` bands of height, the depths in front of the trunk's plane and
+  those behind it are scaled so that the deepest reaches half the band's width in the
+  picture (by at most :data:`ENVELOPE_CAP` either way), the scales interpolated between
+  the bands' middles so that every branch stays smooth.
 
 **Two pictures** (:func:`lift_two_views`; after Shlyakhter, Rozenoer, Dorsey and Teller,
 *Reconstructing 3D tree models from instrumented photographs*, 2001, who intersect the
@@ -62,6 +68,8 @@ from growsim.reconstruction.skeleton import Skeleton2D
 
 __all__ = [
     "ALLOMETRY_QUANTILE",
+    "ENVELOPE_BANDS",
+    "ENVELOPE_CAP",
     "GOLDEN_ANGLE",
     "GUESS_WEIGHT",
     "MATCH_COST",
@@ -79,6 +87,11 @@ GOLDEN_ANGLE = 360.0 * (1.0 - 2.0 / (1.0 + math.sqrt(5.0)))
 #: the largest |tan(phi)| a horizontal run is stretched by into depth (80 degrees; tuned on
 #: the discovery renders' side views, 1 to 8: more depth, better side views up to about 4)
 TAN_CAP = math.tan(math.radians(80.0))
+#: the bands of height in which one picture's crown is made as deep as it is wide, and
+#: the most its depths are scaled by either way (both chosen on the discovery renders'
+#: side views: 6-48 bands and caps 1.5-5 give 0.78-0.80 there)
+ENVELOPE_BANDS = 24
+ENVELOPE_CAP = 3.0
 #: the allometric constant: this quantile of L / r^(2/3) over the visible axes
 ALLOMETRY_QUANTILE = 0.75
 #: the largest matching cost (shares of the height) of a front and a side branch
@@ -196,8 +209,12 @@ def lift_prior(sk: Skeleton2D, world: list[np.ndarray], seed: int = 0):
             q[:, 2] = reach * np.tanh(u0 + dz / reach)
             q[0, 2] = z0
         out.append(q)
+    _round_crown(out)
     why = {
-        "depth": "one view: golden-angle azimuths and allometric foreshortening",
+        "depth": "one view: golden-angle azimuths and allometric foreshortening, the "
+        "crown as deep as it is wide at each height",
+        "envelope_bands": ENVELOPE_BANDS,
+        "envelope_cap": ENVELOPE_CAP,
         "golden_angle_deg": GOLDEN_ANGLE,
         "phi0_deg": phi0,
         "tan_cap": TAN_CAP,
@@ -209,6 +226,42 @@ def lift_prior(sk: Skeleton2D, world: list[np.ndarray], seed: int = 0):
         "seed": int(seed),
     }
     return out, why
+
+
+def _round_crown(branches: list[np.ndarray]) -> None:
+    """Scale the depths ``z`` of ``branches`` (in place) so that in each band of height
+    the deepest point in front of the picture's plane, and the deepest behind it, lie
+    half the band's width away (the scale at most :data:`ENVELOPE_CAP` either way; 1 in a
+    band with no depth on that side), interpolated in height between the bands' middles.
+
+    Examples
+    --------
+    >>> b = [np.array([[-2.0, 0, 0], [2.0, 0, 0.5]]), np.array([[0.0, 0, 0], [0.5, 0, -1]])]
+    >>> _round_crown(b)  # 4 wide: 0.5 in front scaled by 4, at most 3; 1 behind by 2
+    >>> float(b[0][1, 2]), float(b[1][1, 2])
+    (1.5, -2.0)
+    """
+    pts = np.concatenate(branches)
+    top = max(float(pts[:, 1].max()), 1e-12)
+    edges = np.linspace(0.0, top, ENVELOPE_BANDS + 1)
+    band = np.minimum(np.searchsorted(edges, pts[:, 1], side="right") - 1, ENVELOPE_BANDS - 1)
+    front, back = np.ones(ENVELOPE_BANDS), np.ones(ENVELOPE_BANDS)
+    for i in range(ENVELOPE_BANDS):
+        x, z = pts[band == i, 0], pts[band == i, 2]
+        if x.size == 0:
+            continue
+        half = 0.5 * float(x.max() - x.min())
+        if z.max() > 1e-12:
+            front[i] = half / float(z.max())
+        if z.min() < -1e-12:
+            back[i] = half / float(-z.min())
+    lo = 1.0 / ENVELOPE_CAP
+    front, back = np.clip(front, lo, ENVELOPE_CAP), np.clip(back, lo, ENVELOPE_CAP)
+    mids = 0.5 * (edges[1:] + edges[:-1])
+    for q in branches:
+        scale = np.where(q[:, 2] > 0, np.interp(q[:, 1], mids, front),
+                         np.interp(q[:, 1], mids, back))  # fmt: skip
+        q[:, 2] *= scale
 
 
 def _pixel(world) -> float:
