@@ -4,6 +4,7 @@ colonization kernel against its oracle."""
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 
@@ -117,6 +118,30 @@ def test_y_tree_depth_is_deterministic_for_a_seed_and_the_front_kept():
     assert not np.allclose(a.plant.end[:, 2], c.plant.end[:, 2])  # the depth prior's draw
     json.dumps(a.assumptions)  # JSON-able, for fit.json
     assert a.assumptions["lift"]["golden_angle_deg"] == pytest.approx(137.5077640500378)
+
+
+def test_one_picture_crown_is_as_deep_as_it_is_wide_at_each_height():
+    # a Honda tree's front picture alone: in each band of height the lifted branches reach
+    # about as far in front of the trunk's plane, and behind it, as half the band's width
+    # across (exactly at the bands' middles; between them the scales are interpolated)
+    from growsim.reconstruction.lift import ENVELOPE_BANDS, lift_prior, to_world
+
+    for preset, seed in (("zelkova", 2), ("cherry", 1)):
+        tree = honda.develop(honda.PRESETS[preset])
+        sk = extract_skeleton(plant_views(tree, 256, views=1)[0] > 0)
+        lifted, why = lift_prior(sk, to_world(sk, 0.1), seed=seed)
+        assert why["envelope_bands"] == ENVELOPE_BANDS
+        pts = np.concatenate(lifted)
+        ratios = []
+        for lo, hi in itertools.pairwise(np.linspace(0.0, pts[:, 1].max(), ENVELOPE_BANDS + 1)):
+            inside = (pts[:, 1] >= lo) & (pts[:, 1] < hi)
+            x, z = pts[inside, 0], pts[inside, 2]
+            if x.size >= 20 and z.max() > 0 > z.min():
+                half = 0.5 * (x.max() - x.min())
+                ratios += [z.max() / half, -z.min() / half]
+        assert len(ratios) >= ENVELOPE_BANDS // 2
+        assert 0.9 <= np.median(ratios) <= 1.1
+        assert 0.8 <= np.ptp(pts[:, 2]) / np.ptp(pts[:, 0]) <= 1.25
 
 
 def _depth_travel(plant) -> float:
