@@ -9,10 +9,12 @@ Two sets:
   treeline, fence, buildings), a second tree or a wood behind the crown, with their true
   masks. For each: :func:`growsim.pictures.photo.segment_photo` on the file, accepted or
   refused (the message; any other exception is reported as an ``error``), its IoU
-  against the mask, the tree's area over the mask's, seconds. Summary: how many
-  accepted, mean IoU of the accepted (leafy and bare apart, and with refusals counted as
-  IoU 0), acceptance by sky, ground and clutter kind; for the hard ones (a second tree,
-  a hedge, treeline or wood: ``second_tree`` or ``treeline`` in ``index.json``):
+  against the mask, the tree's area over the mask's, seconds, and the mask's
+  ``edge_floor`` (:func:`edge_floor`: its IoU against itself grown by one pixel). Summary:
+  how many accepted, mean IoU of the accepted (leafy and bare apart, and with refusals
+  counted as IoU 0, with their mean edge floor), acceptance by sky, ground and clutter
+  kind; for the hard ones (a second tree, a hedge, treeline or wood: ``second_tree`` or
+  ``treeline`` in ``index.json``):
   ``right_or_refused``, segmented right (IoU >= :data:`RIGHT_IOU`) or refused, and how
   many were accepted wrong.
 * **real photos** (``--photos DIR``, e.g. ``runs/photos``, never committed; the files'
@@ -58,6 +60,14 @@ RESULTS = Path(__file__).resolve().parent / "results" / "photo_outdoor.json"
 def iou(a: np.ndarray, b: np.ndarray) -> float:
     """Intersection over union of two boolean masks."""
     return float((a & b).sum() / max((a | b).sum(), 1))
+
+
+def edge_floor(truth: np.ndarray) -> float:
+    """The IoU of the true mask against itself grown by one pixel (8-connected): what a
+    segmentation whose every edge lies one pixel out would score (thin twigs pay most)."""
+    from scipy.ndimage import binary_dilation
+
+    return round(iou(binary_dilation(truth, np.ones((3, 3), bool)), truth), 4)
 
 
 def fit_to(mask: np.ndarray, shape) -> np.ndarray:
@@ -165,6 +175,7 @@ def run_composites(src: Path, split: str, only, do_fit: bool, fit_out: Path) -> 
             "size": [pic["width"], pic["height"]],
             "second_tree": pic["second_tree"],
             "treeline": pic["treeline"],
+            "edge_floor": edge_floor(truth),
         }
         r, tree = segment(src / pic["photo"], pic["name"])
         row.update(r)
@@ -207,6 +218,7 @@ def composite_summary(rows) -> dict:
             "accepted": sum(r["accepted"] for r in sel),
             "mean_iou_accepted": _mean([r["iou"] for r in sel if r["accepted"]]),
             "mean_iou_refused_as_0": _mean([r.get("iou", 0.0) for r in sel]),
+            "mean_edge_floor": _mean([r["edge_floor"] for r in sel]),
         }
     hard = [r for r in rows if r["second_tree"] or r["treeline"]]
     out["hard"] = {
