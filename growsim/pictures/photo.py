@@ -68,7 +68,7 @@ from growsim.pictures.sky import (
     smooth_sky,
     thin_lines,
 )
-from growsim.pictures.trunk import below_cut
+from growsim.pictures.trunk import below_cut, hanging_trunk
 
 __all__ = [
     "Segmentation",
@@ -365,6 +365,8 @@ def segment_photo(
     cover = np.zeros((h, w))
     cover[crop] = np.where(crown_c, coverage, 0.0)
     if scene.ground and tree.any():
+        # a crown hanging in the sky: its trunk, the sky's colour, between it and the cut
+        tree |= hanging_trunk(rgb, tree, obj, cut, s)
         # below the cut: the trunk and what hangs low, apart from the ground and the
         # horizon's clutter by their colours (GrabCut, seeded by the crown above)
         sky = upsample(scene.sky, (h, w), s) & ~below & ~tree

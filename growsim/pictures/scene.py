@@ -85,6 +85,14 @@ RIVAL_HEIGHT = 0.5
 #: the clutter's foot (where the ground begins) is a change of the rows' colour of more
 #: than this (Delta E, over two rows)
 GROUND_EDGE = 8.0
+#: a crown hanging in the sky (its trunk taken for sky, :func:`_hanging_crown`): a
+#: floating piece at least HANG_AREA of the picture, HANG_OVER times the largest standing
+#: object, HANG_TALL as tall as wide, its lowest row within HANG_GAP of its height above
+#: the cut; its trunk's foot a run of columns at most HANG_FOOT of its width whose colour
+#: below the cut differs from the rows' beside it by HANG_DE (Delta E); the trunk's region
+#: HANG_REACH of the crown's height either side of it
+HANG_AREA, HANG_OVER, HANG_TALL, HANG_GAP = 0.005, 4.0, 1 / 3, 1.0
+HANG_FOOT, HANG_DE, HANG_REACH = 0.2, 10.0, 0.05
 #: more than this share of the columns without ground (the sky reaching the bottom edge):
 #: no ground, the tree is the largest object
 NO_GROUND = 0.7
@@ -98,7 +106,9 @@ class Standing:
     cut); ``region``: the textured pixels around it, joined to it (within
     :data:`REGION_REACH` of its height: pale twigs the sky's colours hid, frost);
     ``apart``: the pixels of another tree it touched, split off it
-    (:func:`~growsim.pictures.colours.split_touching`; ``None``: none), never its own."""
+    (:func:`~growsim.pictures.colours.split_touching`; ``None``: none), never its own;
+    ``hanging``: a crown whose trunk the sky took (:func:`_hanging_crown`), standing on
+    the foot found below it."""
 
     mask: np.ndarray
     area: int
@@ -109,6 +119,7 @@ class Standing:
     feet: tuple = ()
     region: np.ndarray | None = None
     apart: np.ndarray | None = None
+    hanging: bool = False
 
     def box(self, scale: float) -> tuple[int, int, int, int]:
         """``(x0, y0, x1, y1)`` in pixels of a picture ``1 / scale`` times larger."""
@@ -324,6 +335,7 @@ def find_scene(
     comps = label(above, connectivity=2)
     textured = label((above | ~smooth) & up, connectivity=2)
     objects = []
+    floating = []
     # the row just above the cut, per column (an object reaching it stands on the band)
     edge = np.clip(np.ceil(cut).astype(int) - 1, 0, h - 1)
     for p in regionprops(comps):
@@ -331,7 +343,8 @@ def find_scene(
         m = comps == p.label
         cols = np.nonzero(m[edge, np.arange(w)] | m[np.clip(edge - 1, 0, h - 1), np.arange(w)])[0]
         if ground and not len(cols):
-            continue  # floating: a cloud's edge, a bird, a wire
+            floating.append(p)  # a cloud's edge, a bird, a wire; or a crown hanging
+            continue
         feet = runs(cols)
         ids = np.unique(textured[m])
         reach = max(2, int(REGION_REACH * (r1 - r0)))
@@ -344,9 +357,75 @@ def find_scene(
         # largest is the tree
         pass
     objects.sort(key=lambda o: -o.area)
+    crown = _hanging_crown(lab, floating, objects, comps, cut, textured) if ground else None
+    if crown is not None:
+        sky = sky & ~crown.region
+        objects.insert(0, crown)
     foot = _ground_line(lab, band) if ground else float(h)
     return Scene(scale, lab, tex, smooth_below, sky, skyline, band, cut, ground, objects, foot,
                  spread)  # fmt: skip
+
+
+def _hanging_crown(lab, floating, objects, comps, cut, textured):
+    """The tree whose trunk the sky took (a pale trunk before pale clouds), as a standing
+    object; ``None`` when there is none. It is the largest floating piece of ``comps``
+    when that is at least :data:`HANG_AREA` of the picture and :data:`HANG_OVER` times the
+    largest standing object, clear of the side edges, at least :data:`HANG_TALL` as tall
+    as wide, its lowest row within :data:`HANG_GAP` of its height above the cut, and a
+    trunk enters the band under it: a run of columns, at most :data:`HANG_FOOT` of its
+    width and clear of the feet of what stands there, whose colour just below the cut
+    differs from the rows' beside it by :data:`HANG_DE`. Its trunk rises straight up from
+    that foot to the crown; the trunk's surroundings (:data:`HANG_REACH` of the crown's
+    height either side) join its region, where the tree is read against the sky filled
+    in from around it."""
+    h, w = comps.shape
+    if not floating:
+        return None
+    p = max(floating, key=lambda q: q.area)
+    largest = objects[0].area if objects else 0
+    r0, c0, r1, c1 = p.bbox
+    if p.area < HANG_AREA * h * w or p.area < HANG_OVER * largest or c0 == 0 or c1 == w:
+        return None  # small, or reaching a side edge: a cloud bank, a mountain range
+    if r1 - r0 < HANG_TALL * (c1 - c0):
+        return None  # flat: a range of hills, not a crown
+    at = float(np.median(cut[c0:c1]))
+    if at - r1 > HANG_GAP * (r1 - r0) or at <= r1:
+        return None  # far above the band: a cloud
+    a = int(np.ceil(at))
+    rows = slice(min(a, h - 1), min(h, a + max(2, (r1 - r0) // 10)))
+    beside = np.r_[0:c0, c1:w]
+    ref = np.median(lab[rows][:, beside], axis=1)
+    de = np.linalg.norm(lab[rows][:, c0:c1] - ref[:, None], axis=-1).mean(axis=0)
+    stood = np.zeros(w, dtype=bool)  # the feet of what stands: not a hidden trunk's
+    for o in objects:
+        for fa, fb in o.feet:
+            stood[max(0, fa - 2) : fb + 3] = True
+    feet = [r for r in runs(np.flatnonzero(de > HANG_DE))
+            if r[1] - r[0] + 1 <= HANG_FOOT * (c1 - c0)
+            and not stood[c0 + r[0] : c0 + r[1] + 1].any()]  # fmt: skip
+    if not feet:
+        return None  # no trunk enters the band under it: a cloud
+    fa, fb = max(feet, key=lambda r: de[r[0] : r[1] + 1].sum())
+    lo, hi = c0 + fa, c0 + fb + 1
+    m = comps == p.label
+    # the trunk: up from its foot to the crown
+    over = np.flatnonzero(m[:, lo:hi].any(axis=1))
+    start = int(over.max()) if len(over) else r1 - 1
+    mask = m.copy()
+    mask[start : a + 1, lo:hi] = True
+    reach = int(np.ceil(HANG_REACH * (r1 - r0)))
+    region = np.zeros_like(m)
+    region[start : a + 1, max(0, lo - reach) : hi + reach] = True
+    ids = np.unique(textured[m])
+    near = np.zeros_like(m)
+    reach = max(2, int(REGION_REACH * (r1 - r0)))
+    near[max(0, r0 - reach) : r1 + reach, max(0, c0 - reach) : c1 + reach] = True
+    region |= np.isin(textured, ids[ids > 0]) & near
+    edge = np.clip(np.ceil(cut).astype(int) - 1, 0, h - 1)
+    cols = np.nonzero(mask[edge, np.arange(w)])[0]
+    rr, cc = np.nonzero(mask)
+    return Standing(mask, int(mask.sum()), int(rr.min()), int(rr.max()), int(cc.min()),
+                    int(cc.max()), tuple(runs(cols)), region, hanging=True)  # fmt: skip
 
 
 def _clouds(lab, smooth, comps, sky):

@@ -11,9 +11,9 @@ from growsim.pictures.colours import background_coloured
 from growsim.pictures.coverage import MIN_DE, robust_sigma, tree_cover
 from growsim.pictures.crown import row_spans
 from growsim.pictures.reading import SPECK
-from growsim.pictures.scene import row_background, runs
+from growsim.pictures.scene import HANG_DE, row_background, runs
 
-__all__ = ["below_cut"]
+__all__ = ["below_cut", "hanging_trunk"]
 
 #: below the cut: GrabCut in the standing object's columns and this share of its width
 #: either side (the ground's and clutter's colours), so many iterations
@@ -233,3 +233,51 @@ def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
         out[r, lo : hi + 1] = True
     out[coords[:, 0], coords[:, 1]] = True
     return out & under
+
+
+def hanging_trunk(rgb, tree, obj, cut, scale):
+    """The trunk of a crown hanging in the sky (``obj.hanging``: the sky's colour took
+    its trunk, :func:`~growsim.pictures.scene.find_scene`), between the crown found
+    (``tree``) and the ``cut`` (rows per column): the columns of its foot (``obj.feet``,
+    coarse, ``scale`` coarse pixels a pixel) whose colour just below the cut differs from
+    the row beside them by :data:`~growsim.pictures.scene.HANG_DE`, straight up to the
+    crown's lowest pixel over them, as a trunk hidden by a hedge of its colour is
+    bridged (:func:`below_cut`). Nothing when there is no such run.
+
+    Examples
+    --------
+    >>> from growsim.pictures.scene import Standing
+    >>> rgb = np.ones((40, 30, 3)) * [0.8, 0.9, 1.0]; rgb[30:] = [0.3, 0.5, 0.2]
+    >>> rgb[12:36, 14:17] = [0.8, 0.9, 1.0]                 # a trunk of the sky's colour
+    >>> tree = np.zeros((40, 30), bool); tree[2:12, 8:23] = True       # the crown above
+    >>> obj = Standing(tree, 150, 2, 29, 8, 22, ((13, 17),), hanging=True)
+    >>> out = hanging_trunk(rgb, tree, obj, np.full(30, 30.0), 1.0)
+    >>> bool(out[12:30, 14:17].all()), bool(out[12:30, :14].any() or out[:12].any())
+    (True, False)
+    """
+    from skimage.color import rgb2lab
+
+    h, w = tree.shape
+    out = np.zeros((h, w), dtype=bool)
+    if not obj.hanging or not obj.feet:
+        return out
+    k = 1.0 / scale
+    fa, fb = max(obj.feet, key=lambda f: f[1] - f[0])
+    a, b = max(0, int(fa * k) - 2), min(w - 1, int(np.ceil((fb + 1) * k)) + 1)
+    r = int(np.ceil(np.median(cut[a : b + 1])))
+    rows = slice(min(r, h - 1), min(h, r + max(3, int(2 * k))))
+    if rows.stop <= rows.start:
+        return out
+    lab = rgb2lab(rgb[rows])
+    back = row_background(lab, a, b, slice(None), reach=FOOT_REACH)
+    d = np.linalg.norm(lab[:, a : b + 1] - back, axis=-1).mean(axis=0)
+    found = runs(np.flatnonzero(d > HANG_DE))
+    if not found:
+        return out
+    ta, tb = max(found, key=lambda f: d[f[0] : f[1] + 1].sum())
+    lo, hi = a + ta, a + tb + 1
+    over = np.flatnonzero(tree[:r, lo:hi].any(axis=1))
+    if not len(over):
+        return out
+    out[over.max() + 1 : r, lo:hi] = True
+    return out
