@@ -183,7 +183,8 @@ def below_cut(rgb, tree, below, sky, obj, scale, keep):
 def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
     """A trunk hidden for a stretch (by a hedge of its colour): the largest piece of
     ``loose`` below the foot of ``tree`` (in the rows ``under``) that starts at most
-    ``reach`` rows lower, under it and about as wide, joined to it by the straight trunk
+    ``reach`` rows lower, under it (shifted by at most the narrower one's width) and
+    about as wide, joined to it by the straight trunk
     between them; nothing when there is none, or when the foot is wider than ``widest``
     (the crown reaches down there).
 
@@ -195,6 +196,11 @@ def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
     >>> out = _hidden_trunk(loose, tree, under, 15)
     >>> bool(out[8:20, 4:6].all()), bool(out[20:, 4:7].all()), bool(out[:8].any())
     (True, True, False)
+    >>> weeds = np.zeros((30, 30), bool); weeds[20:, 12:20] = True  # off to the side
+    >>> wide = np.zeros((30, 30), bool); wide[:8, 4:6] = True; under = np.zeros_like(wide)
+    >>> under[8:] = True
+    >>> bool(_hidden_trunk(weeds, wide, under, 15).any())
+    False
     """
     from skimage.measure import label, regionprops
 
@@ -212,11 +218,14 @@ def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
             continue
         top = p.coords[p.coords[:, 0] < rt + 5]
         c, d = int(top[:, 1].min()), int(top[:, 1].max())
-        # the foot above it: the tree's lowest pixels over its columns
-        # the run of the foot's columns that overlaps it most (not the specks beside)
-        slack = max(2, d - c)
-        spans = [(min(e, d) - max(f, c), f, e) for f, e in runs(np.nonzero(foot)[0])
-                 if e >= c - slack and f <= d + slack]  # fmt: skip
+        # the foot above it: the tree's lowest pixels over its columns, the run of the
+        # foot's columns that overlaps it most (not the specks beside), shifted from it
+        # by at most the narrower one's width (a trunk leans; weeds beside it are not it)
+        spans = []
+        for f, e in runs(np.nonzero(foot)[0]):
+            slack = max(2, min(d - c, e - f))
+            if e >= c - slack and f <= d + slack:
+                spans.append((min(e, d) - max(f, c), f, e))
         if not spans:
             continue
         _, a, b = max(spans)
