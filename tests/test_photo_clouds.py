@@ -112,3 +112,29 @@ def test_specks_in_the_crowns_rows_far_from_the_tree_are_not_the_tree():
     fg[20, far] = fg[22, near] = True
     tree = connected_tree(fg, obj, crown, (0, 0), (60, 50), 1.0)
     assert not tree[20, far] and tree[22, near]
+
+
+def test_a_glow_under_the_clouds_reaching_the_side_edges_is_sky():
+    """A sunset's glow under a bank of cloud, cut off from the sky above by the cloud's
+    texture and 12 Delta E from its colours: it goes on past the side edges, so it is sky
+    (before: neither sky nor tree, the skyline at the cloud bank and nothing standing)."""
+    from skimage.color import lab2rgb
+
+    rng = np.random.default_rng(1)
+    h, w = 240, 320
+    rows, cols = np.mgrid[:h, :w]
+    lab = np.ones((h, w, 3)) * [60.0, -2.0, -25.0]  # a blue sky
+    bank = (rows >= 60) & (rows < 80)
+    lab[bank] = [35.0, 0.0, -10.0] + 8 * rng.standard_normal((int(bank.sum()), 3))
+    lab[(rows >= 80) & (rows < 180)] = [66.0, 8.0, -20.0]  # the glow
+    ground = rows >= 180
+    lab[ground] = [45.0, -30.0, 30.0] + 4 * rng.standard_normal((int(ground.sum()), 3))
+    leaves = ((rows - 128) ** 2 + (cols - 160) ** 2 < 34**2) & (rng.random((h, w)) < 0.8)
+    lab[leaves] = [30.0, -25.0, 20.0] + 6 * rng.standard_normal((int(leaves.sum()), 3))
+    lab[(rows >= 140) & (rows < 190) & (abs(cols - 160) < 4)] = [30.0, 5.0, 10.0]
+    scene = find_scene(np.clip(lab2rgb(lab), 0.0, 1.0))
+    s = scene.scale
+    glow = scene.sky[int(100 * s) : int(170 * s)]
+    assert glow[:, : int(100 * s)].all() and glow[:, int(220 * s) :].all()
+    tree = scene.objects[0]
+    assert len(scene.objects) == 1 and tree.left >= int(120 * s) and tree.right <= int(200 * s)

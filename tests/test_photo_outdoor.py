@@ -165,6 +165,39 @@ def test_a_crown_whose_trunk_is_the_sky_colour_stands_on_its_foot():
     assert seg.horizon == 190 and seg.tree[140:200, 155:165].all()
 
 
+def test_a_hill_reaching_the_side_edge_is_the_landscape_not_a_rival():
+    """A hillside rising at the picture's side, larger than the tree and wider than tall:
+    the landscape, not a second tree (before: refused, "which is the tree?")."""
+    rng = np.random.default_rng(5)
+    h, w = 240, 320
+    rows, cols = np.mgrid[:h, :w]
+    rgb = np.ones((h, w, 3)) * [0.6, 0.75, 0.95]
+    ground = rows >= 190
+    rgb[ground] = [0.35, 0.55, 0.2] + 0.04 * rng.standard_normal((int(ground.sum()), 1))
+    hill = (rows >= 190 - (cols - 200).clip(0) * 0.8) & ~ground & (cols >= 200)
+    rgb[hill] = [0.25, 0.35, 0.2] * (0.8 + 0.4 * rng.random((int(hill.sum()), 1)))
+    leaves = ((rows - 120) ** 2 + (cols - 90) ** 2 < 30**2) & (rng.random((h, w)) < 0.8)
+    rgb[leaves] = [0.15, 0.35, 0.12] * (0.7 + 0.6 * rng.random((int(leaves.sum()), 1)))
+    trunk = (rows >= 140) & (rows < 195) & (abs(cols - 90) < 4)
+    rgb[trunk] = [0.35, 0.25, 0.15]
+    assert hill.sum() > (leaves | trunk).sum()
+    seg = segment_photo(np.clip(rgb, 0.0, 1.0))
+    assert _iou(seg.tree, leaves | trunk) > 0.95
+
+
+def test_a_frame_around_the_photo_is_painted_over():
+    """A dark frame line around a photograph hid its sky along the top (before: "no sky
+    along the top"); painted over, the tree is found as without it, and the record says
+    so."""
+    p = BY_NAME["c01_plain_grass_bare"]
+    rgb = np.asarray(Image.open(DATA / p["photo"]).convert("RGB")) / 255.0
+    framed = rgb.copy()
+    framed[:3], framed[-3:], framed[:, :3], framed[:, -3:] = 0.1, 0.1, 0.1, 0.1
+    plain, seg = segment_photo(rgb), segment_photo(framed)
+    assert seg.record()["border"] == [3, 3, 3, 3] and plain.record()["border"] == [0, 0, 0, 0]
+    assert _iou(seg.tree, plain.tree) > 0.95
+
+
 @pytest.mark.parametrize(
     "flag, value, message",
     [

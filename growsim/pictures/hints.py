@@ -27,6 +27,9 @@ MAX_SPILL = 0.5
 MAX_CLUTTER = 0.45
 #: refused: the tree's median colour difference from its background under this (Delta E)
 MIN_CONTRAST = 15.0
+#: what stands on the band at a side edge and is less than this times as tall as wide is
+#: the landscape (a hill, a mountainside going on past the frame), not a tree
+LANDSCAPE_TALL = 1.0
 #: refused: the tree touching the top, left or right edge with this many pixels or more
 #: (it is cut off; the framing needs the whole tree)
 MAX_EDGE_PIXELS = 3
@@ -65,8 +68,11 @@ def hint_pixels(values, n: int, per_pixel: float, shape, flag: str, name: str):
 
 def choose_tree(scene: Scene, point, boxed: bool, name: str, flags, how: str, per_pixel=1.0):
     """The tree among the scene's standing objects: the one at the ``point`` (coarse
-    ``(x, y)``), else the largest; refused when there is none, or another one nearly as
-    large and no hint (``boxed``: the objects are already those inside a box).
+    ``(x, y)``), else the largest but the landscape's (an object standing on the band at a
+    side edge, less than :data:`LANDSCAPE_TALL` times as tall as wide: a hill), unless
+    there is nothing else; refused when there is none, or another one (not the
+    landscape's) nearly as large and no hint (``boxed``: the objects are already those
+    inside a box).
 
     Examples
     --------
@@ -107,6 +113,16 @@ def choose_tree(scene: Scene, point, boxed: bool, name: str, flags, how: str, pe
                 f"trunk, or {flags[0]} x0,y0,x1,y1 around it"
             )
         return objects[best]
+    # a hill, a mountainside going on past the frame: what stands on the band at a side
+    # edge and is wider than tall is the landscape, neither the tree nor its rival (a
+    # crown cut by the frame is not: sky lies between it and the band there)
+    w = scene.shape[1]
+
+    def landscape(o) -> bool:
+        flat = o.bottom - o.top + 1 < LANDSCAPE_TALL * (o.right - o.left + 1)
+        return flat and any(a == 0 or b == w - 1 for a, b in o.feet)
+
+    objects = [o for o in objects if not landscape(o)] or objects
     tree = objects[0]
     height = tree.bottom - tree.top + 1
     rivals = [o for o in objects[1:]

@@ -24,6 +24,7 @@ from dataclasses import replace
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.pictures.border import paint_over_border
 from growsim.pictures.colours import (
     MIN_PIXELS,
     background_coloured,
@@ -187,7 +188,8 @@ def segment_photo(
         raise UserInputError(f"{name}: expected an RGB picture of at least 8 x 8, got {rgb.shape}")
     if float(np.ptp(rgb)) < 1e-6:
         raise UserInputError(f"{name}: the picture is uniform (blank): no silhouette to fit")
-    rgb = np.clip(rgb, 0.0, 1.0)
+    # a frame line or a mat around the photograph is not the scene: painted over
+    rgb, border = paint_over_border(np.clip(rgb, 0.0, 1.0))
     h, w = rgb.shape[:2]
     keep = np.ones((h, w), dtype=bool)
     if mask is not None:
@@ -224,7 +226,7 @@ def segment_photo(
             raise
         # no sky, or nothing standing out of it: the tree is what the box holds apart
         # from what lies around it (GrabCut)
-        return in_box(rgb, keep, None, hint, per_pixel, name, t_start)
+        return replace(in_box(rgb, keep, None, hint, per_pixel, name, t_start), border=border)
     if box is not None and obj.apart is None:
         obj = _split_in_whole(rgb, allowed, obj, name, flags[0])
     split: tuple = ()
@@ -257,7 +259,8 @@ def segment_photo(
         # the box holds the tree and the wood behind it: GrabCut, the sky known (away from
         # the crown's outline, which the reduced picture blurs)
         sky = ndimage.binary_erosion(scene.sky, disk(2 * CROWN_MARGIN), border_value=1)
-        return in_box(rgb, keep, upsample(sky, (h, w), s), hint, per_pixel, name, t_start)
+        seg = in_box(rgb, keep, upsample(sky, (h, w), s), hint, per_pixel, name, t_start)
+        return replace(seg, border=border)
     if touching and box is None:
         raise UserInputError(
             f"{name}: the tree reaches the picture's {touching[0]} edge, or merges with "
@@ -406,6 +409,7 @@ def segment_photo(
         objects=tuple(tuple(round(v) for v in o) for o in objects), hint=hint or None,
         method="sky and skyline", outline_contrast=outline_contrast, confidence=confidence,
         seconds=time.perf_counter() - t_start, hint_scale=per_pixel, split=split,
+        border=border,
     )  # fmt: skip
     if contrast < MIN_CONTRAST:
         raise UserInputError(

@@ -36,7 +36,9 @@ class Segmentation:
     background by more than :data:`CONFIDENT` times the threshold), ``seconds``,
     ``hint_scale`` (working pixels a pixel of the picture as given: the hint's), ``split``
     (the boxes of the trees whose crowns touched the tree's, split off it:
-    :func:`~growsim.pictures.colours.split_touching`; their pixels are not the tree's).
+    :func:`~growsim.pictures.colours.split_touching`; their pixels are not the tree's),
+    ``border`` (the lines of a frame around the photograph painted over, top, bottom,
+    left, right: :func:`~growsim.pictures.border.paint_over_border`).
 
     Examples
     --------
@@ -66,6 +68,7 @@ class Segmentation:
     seconds: float = 0.0
     hint_scale: float = 1.0
     split: tuple = ()
+    border: tuple = (0, 0, 0, 0)
 
     def describe(self) -> str:
         """One line: what was found (for messages and logs)."""
@@ -97,6 +100,7 @@ class Segmentation:
             "band": band,
             "objects": [list(map(int, o)) for o in self.objects],
             "split_off": [list(map(int, b)) for b in self.split],
+            "border": list(map(int, self.border)),
             "tree_box": _box_of(rows, cols),
             "tree_pixels": int(rows.size),
             "sky_noise": round(self.sky_noise, 2),

@@ -60,10 +60,13 @@ TEXTURE_RANGE = (1.5, 3.0)
 #: ... and where the working picture's own texture (:func:`fine_texture`) is under
 #: TEXTURE_K times the top edge's, at least FINE_MIN (a colour step a working pixel)
 FINE_MIN = 1.0
-#: clouds the texture missed: a smooth piece within this of the sky's colours (Delta E)
-#: is sky; a textured pixel among the sky's colours around it (RIM_REACH, RIM_DE), and
-#: farther than STRONG_REACH coarse pixels from any that is not, is a cloud's rim
+#: clouds the texture missed: a smooth piece within PALETTE_DE of the sky's colours
+#: (Delta E) is sky, within EDGE_PALETTE_DE when it reaches a side edge and is at least
+#: as light as the sky's median; a textured pixel among the sky's colours around it
+#: (RIM_REACH, RIM_DE), and farther than STRONG_REACH coarse pixels from any that is
+#: not, is a cloud's rim
 PALETTE_DE = 6.0
+EDGE_PALETTE_DE = 18.0
 RIM_REACH, RIM_DE = 5, 3.0
 STRONG_REACH = 2
 #: the band's fit: a column's skyline within this share of the picture's height from the
@@ -433,8 +436,10 @@ def _hanging_crown(lab, floating, objects, comps, cut, textured):
 def _clouds(lab, smooth, comps, sky):
     """The sky ``sky`` (the smooth pixels connected to the top edge) with the clouds it
     missed: the smooth pieces whose colour is the sky's (within :data:`PALETTE_DE` of one
-    of its colours: a cloud's inside, cut off by its sharp rim), but those nearer the
-    colours along the bottom edge (the ground: snow under a white sky)."""
+    of its colours: a cloud's inside, cut off by its sharp rim; within
+    :data:`EDGE_PALETTE_DE` for a piece reaching a side edge and as light as the sky: the
+    sky goes on past it, a sunset's glow under the clouds), but those nearer the colours
+    along the bottom edge (the ground: snow under a white sky)."""
     from scipy import ndimage
     from scipy.spatial import cKDTree
 
@@ -448,6 +453,14 @@ def _clouds(lab, smooth, comps, sky):
         med = np.asarray(ndimage.median(d, comps[other], index=np.arange(n)))
         cloud = np.zeros(n, dtype=bool)
         cloud[1:] = med[1:] < PALETTE_DE
+        # the sky past a side edge (a sunset's glow, a hazy band under the clouds):
+        # smooth pieces reaching it, within EDGE_PALETTE_DE of the sky's colours and
+        # at least as light as its median (a treeline, a hill, a wall is darker)
+        edge = np.zeros(n, dtype=bool)
+        edge[np.unique(np.r_[comps[:, 0], comps[:, -1]])] = True
+        light = np.asarray(ndimage.median(lab[..., 0][other], comps[other], index=np.arange(n)))
+        edge &= light >= np.median(colours[:, 0])
+        cloud[1:] |= edge[1:] & (med[1:] < EDGE_PALETTE_DE)
         # nearer the ground's colours (along the bottom edge) than the sky's: the ground
         # (snow under a white sky), not a cloud
         bottom = lab[-max(2, lab.shape[0] // 40) :].reshape(-1, 3)
