@@ -60,6 +60,7 @@ runs in depth as that one runs across, from its parent's end.
 
 from __future__ import annotations
 
+import heapq
 import math
 
 import numpy as np
@@ -340,30 +341,40 @@ def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: in
         arc = _arc(p[:, :2])
         return p[0, 1], p[-1, 1], arc[-1]
 
-    sk_ = [key(p) for p in side_world]
+    keys = np.array([key(p) for p in side_world], dtype=np.float64).reshape(-1, 3)
     # the trunk: the front's order-0 branches take the side trunk's depth at their height
     trunk = [j for j in range(len(side_world)) if side.order[j] == 0]
     tp = np.concatenate([side_world[j] for j in trunk]) if trunk else np.zeros((0, 3))
     tp = tp[np.argsort(tp[:, 1], kind="stable")]
+    used = np.zeros(len(side_world), dtype=bool)
+    used[trunk] = True
+
+    def cheapest(i: int):
+        # front branch i's cheapest free side branch (least cost, then index), or None
+        a0, a1, al = key(world[i])
+        cost = np.abs(a0 - keys[:, 0]) + np.abs(a1 - keys[:, 1]) + np.abs(al - keys[:, 2])
+        cost = cost / height
+        cost[used | (cost > MATCH_COST)] = np.inf
+        if same_picture and i < len(cost):
+            cost[i] = np.inf
+        j = int(np.argmin(cost)) if len(cost) else 0
+        return None if not len(cost) or not np.isfinite(cost[j]) else (float(cost[j]), i, j)
+
+    # the pairs taken greedily, least cost first (then the front's index, then the
+    # side's): each front branch's cheapest free side branch in a heap, looked up again
+    # when another took it
+    heap = [c for i in range(len(world)) if not (sk.order[i] == 0 and len(tp))
+            if (c := cheapest(i)) is not None]  # fmt: skip
+    heapq.heapify(heap)
     match: dict[int, int] = {}
-    used: set[int] = set(trunk)
-    pairs = []
-    for i, p in enumerate(world):
-        if sk.order[i] == 0 and len(tp):
-            continue
-        a0, a1, al = key(p)
-        for j, (b0, b1, bl) in enumerate(sk_):
-            if j in used or (same_picture and i == j):
-                continue
-            cost = (abs(a0 - b0) + abs(a1 - b1) + abs(al - bl)) / height
-            if cost <= MATCH_COST:
-                pairs.append((cost, i, j))
-    pairs.sort()
-    for _c, i, j in pairs:
-        if i in match or j in used:
+    while heap:
+        _c, i, j = heapq.heappop(heap)
+        if used[j]:
+            if (c := cheapest(i)) is not None:
+                heapq.heappush(heap, c)
             continue
         match[i] = j
-        used.add(j)
+        used[j] = True
     # the side picture's skeleton points by height (rows one front pixel high)
     pix = _pixel(world)
     sp = np.concatenate(side_world)
