@@ -22,9 +22,9 @@ The scene, coarse:
 5. **standing objects**: the pieces of the non-sky rising above the band (by more than
    its roughness) that reach down into it; the tree is the largest (or a crown hanging
    just above the band, its pale trunk taken for sky, standing on the trunk's foot
-   found below it: :func:`_hanging_crown`). Another one nearly as
-   large (a second tree) makes the picture ambiguous: a hint (a box around the tree, a
-   point on it) settles which.
+   found below it: :func:`_hanging_crown`). Another one nearly as large (a second tree)
+   makes the picture ambiguous: a hint (a box around the tree, a point on it) settles
+   which.
 """
 
 from __future__ import annotations

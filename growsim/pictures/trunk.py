@@ -184,9 +184,8 @@ def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
     """A trunk hidden for a stretch (by a hedge of its colour): the largest piece of
     ``loose`` below the foot of ``tree`` (in the rows ``under``) that starts at most
     ``reach`` rows lower, under it (shifted by at most the narrower one's width) and
-    about as wide, joined to it by the straight trunk
-    between them; nothing when there is none, or when the foot is wider than ``widest``
-    (the crown reaches down there).
+    about as wide, joined to it by the straight trunk between them; nothing when there
+    is none, or when the foot is wider than ``widest`` (the crown reaches down there).
 
     Examples
     --------
