@@ -185,6 +185,24 @@ def test_a_hill_reaching_the_side_edge_is_the_landscape_not_a_rival():
     assert _iou(seg.tree, leaves | trunk) > 0.95
 
 
+def test_a_tree_on_a_hills_slope_is_not_before_a_wood():
+    """A tree on top of a field rising across the picture: the slope below it is ground,
+    not the clutter of a wood (before: refused, "in front of a wood ... as tall as 48 %");
+    the field's edge is smooth, a wood's top is not."""
+    rng = np.random.default_rng(7)
+    h, w = 240, 360
+    rows, cols = np.mgrid[:h, :w]
+    rgb = np.ones((h, w, 3)) * [0.75, 0.75, 0.78]
+    hill = rows >= 200 - 0.3 * cols
+    rgb[hill] = [0.7, 0.65, 0.15] * (0.85 + 0.3 * rng.random((int(hill.sum()), 1)))
+    leaves = ((rows - 55) ** 2 + (cols - 270) ** 2 < 28**2) & (rng.random((h, w)) < 0.8)
+    rgb[leaves] = [0.2, 0.25, 0.15] * (0.7 + 0.6 * rng.random((int(leaves.sum()), 1)))
+    trunk = (rows >= 80) & (rows < 124) & (abs(cols - 270) < 3)
+    rgb[trunk] = [0.25, 0.2, 0.15]
+    seg = segment_photo(np.clip(rgb, 0.0, 1.0))
+    assert _iou(seg.tree, leaves | trunk) > 0.95
+
+
 def test_a_frame_around_the_photo_is_painted_over():
     """A dark frame line around a photograph hid its sky along the top (before: "no sky
     along the top"); painted over, the tree is found as without it, and the record says

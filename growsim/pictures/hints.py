@@ -25,11 +25,17 @@ MAX_SPILL = 0.5
 #: more than this share of the tree's height (from its top to the ground): a tree in
 #: front of a wood
 MAX_CLUTTER = 0.45
+#: ... when the band is rougher than this (its columns' spread around it, coarse rows): a
+#: wood's or a treeline's crowns; a hill's or a field's edge is smoother (1.2-1.4 on the
+#: real photographs, woods and treelines 2.1-3.9)
+WOOD_ROUGH = 1.7
 #: refused: the tree's median colour difference from its background under this (Delta E)
 MIN_CONTRAST = 15.0
 #: what stands on the band at a side edge and is less than this times as tall as wide is
-#: the landscape (a hill, a mountainside going on past the frame), not a tree
+#: the landscape (a hill, a mountainside going on past the frame), not a tree when
+#: another object is at least LANDSCAPE_SHARE of its size
 LANDSCAPE_TALL = 1.0
+LANDSCAPE_SHARE = 0.25
 #: refused: the tree touching the top, left or right edge with this many pixels or more
 #: (it is cut off; the framing needs the whole tree)
 MAX_EDGE_PIXELS = 3
@@ -69,10 +75,10 @@ def hint_pixels(values, n: int, per_pixel: float, shape, flag: str, name: str):
 def choose_tree(scene: Scene, point, boxed: bool, name: str, flags, how: str, per_pixel=1.0):
     """The tree among the scene's standing objects: the one at the ``point`` (coarse
     ``(x, y)``), else the largest but the landscape's (an object standing on the band at a
-    side edge, less than :data:`LANDSCAPE_TALL` times as tall as wide: a hill), unless
-    there is nothing else; refused when there is none, or another one (not the
-    landscape's) nearly as large and no hint (``boxed``: the objects are already those
-    inside a box).
+    side edge, less than :data:`LANDSCAPE_TALL` times as tall as wide: a hill) when
+    another is at least :data:`LANDSCAPE_SHARE` of its size; refused when there is none,
+    or another one (not the landscape's) nearly as large and no hint (``boxed``: the
+    objects are already those inside a box).
 
     Examples
     --------
@@ -114,19 +120,22 @@ def choose_tree(scene: Scene, point, boxed: bool, name: str, flags, how: str, pe
             )
         return objects[best]
     # a hill, a mountainside going on past the frame: what stands on the band at a side
-    # edge and is wider than tall is the landscape, neither the tree nor its rival (a
-    # crown cut by the frame is not: sky lies between it and the band there)
+    # edge and is wider than tall is the landscape, never a rival, and not the tree when
+    # something at least LANDSCAPE_SHARE of its size stands clear of it (a crown cut by
+    # the frame is not the landscape: sky lies between it and the band there)
     w = scene.shape[1]
 
     def landscape(o) -> bool:
         flat = o.bottom - o.top + 1 < LANDSCAPE_TALL * (o.right - o.left + 1)
         return flat and any(a == 0 or b == w - 1 for a, b in o.feet)
 
-    objects = [o for o in objects if not landscape(o)] or objects
+    inside = [o for o in objects if not landscape(o)]
     tree = objects[0]
+    if inside and inside[0] is not tree and inside[0].area >= LANDSCAPE_SHARE * tree.area:
+        tree = inside[0]
     height = tree.bottom - tree.top + 1
-    rivals = [o for o in objects[1:]
-              if o.area >= RIVAL_AREA * tree.area
+    rivals = [o for o in inside if o is not tree
+              and o.area >= RIVAL_AREA * tree.area
               and o.bottom - o.top + 1 >= RIVAL_HEIGHT * height]  # fmt: skip
     if rivals and not boxed:
         boxes = " or ".join(

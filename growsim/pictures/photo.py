@@ -54,6 +54,7 @@ from growsim.pictures.hints import (
     MAX_EDGE_PIXELS,
     MAX_SPILL,
     MIN_CONTRAST,
+    WOOD_ROUGH,
     choose_tree,
     hint_pixels,
     in_box,
@@ -250,7 +251,8 @@ def segment_photo(
     # wood (its crown's lower part, its trunk among trees of its colours)
     band_at = float(np.median(scene.band[obj.left : obj.right + 1]))
     clutter = (scene.ground_line - band_at) / max(scene.ground_line - obj.top, 1.0)
-    if scene.ground and clutter > MAX_CLUTTER and (box is not None or not touching):
+    wooded = scene.roughness > WOOD_ROUGH  # a hill's or a field's smooth edge: no wood
+    if scene.ground and wooded and clutter > MAX_CLUTTER and (box is not None or not touching):
         if box is None:
             raise UserInputError(
                 f"{name}: the tree stands in front of a wood or a treeline as tall as "
