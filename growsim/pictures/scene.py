@@ -46,6 +46,7 @@ __all__ = [
     "row_background",
     "runs",
     "sky_background",
+    "trunk_feet",
 ]
 
 #: the long side, in pixels, the picture is reduced to for finding the scene
@@ -398,20 +399,15 @@ def _hanging_crown(lab, floating, objects, comps, cut, textured):
         return None  # far above the band: a cloud
     a = int(np.ceil(at))
     rows = slice(min(a, h - 1), min(h, a + max(2, (r1 - r0) // 10)))
-    beside = np.r_[0:c0, c1:w]
-    ref = np.median(lab[rows][:, beside], axis=1)
-    de = np.linalg.norm(lab[rows][:, c0:c1] - ref[:, None], axis=-1).mean(axis=0)
     stood = np.zeros(w, dtype=bool)  # the feet of what stands: not a hidden trunk's
     for o in objects:
         for fa, fb in o.feet:
             stood[max(0, fa - 2) : fb + 3] = True
-    feet = [r for r in runs(np.flatnonzero(de > HANG_DE))
-            if r[1] - r[0] + 1 <= HANG_FOOT * (c1 - c0)
-            and not stood[c0 + r[0] : c0 + r[1] + 1].any()]  # fmt: skip
+    feet = [(fa, fb) for fa, fb in trunk_feet(lab, rows, c0, c1 - 1)
+            if fb - fa + 1 <= HANG_FOOT * (c1 - c0) and not stood[fa : fb + 1].any()]  # fmt: skip
     if not feet:
         return None  # no trunk enters the band under it: a cloud
-    fa, fb = max(feet, key=lambda r: de[r[0] : r[1] + 1].sum())
-    lo, hi = c0 + fa, c0 + fb + 1
+    lo, hi = feet[0][0], feet[0][1] + 1
     m = comps == p.label
     # the trunk: up from its foot to the crown
     over = np.flatnonzero(m[:, lo:hi].any(axis=1))
@@ -613,6 +609,26 @@ def sky_background(lab: np.ndarray, sky: np.ndarray) -> np.ndarray:
     True
     """
     return fill(lab, sky)
+
+
+def trunk_feet(lab: np.ndarray, rows: slice, left: int, right: int, reach: int = 6):
+    """Where a trunk may enter the ground among the columns ``left``..``right``
+    (inclusive) of ``lab`` (CIELAB): the runs of them whose colour in ``rows`` differs
+    from the rows' own beside them (:func:`row_background`, ``reach`` pixels either side)
+    by more than :data:`HANG_DE` on average; ``[(first, last), ...]``, the most different
+    (summed over the run) first.
+
+    Examples
+    --------
+    >>> from skimage.color import rgb2lab
+    >>> rgb = example_photo()  # sky, ground strip, a trunk standing on it, a branch
+    >>> trunk_feet(rgb2lab(rgb), slice(51, 54), 15, 35)
+    [(24, 26)]
+    """
+    back = row_background(lab, left, right, rows, reach=reach)
+    d = np.linalg.norm(lab[rows, left : right + 1] - back, axis=-1).mean(axis=0)
+    found = [(left + a, left + b) for a, b in runs(np.flatnonzero(d > HANG_DE))]
+    return sorted(found, key=lambda f: -float(d[f[0] - left : f[1] - left + 1].sum()))
 
 
 def row_background(lab: np.ndarray, left: int, right: int, rows: slice, reach: int = 6):

@@ -11,7 +11,7 @@ from growsim.pictures.colours import background_coloured
 from growsim.pictures.coverage import MIN_DE, robust_sigma, tree_cover
 from growsim.pictures.crown import row_spans
 from growsim.pictures.reading import SPECK
-from growsim.pictures.scene import HANG_DE, row_background, runs
+from growsim.pictures.scene import row_background, runs, trunk_feet
 
 __all__ = ["below_cut", "hanging_trunk"]
 
@@ -246,11 +246,11 @@ def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
 def hanging_trunk(rgb, tree, obj, cut, scale):
     """The trunk of a crown hanging in the sky (``obj.hanging``: the sky's colour took
     its trunk, :func:`~growsim.pictures.scene.find_scene`), between the crown found
-    (``tree``) and the ``cut`` (rows per column): the columns of its foot (``obj.feet``,
-    coarse, ``scale`` coarse pixels a pixel) whose colour just below the cut differs from
-    the row beside them by :data:`~growsim.pictures.scene.HANG_DE`, straight up to the
-    crown's lowest pixel over them, as a trunk hidden by a hedge of its colour is
-    bridged (:func:`below_cut`). Nothing when there is no such run.
+    (``tree``) and the ``cut`` (rows per column): among the columns of its foot
+    (``obj.feet``, coarse, ``scale`` coarse pixels a pixel), the trunk's just below the
+    cut (:func:`~growsim.pictures.scene.trunk_feet`), straight up to the crown's lowest
+    pixel over them, as a trunk hidden by a hedge of its colour is bridged
+    (:func:`below_cut`). Nothing when there is no such run.
 
     Examples
     --------
@@ -276,14 +276,10 @@ def hanging_trunk(rgb, tree, obj, cut, scale):
     rows = slice(min(r, h - 1), min(h, r + max(3, int(2 * k))))
     if rows.stop <= rows.start:
         return out
-    lab = rgb2lab(rgb[rows])
-    back = row_background(lab, a, b, slice(None), reach=FOOT_REACH)
-    d = np.linalg.norm(lab[:, a : b + 1] - back, axis=-1).mean(axis=0)
-    found = runs(np.flatnonzero(d > HANG_DE))
+    found = trunk_feet(rgb2lab(rgb[rows]), slice(None), a, b, reach=FOOT_REACH)
     if not found:
         return out
-    ta, tb = max(found, key=lambda f: d[f[0] : f[1] + 1].sum())
-    lo, hi = a + ta, a + tb + 1
+    lo, hi = found[0][0], found[0][1] + 1
     over = np.flatnonzero(tree[:r, lo:hi].any(axis=1))
     if not len(over):
         return out
