@@ -430,10 +430,12 @@ def make_ifs3d_identifiability(out: Path) -> None:
 
 
 def make_fit_side(out: Path) -> None:
-    """The reconstruction's worst and best held-out fit of each kind, front and side
-    (``benchmarks/reconstruct_fit.py --sheet``, the true masks, about 1 min)."""
+    """The reconstruction's worst and best held-out fit of each kind, front and side, from
+    the front picture alone and from front and side pictures (``benchmarks/reconstruct_fit.py
+    --sheet --sheet2``, the true masks, about 1 min)."""
     cmd = [sys.executable, str(ROOT / "benchmarks" / "reconstruct_fit.py"), "--pictures",
-           str(MTREE), "--split", "held_out", "--sheet", str(out / "fitting_side.png")]  # fmt: skip
+           str(MTREE), "--split", "held_out", "--sheet", str(out / "fitting_side.png"),
+           "--sheet2", str(out / "fitting_two_views.png")]  # fmt: skip
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 
 
@@ -589,8 +591,9 @@ MAKERS: dict[str, Maker] = {
     ),
     "fit_side": Maker(
         make_fit_side,
-        ("fitting_side.png",),
-        "python benchmarks/reconstruct_fit.py --split held_out --sheet ... (12 reconstructions)",
+        ("fitting_side.png", "fitting_two_views.png"),
+        "python benchmarks/reconstruct_fit.py --split held_out --sheet ... --sheet2 ... "
+        "(12 reconstructions, each from one and from two pictures)",
         None
         if (MTREE / "index.json").is_file()
         else ("needs runs/mtree: python benchmarks/make_mtree.py --out runs/mtree --side"),

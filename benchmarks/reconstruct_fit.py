@@ -27,7 +27,8 @@ side view. ``--png DIR``: target beside fit (``<name>_fit.png``), the skeleton o
 (``<name>_skeleton.png``), the photo's tree beside the regrown Honda tree
 (``<name>_honda.png``). ``--sheet PNG``: one sheet of the worst and the best picture of
 each kind (bare, leafy) by the side view from the front alone, front and side target
-beside fit (``docs/images/fitting_side.png``).
+beside fit (``docs/images/fitting_side.png``); ``--sheet2 PNG`` the same for the fits from
+two pictures (``docs/images/fitting_two_views.png``).
 
     python benchmarks/make_mtree.py --out runs/mtree --side --no-front --no-segment
     nice -n 10 python benchmarks/reconstruct_fit.py --pictures runs/mtree --infer \\
@@ -150,27 +151,36 @@ def summary(rows: list[dict], label: str) -> dict:
     return out
 
 
-def sheet(rows: list[dict], png: Path, dest: Path) -> Path:
-    """The worst and the best row of each kind (bare, leafy) by ``side_blurred_ncc``: their
-    ``<name>_fit.png`` (in ``png``) one under the other, each with a caption; a PNG."""
+def _two_views_score(r: dict) -> float:
+    return min(r["ncc_front2"], r["ncc_side2"])
+
+
+def sheet(rows: list[dict], png: Path, dest: Path, two_views: bool = False) -> Path:
+    """The worst and the best row of each kind (bare, leafy) by ``side_blurred_ncc`` (the
+    side from the front alone), or with ``two_views`` by the lesser of ``ncc_front2`` and
+    ``ncc_side2`` (from front and side pictures): their ``<name>_fit.png`` (or
+    ``_fit2.png``, in ``png``) one under the other, each with a caption; a PNG."""
     from PIL import Image, ImageDraw, ImageFont
 
     from growsim.files import atomic_write
 
+    key, score = ("ncc_side2", _two_views_score) if two_views else (
+        "side_blurred_ncc", lambda r: r["side_blurred_ncc"])  # fmt: skip
     picked = []
     for leafy in (False, True):
-        sel = sorted((r for r in rows if r["true_leafy"] == leafy and "side_blurred_ncc" in r),
-                     key=lambda r: r["side_blurred_ncc"])  # fmt: skip
+        sel = sorted((r for r in rows if r["true_leafy"] == leafy and key in r), key=score)
         picked += [(r, w) for r, w in ((sel[0], "worst"), (sel[-1], "best"))] if sel else []
     font = ImageFont.load_default(size=28)
     ims = []
     for r, which in picked:
-        im = Image.open(png / f"{r['name']}_fit.png").convert("RGB")
+        im = Image.open(png / f"{r['name']}_fit{'2' if two_views else ''}.png").convert("RGB")
         cap = Image.new("RGB", (im.width, 40), "white")
-        ImageDraw.Draw(cap).text(
-            (8, 4), f"{r['name']} ({which} {'leafy' if r['true_leafy'] else 'bare'}): front NCC "
-            f"{r['ncc']:.3f}; side from the front alone, blurred NCC at 64 px "
-            f"{r['side_blurred_ncc']:.3f}", fill="black", font=font)  # fmt: skip
+        kind = f"{r['name']} ({which} {'leafy' if r['true_leafy'] else 'bare'})"
+        text = (f"{kind}, from front and side pictures: NCC at 256 px front "
+                f"{r['ncc_front2']:.3f}, side {r['ncc_side2']:.3f}" if two_views else
+                f"{kind}: front NCC {r['ncc']:.3f}; side from the front alone, blurred NCC "
+                f"at 64 px {r['side_blurred_ncc']:.3f}")  # fmt: skip
+        ImageDraw.Draw(cap).text((8, 4), text, fill="black", font=font)
         ims += [cap, im]
     out = Image.new("RGB", (max(i.width for i in ims), sum(i.height for i in ims)), "white")
     y = 0
@@ -192,11 +202,18 @@ def main(argv=None) -> int:
     ap.add_argument("--two-views", action="store_true", help="also fit from front and side")
     ap.add_argument("--png", default=None, metavar="DIR", help="write pictures here")
     ap.add_argument("--sheet", default=None, metavar="PNG", help="worst and best, front and side")
+    ap.add_argument(
+        "--sheet2",
+        default=None,
+        metavar="PNG",
+        help="the same from two pictures (implies --two-views)",
+    )
     ap.add_argument("--seed", type=int, default=0)
     a = ap.parse_args(argv)
     src = Path(a.pictures)
     png = Path(a.png) if a.png else None
-    if a.sheet and png is None:
+    a.two_views = a.two_views or bool(a.sheet2)
+    if (a.sheet or a.sheet2) and png is None:
         png = Path(tempfile.mkdtemp())
     if png:
         png.mkdir(parents=True, exist_ok=True)
@@ -234,6 +251,8 @@ def main(argv=None) -> int:
     print(json.dumps({"load_average": os.getloadavg(), "python": sys.version.split()[0]}))
     if a.sheet:
         sheet(rows, png, Path(a.sheet))
+    if a.sheet2:
+        sheet(rows, png, Path(a.sheet2), two_views=True)
     return 0
 
 

@@ -255,21 +255,24 @@ def reconstruct(front_mask, side_mask=None, *, height_m: float | None = None,
         # a leafy crown seen from the side looks like it does from the front: each limb
         # runs in depth as another limb of its height and length runs across
         mirrored = [p * np.array([-1.0, 1.0, 1.0]) for p in world]
-        lifted, why = lift_two_views(sk, world, sk, mirrored, seed, same_picture=True)
+        lifted, why, _ = lift_two_views(sk, world, sk, mirrored, seed, same_picture=True)
         why = {
             **why,
             "depth": "one leafy view: limbs run in depth as other limbs of their height "
             "run across (the side seen as the front), the rest by the prior",
         }
         side_sk = None
+        seen = sk
     elif side is None:
         lifted, why = lift_prior(sk, world, seed)
         side_sk = None
+        seen = sk
     else:
         side_sk = extract_skeleton(side)
         side_world = to_world(side_sk, height / side_sk.height)
-        lifted, why = lift_two_views(sk, world, side_sk, side_world, seed)
-    pts, pp, seg_r, seg_o = _visible_plant(sk, lifted, scale)
+        # the tree seen: the front's branches and the side's hidden in the front picture
+        lifted, why, seen = lift_two_views(sk, world, side_sk, side_world, seed)
+    pts, pp, seg_r, seg_o = _visible_plant(seen, lifted, scale)
     n_vis = len(seg_r)
     grown = None
     if is_leafy and crown.any():

@@ -34,24 +34,36 @@ the front picture; the side picture, seen from the right, shows ``-z`` to the ri
 
 **Two pictures** (:func:`lift_two_views`; after Shlyakhter, Rozenoer, Dorsey and Teller,
 *Reconstructing 3D tree models from instrumented photographs*, 2001, who intersect the
-views): the height is shared. The trunk (the branches of order 0) takes the side
-trunk's depth at each point's own height. Each other visible branch of the front picture
-is matched to one of the side picture's other branches (greedily, least cost first: the
-difference of their bases' and tips' heights and lengths, as shares of the tree's height,
-at most :data:`MATCH_COST`); a
-matched branch takes the side branch's place (``z = -u``) at the same share of its
-length, reached from its parent's end (the offset at its start fading linearly along
-it), when that place lies within :data:`PLACE_REACH` of its length in the picture from
-the parent's end; farther, the match is taken for wrong and the branch, like an
-unmatched one, takes the prior's depth offsets (a short branch sent to a far side
-branch's place became a long stroke in depth: the side view was horizontal hatching,
-depths travelled 2-16 times the branches' length in the picture, and scored well at 256
-px by filling the side silhouette). Then each branch's depths
-are carved onto the side picture's skeleton (after the silhouette intersection of
-Shlyakhter et al.): along the branch, every point may take the depth of a side-skeleton
-point at its height or keep its guess (at a cost of :data:`OFF_SIDE` pixels), and the
-path of least total change of depth from the branch's start is chosen (Viterbi), so the
-side view's branches lie on the side picture's where the heights allow.
+views): the height is shared.
+
+1. *Guesses.* The trunk (the branches of order 0) takes the side trunk's depth at each
+   point's own height. Each other visible branch of the front picture is matched to one
+   of the side picture's other branches (greedily, least cost first: the difference of
+   their bases' and tips' heights and lengths, as shares of the tree's height, at most
+   :data:`MATCH_COST`); a matched branch guesses the side branch's place (``z = -u``) at
+   the same share of its length, reached from its parent's end (the offset fading along
+   it), when that place lies within :data:`PLACE_REACH` of its length in the picture from
+   the parent's end; else, like an unmatched branch, the prior's depth offsets.
+2. *Carving* (:func:`growsim.kernels.carve.carve_depth`, after the silhouette
+   intersection of Shlyakhter et al.). Each point of a branch takes the depth of a
+   side-skeleton pixel in its row (or its guess, off the skeleton): the path of least
+   cost from the parent's end, by dynamic programming (Viterbi), where a step pays
+   :data:`SLIDE` a pixel of depth change and :data:`STEEP` more a pixel beyond its length
+   in the front picture (a branch turns no more than 45 degrees out of the picture's plane
+   for free: a step that sweeps along the side picture's rows drew horizontal hatching),
+   :data:`OUTSIDE` a pixel drawn outside the side silhouette, :data:`THICKNESS` a pixel of
+   radius unlike the side skeleton's there (a branch is as thick in both pictures), and
+   each side-skeleton pixel that no branch covers yet earns :data:`COVER`: the side
+   picture's branches are shared out among the front's rather than all piled onto the
+   trunk. The branches are carved parents first, :data:`CARVE_PASSES` times, each against
+   the others' coverage as it stands (a negotiation, as routers share out wires).
+3. *Hidden branches.* A branch running towards the viewer hides in the front picture
+   behind the trunk or a limb but shows in the side picture. A side branch whose skeleton
+   pixels the carved tree covers less than :data:`HIDDEN_BELOW` of is grafted where it
+   leaves the tree in the side picture: its depth the side's, its run across carved
+   inside the front silhouette (:func:`growsim.kernels.carve.carve_across`), cut where a
+   step would draw more than :data:`GRAFT_GAP` pixels outside it; the branch it leaves
+   is split there. The front view gains no pixel outside the picture.
 
 **One leafy picture** is read as its own side picture, mirrored (a crown looks much the
 same from the side as from the front): a limb is matched as above to another limb and
@@ -65,19 +77,27 @@ import math
 
 import numpy as np
 
+from growsim.kernels.carve import carve_across, carve_depth
 from growsim.reconstruction.skeleton import Skeleton2D
 
 __all__ = [
     "ALLOMETRY_QUANTILE",
+    "CARVE_PASSES",
+    "COVER",
     "ENVELOPE_BANDS",
     "ENVELOPE_CAP",
     "GOLDEN_ANGLE",
+    "GRAFT_GAP",
     "GUESS_WEIGHT",
+    "HIDDEN_BELOW",
     "MATCH_COST",
     "MAX_CANDIDATES",
     "OFF_SIDE",
+    "OUTSIDE",
     "PLACE_REACH",
+    "SLIDE",
     "TAN_CAP",
+    "THICKNESS",
     "lift_prior",
     "lift_two_views",
     "to_world",
@@ -97,15 +117,32 @@ ENVELOPE_CAP = 3.0
 ALLOMETRY_QUANTILE = 0.75
 #: the largest matching cost (shares of the height) of a front and a side branch
 MATCH_COST = 0.6
-#: carving a branch's depth onto the side skeleton: a point kept off it costs this many
-#: pixels of depth change; at most this many side-skeleton depths looked at a point
-OFF_SIDE = 3.0
-#: ... and a side-skeleton depth this much a pixel of its distance from the guess
-GUESS_WEIGHT = 1.0
-MAX_CANDIDATES = 24
 #: a matched branch takes the side branch's place only when it lies within this share of
 #: the branch's length (in the picture) of the parent's end; else its run in depth
 PLACE_REACH = 1.0
+#: carving a branch's depth onto the side picture, in pixels of the front picture: a
+#: pixel of depth change costs SLIDE, and STEEP more beyond the step's length in the
+#: front picture (STEEP = COVER: sweeping along a row never pays for itself), a pixel
+#: drawn outside the side silhouette OUTSIDE, a pixel of radius unlike the side
+#: skeleton's THICKNESS, a pixel from the guess GUESS_WEIGHT, a point off the side
+#: skeleton OFF_SIDE; each side-skeleton pixel no branch covers yet earns COVER. At most
+#: MAX_CANDIDATES side columns (the nearest the guess) at a point; every branch carved
+#: CARVE_PASSES times. Chosen on the 12 discovery renders' side views and the depth of
+#: Honda trees seen from two sides (benchmarks/log/fitting.md)
+SLIDE = 0.1
+STEEP = 2.0
+OUTSIDE = 3.0
+COVER = 2.0
+THICKNESS = 0.3
+GUESS_WEIGHT = 0.05
+OFF_SIDE = 3.0
+MAX_CANDIDATES = 48
+CARVE_PASSES = 3
+#: a side branch whose skeleton pixels are covered less than this share is hidden in the
+#: front picture and grafted on; its run across stops where a step draws more than
+#: GRAFT_GAP pixels outside the front silhouette
+HIDDEN_BELOW = 0.7
+GRAFT_GAP = 2.0
 
 
 def to_world(sk: Skeleton2D, scale: float) -> list[np.ndarray]:
@@ -272,44 +309,152 @@ def _pixel(world) -> float:
     return float(np.median(steps)) if steps.size else 1.0
 
 
-def _carve(q: np.ndarray, z0: float, bins: dict, pix: float) -> np.ndarray:
-    """Depths along a branch ``q`` (``(k, 3)``, its ``z`` the guess) that lie on the side
-    picture's skeleton at each point's height where they can (``bins``: the side
-    skeleton's depths ``-u`` by row of height ``pix``): the path of least total change of
-    depth from ``z0`` (Viterbi), a point off the side skeleton (keeping its guess) costing
-    :data:`OFF_SIDE` pixels."""
-    guess = q[:, 2]
-    z = np.empty(len(q))
-    z[0] = z0
-    cand_prev = np.array([z0])
-    cost_prev = np.zeros(1)
-    back: list[np.ndarray] = []
-    cands: list[np.ndarray] = [cand_prev]
-    for i in range(1, len(q)):
-        r = round(float(q[i, 1]) / pix)
-        found = [bins[k] for k in (r - 1, r, r + 1) if k in bins]
-        side = np.unique(np.concatenate(found)) if found else np.zeros(0)
-        if side.size > MAX_CANDIDATES:
-            side = side[np.argsort(np.abs(side - guess[i]))[:MAX_CANDIDATES]]
-        dg = guess[i] - guess[i - 1]
-        # state 0 follows the guess's step from wherever the path was (off the side
-        # skeleton, OFF_SIDE pixels a point); the others sit on a side-skeleton depth
-        step_cost = np.empty((len(cand_prev), 1 + side.size))
-        step_cost[:, 0] = abs(dg) + OFF_SIDE * pix
-        step_cost[:, 1:] = np.abs(side[None, :] - cand_prev[:, None])
-        step_cost[:, 1:] += GUESS_WEIGHT * np.abs(side - guess[i])[None, :]
-        total = cost_prev[:, None] + step_cost
-        arg = np.argmin(total, axis=0)
-        cost_prev = total[arg, np.arange(1 + side.size)]
-        cand = np.r_[cand_prev[arg[0]] + dg, side]
-        back.append(arg)
-        cands.append(cand)
-        cand_prev = cand
-    k = int(np.argmin(cost_prev))
-    for i in range(len(q) - 1, 0, -1):
-        z[i] = cands[i][k]
-        k = int(back[i - 1][k])
-    return z
+def _raster(rows, cols, radii, shape):
+    """A skeleton's pixels ``(rows, cols)`` (int arrays, inside ``shape``) with their
+    ``radii``: ``(silhouette, skeleton_radius)``, the silhouette the union of the points'
+    discs (at least one pixel), the radius the largest at each skeleton pixel (at least
+    0.5; 0 off the skeleton)."""
+    import cv2
+
+    sil = np.zeros(shape, np.uint8)
+    for r, c, rad in zip(rows.tolist(), cols.tolist(), radii.tolist()):
+        cv2.circle(sil, (c, r), (round(max(rad, 0.5))), 1, -1)
+    skel = np.zeros(shape)
+    np.maximum.at(skel, (rows, cols), np.maximum(radii, 0.5))
+    return sil.astype(bool) | (skel > 0), skel
+
+
+def _csr(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A mask's pixels by row: ``(ptr, cols)``, row ``r``'s columns ``cols[ptr[r]:ptr[r+1]]``."""
+    r, c = np.nonzero(mask)
+    ptr = np.zeros(mask.shape[0] + 1, np.int64)
+    np.cumsum(np.bincount(r, minlength=mask.shape[0]), out=ptr[1:])
+    return ptr, c.astype(np.int64)
+
+
+def _outside_cum(sil: np.ndarray) -> np.ndarray:
+    """Each row's running count of pixels outside ``sil`` (first column 0)."""
+    out = np.zeros((sil.shape[0], sil.shape[1] + 1))
+    np.cumsum(~sil, axis=1, out=out[:, 1:])
+    return out
+
+
+def _cover(cover, rows, cols, radii, sign: int) -> None:
+    """Add ``sign`` to ``cover`` where a branch drawn through the pixels ``(rows, cols)``
+    (float columns) with ``radii`` lies: each step's span in its row, widened by the
+    radius."""
+    ncols = cover.shape[1]
+    prev = cols[0]
+    for r, c, rad in zip(rows.tolist(), cols.tolist(), radii.tolist()):
+        w = max(rad, 0.5)
+        a0 = max((math.floor(min(prev, c) - w + 0.5)), 0)
+        a1 = min((math.ceil(max(prev, c) + w - 0.5)) + 1, ncols)
+        if a1 > a0:
+            cover[r, a0:a1] += sign
+        prev = c
+
+
+def _carve_params() -> np.ndarray:
+    return np.array([SLIDE, OUTSIDE, COVER, GUESS_WEIGHT, THICKNESS, OFF_SIDE, MAX_CANDIDATES,
+                     STEEP], np.float64)  # fmt: skip
+
+
+def _graft_hidden(sk: Skeleton2D, out, side: Skeleton2D, side_world, side_grid, pix):
+    """The side picture's branches that no front branch covers (hidden in the front
+    picture behind others, as a limb running towards the viewer hides in the trunk), each
+    grafted onto the tree where it leaves it in the side picture: its depth the side
+    picture's, its run across carved inside the front silhouette (:func:`carve_across`),
+    cut where it would leave it by more than :data:`GRAFT_GAP` pixels. Returns ``(sk,
+    branches, grafted)``: the skeleton with the grafted branches (a branch they leave
+    from split there), in order parents first."""
+    cover, c_off, nrows, ncols, _ = side_grid
+    r0, c0 = sk.base
+    br = [np.asarray(b, np.float64) for b in sk.branches]
+    rad = [np.asarray(r, np.float64) for r in sk.radii]
+    par = [int(x) for x in sk.parent]
+    order = [int(x) for x in sk.order]
+    lifted = [q.copy() for q in out]
+    # the front silhouette, drawn from the front skeleton's discs
+    allp = np.concatenate(lifted)
+    f_off = int(-np.floor(allp[:, 0].min() / pix)) + 8
+    fcols = int(np.ceil(allp[:, 0].max() / pix)) + f_off + 8
+    frows = np.clip(np.round(allp[:, 1] / pix).astype(np.int64), 0, nrows - 1)
+    fc = np.round(allp[:, 0] / pix).astype(np.int64) + f_off
+    sil, _ = _raster(frows, fc, np.concatenate(rad), (nrows, fcols))
+    fgrid = (*_csr(sil), _outside_cum(sil))
+    params = np.array([SLIDE, OUTSIDE, GRAFT_GAP], np.float64)
+    # every point of the tree: its branch and its index there (the attachments' search)
+    owner = np.concatenate([np.full(len(q), b) for b, q in enumerate(lifted)])
+    index = np.concatenate([np.arange(len(q)) for q in lifted])
+    spix = _pixel(side_world)
+    grafted = 0
+    for j, s in enumerate(side_world):
+        rows = np.clip(np.round(s[:, 1] / pix).astype(np.int64), 0, nrows - 1)
+        cc = np.clip(np.round(-s[:, 0] / pix).astype(np.int64) + c_off, 0, ncols - 1)
+        if len(s) < 4 or (cover[rows, cc] > 0).mean() >= HIDDEN_BELOW:
+            continue
+        srad = np.asarray(side.radii[j], np.float64) * spix / pix
+        near = np.flatnonzero(np.abs(allp[:, 1] - s[0, 1]) <= 1.5 * pix)
+        if not near.size:
+            continue
+        k = int(near[np.argmin(np.abs(allp[near, 2] + s[0, 0]))])
+        if abs(allp[k, 2] + s[0, 0]) > max(3.0, float(srad[0])) * pix:
+            continue
+        b, i = int(owner[k]), int(index[k])
+        x, kept = carve_across((rows, srad), float(allp[k, 0] / pix + f_off), fgrid, params)
+        if kept < 3:
+            continue
+        q = np.stack([(x[:kept] - f_off) * pix, s[:kept, 1], -s[:kept, 0]], axis=1)
+        q[0] = allp[k]
+        if 0 < i < len(lifted[b]) - 1:  # split b where the hidden branch leaves it
+            nb = len(br)
+            for name, arr in ((br, br[b]), (rad, rad[b]), (lifted, lifted[b])):
+                name.append(arr[i:].copy())
+                name[b] = arr[: i + 1]
+            par = [nb if p == b else p for p in par]
+            par.append(b)
+            order.append(order[b])
+            moved = (owner == b) & (index > i)
+            owner[moved], index[moved] = nb, index[moved] - i
+            host = b
+        elif i == 0 and par[b] >= 0:
+            host = par[b]
+        elif i == 0:
+            continue
+        else:
+            host = b
+        br.append(np.stack([r0 - q[:, 1] / pix, c0 + q[:, 0] / pix], axis=1))
+        rad.append(np.minimum(srad[:kept], rad[host][-1]))
+        par.append(host)
+        order.append(order[host] + 1)
+        lifted.append(q)
+        allp = np.concatenate([allp, q[1:]])
+        owner = np.r_[owner, np.full(kept - 1, len(br) - 1)]
+        index = np.r_[index, np.arange(1, kept)]
+        _cover(cover, rows[:kept], -s[:kept, 0] / pix + c_off, srad[:kept], 1)
+        grafted += 1
+    # parents first (depth first from the root, children in order)
+    kids: list[list[int]] = [[] for _ in br]
+    roots = []
+    for b, p in enumerate(par):
+        (roots if p < 0 else kids[p]).append(b)
+    seq: list[int] = []
+    stack = roots[::-1]
+    while stack:
+        b = stack.pop()
+        seq.append(b)
+        stack.extend(kids[b][::-1])
+    new = {old: n for n, old in enumerate(seq)}
+    out_sk = Skeleton2D(
+        branches=tuple(br[o] for o in seq),
+        radii=tuple(rad[o] for o in seq),
+        parent=np.array([-1 if par[o] < 0 else new[par[o]] for o in seq], np.int64),
+        order=np.array([order[o] for o in seq], np.int64),
+        base=sk.base,
+        height=sk.height,
+        shape=sk.shape,
+    )
+    return out_sk, [lifted[o] for o in seq], grafted
 
 
 def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: int = 0,
@@ -330,9 +475,9 @@ def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: in
     >>> s = np.zeros((60, 40), bool)
     >>> for r in range(10, 60): s[r, 20 + (60 - r) // 5 - 1: 20 + (60 - r) // 5 + 2] = True
     >>> a, b = extract_skeleton(f), extract_skeleton(s)
-    >>> lifted, why = lift_two_views(a, to_world(a, 1.0), b, to_world(b, 1.0))
+    >>> lifted, why, grown = lift_two_views(a, to_world(a, 1.0), b, to_world(b, 1.0))
     >>> why["matched"], round(float(lifted[-1][-1, 2]))     # leans away from the viewer
-    (2, -11)
+    (2, -10)
     """
     prior, why = lift_prior(sk, world, seed)
     height = max(max(float(p[:, 1].max()) for p in world), 1e-9)
@@ -375,21 +520,16 @@ def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: in
             continue
         match[i] = j
         used[j] = True
-    # the side picture's skeleton points by height (rows one front pixel high)
-    pix = _pixel(world)
-    sp = np.concatenate(side_world)
-    bins: dict[int, np.ndarray] = {}
-    rows = np.round(sp[:, 1] / pix).astype(np.int64)
-    for r in np.unique(rows):
-        bins[int(r)] = np.unique(np.round(-sp[rows == r, 0] / pix * 2) / 2 * pix)
-    out: list[np.ndarray] = []
+    # the guesses: the matched side branches' places, the prior for the rest
+    side_x = np.concatenate(side_world)[:, 0]
+    guess: list[np.ndarray] = []
     for b, p in enumerate(world):
-        z0 = 0.0 if sk.parent[b] < 0 else float(out[sk.parent[b]][-1, 2])
+        z0 = 0.0 if sk.parent[b] < 0 else float(guess[sk.parent[b]][-1, 2])
         arc = _arc(p[:, :2])
         t = arc / max(arc[-1], 1e-12)
+        q = p.copy()
         if sk.order[b] == 0 and len(tp):
             match[b] = trunk[0]
-            q = p.copy()
             q[:, 2] = -np.interp(p[:, 1], tp[:, 1], tp[:, 0])
             q[:, 2] += (z0 - q[0, 2]) * (1.0 - t)
         elif b in match:
@@ -397,7 +537,6 @@ def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: in
             ts = _arc(s[:, :2])
             ts = ts / max(ts[-1], 1e-12)
             u = np.interp(t, ts, s[:, 0])
-            q = p.copy()
             if same_picture:  # another limb's run in depth, from the parent's end
                 q[:, 2] = z0 - (u - u[0])
             elif abs(z0 + u[0]) > PLACE_REACH * arc[-1]:
@@ -408,16 +547,68 @@ def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: in
                 # offset at the start fades along the branch
                 q[:, 2] = -u + (z0 + u[0]) * (1.0 - t)
         else:
-            q = p.copy()
             q[:, 2] = z0 + (prior[b][:, 2] - prior[b][0, 2])
-        if not same_picture:  # onto the side picture's skeleton
-            q[:, 2] = _carve(q, z0, bins, pix)
         # within the side picture's extent: a chain of unmatched branches cannot run away
-        q[:, 2] = np.clip(q[:, 2], -sp[:, 0].max(), -sp[:, 0].min())
-        out.append(q)
+        q[:, 2] = np.clip(q[:, 2], -side_x.max(), -side_x.min())
+        guess.append(q)
     why = {**why, "depth": "two views: branches matched by height, the rest by the prior",
            "side_extent": "every depth within the side picture's skeleton's extent",
            "matched": len(match), "unmatched": len(world) - len(match),
            "side_matched": sorted(int(j) for j in match.values()),
            "match_cost": MATCH_COST}  # fmt: skip
-    return out, why
+    if same_picture:
+        return guess, why, sk
+    out, side_grid = _carve_all(sk, world, guess, side, side_world)
+    sk2, out, grafted = _graft_hidden(sk, out, side, side_world, side_grid, _pixel(world))
+    cover, skel = side_grid[0], side_grid[4]
+    why = {**why,
+           "depth": "two views: branches matched by height, their depths carved onto the "
+           "side picture's skeleton (its pixels covered once where the heights allow), the "
+           "side's branches hidden in the front picture grafted on",
+           "carve": {"slide": SLIDE, "outside": OUTSIDE, "cover": COVER,
+                     "thickness": THICKNESS, "guess_weight": GUESS_WEIGHT,
+                     "off_side": OFF_SIDE, "passes": CARVE_PASSES},
+           "grafted": grafted, "hidden_below": HIDDEN_BELOW, "graft_gap": GRAFT_GAP,
+           "side_covered": float((cover[skel] > 0).mean()) if skel.any() else 0.0}  # fmt: skip
+    return out, why, sk2
+
+
+def _carve_all(sk: Skeleton2D, world, guess, side: Skeleton2D, side_world):
+    """Each front branch's depth carved onto the side picture (:func:`carve_depth`),
+    parents first, :data:`CARVE_PASSES` times (each branch carved again with the others'
+    coverage as it stands: the side picture's pixels shared out). Returns ``(branches,
+    (cover, column offset, rows, columns, side skeleton mask))``."""
+    pix = _pixel(world)
+    spix = _pixel(side_world)
+    sp = np.concatenate(side_world)
+    srad = np.concatenate([np.asarray(r, np.float64) for r in side.radii]) * spix / pix
+    rows = np.round(sp[:, 1] / pix).astype(np.int64)
+    cols = np.round(-sp[:, 0] / pix).astype(np.int64)
+    pad = 8
+    c_off = int(-cols.min()) + pad
+    top = max(float(p[:, 1].max()) for p in world) / pix
+    nrows = int(max(rows.max(), top)) + pad
+    ncols = int(cols.max()) + c_off + pad
+    rows = np.clip(rows, 0, nrows - 1)
+    sil, skel_r = _raster(rows, cols + c_off, srad, (nrows, ncols))
+    grid = (*_csr(skel_r > 0), _outside_cum(sil), skel_r)
+    cover = np.zeros((nrows, ncols), np.int32)
+    params = _carve_params()
+    zmin, zmax = -float(sp[:, 0].max()), -float(sp[:, 0].min())
+    frad = [np.asarray(r, np.float64) for r in sk.radii]
+    brows = [np.clip(np.round(p[:, 1] / pix).astype(np.int64), 0, nrows - 1) for p in world]
+    steps = [np.r_[0.0, np.linalg.norm(np.diff(p[:, :2], axis=0), axis=1) / pix] for p in world]
+    out: list[np.ndarray] = [p.copy() for p in world]
+    drawn: list[np.ndarray | None] = [None] * len(world)
+    for _ in range(CARVE_PASSES):
+        for b in range(len(world)):
+            if drawn[b] is not None:
+                _cover(cover, brows[b], drawn[b], frad[b], -1)
+            z0 = 0.0 if sk.parent[b] < 0 else float(out[sk.parent[b]][-1, 2])
+            branch = (brows[b], guess[b][:, 2] / pix + c_off, frad[b], steps[b])
+            z = carve_depth(branch, z0 / pix + c_off, grid, cover, params)
+            z = np.clip((z - c_off) * pix, zmin, zmax)
+            out[b][:, 2] = z
+            drawn[b] = z / pix + c_off
+            _cover(cover, brows[b], drawn[b], frad[b], 1)
+    return out, (cover, c_off, nrows, ncols, skel_r > 0)
