@@ -16,7 +16,8 @@ Two sets:
   kind; for the hard ones (a second tree, a hedge, treeline or wood: ``second_tree`` or
   ``treeline`` in ``index.json``):
   ``right_or_refused``, segmented right (IoU >= :data:`RIGHT_IOU`) or refused, and how
-  many were accepted wrong.
+  many were accepted wrong; a composite refused naming ``--box`` is segmented again with
+  that hint as a user gives it (:func:`hint_box`): ``hint_iou`` (``with_the_hint``).
 * **real photos** (``--photos DIR``, e.g. ``runs/photos``, never committed; the files'
   metadata from its ``sources.json`` when there): accepted or refused (the message),
   seconds, the tree's share of the picture; IoU when a ``<name>_mask.png`` (black tree
@@ -81,6 +82,26 @@ def fit_to(mask: np.ndarray, shape) -> np.ndarray:
     return np.asarray(im) > 127
 
 
+#: the margin of a hint's box around the true mask's bounds, a share of their size (a user
+#: draws a box a little larger than the tree)
+HINT_MARGIN = 0.05
+
+
+def hint_box(truth: np.ndarray, photo: Path) -> tuple[int, int, int, int]:
+    """``--box x0,y0,x1,y1`` around the true mask (:data:`HINT_MARGIN` wider each way), in
+    the photo's pixels, clipped to the picture."""
+    from PIL import Image
+
+    w, h = Image.open(photo).size
+    rows, cols = np.nonzero(truth)
+    sy, sx = h / truth.shape[0], w / truth.shape[1]
+    my = HINT_MARGIN * (rows.max() + 1 - rows.min())
+    mx = HINT_MARGIN * (cols.max() + 1 - cols.min())
+    return (max(0, int((cols.min() - mx) * sx)), max(0, int((rows.min() - my) * sy)),
+            min(w, int(np.ceil((cols.max() + 1 + mx) * sx))),
+            min(h, int(np.ceil((rows.max() + 1 + my) * sy))))  # fmt: skip
+
+
 def read_mask(path: Path) -> np.ndarray:
     """A mask picture (black tree on white) as a boolean array, True on the tree."""
     from PIL import Image
@@ -88,15 +109,15 @@ def read_mask(path: Path) -> np.ndarray:
     return np.asarray(Image.open(path).convert("L")) < 128
 
 
-def segment(path: Path, name: str) -> tuple[dict, np.ndarray | None]:
-    """``segment_photo`` on one file: its row (accepted, or refused with the message)
-    and the silhouette (None when refused)."""
+def segment(path: Path, name: str, box=None) -> tuple[dict, np.ndarray | None]:
+    """``segment_photo`` on one file (``box``: the hint ``--box``, picture pixels): its
+    row (accepted, or refused with the message) and the silhouette (None when refused)."""
     from growsim.errors import UserInputError
     from growsim.pictures.photo import segment_photo
 
     t = time.perf_counter()
     try:
-        seg = segment_photo(path, name=name)
+        seg = segment_photo(path, name=name, box=box)
     except UserInputError as exc:
         return {
             "accepted": False,
@@ -187,6 +208,16 @@ def run_composites(src: Path, split: str, only, do_fit: bool, fit_out: Path) -> 
             row["extra"] = round(float((tree & ~truth).sum() / max(truth.sum(), 1)), 3)
         if row["second_tree"] or row["treeline"]:
             row["right_or_refused"] = (not row["accepted"]) or row["iou"] >= RIGHT_IOU
+        if "--box" in row.get("refused", ""):  # the hint the refusal names, as a user gives it
+            box = hint_box(truth, src / pic["photo"])
+            r2, tree2 = segment(src / pic["photo"], pic["name"], box=box)
+            row["hint_box"] = list(box)
+            row["hint_accepted"] = r2["accepted"]
+            row["hint_method"] = r2.get("method")
+            if tree2 is not None:
+                row["hint_iou"] = round(iou(fit_to(tree2, truth.shape), truth), 4)
+            else:
+                row["hint_refused"] = r2.get("refused", r2.get("error"))
         if do_fit:
             row.update(fit(src / pic["photo"], fit_out / "composites" / pic["name"]))
         row["_photo"], row["_tree"], row["_truth"] = str(src / pic["photo"]), tree, truth
@@ -226,6 +257,13 @@ def composite_summary(rows) -> dict:
         "right_or_refused": sum(r["right_or_refused"] for r in hard),
         "segmented_right": sum(r["accepted"] and r["iou"] >= RIGHT_IOU for r in hard),
         "accepted_wrong": [r["name"] for r in hard if r["accepted"] and r["iou"] < RIGHT_IOU],
+    }
+    hinted = [r for r in rows if "hint_box" in r]
+    out["with_the_hint"] = {
+        "refused_naming_box": len(hinted),
+        "accepted": sum(r["hint_accepted"] for r in hinted),
+        "iou_at_least_0.85": sum(r.get("hint_iou", 0.0) >= RIGHT_IOU for r in hinted),
+        "mean_iou_refused_as_0": _mean([r.get("hint_iou", 0.0) for r in hinted]),
     }
     easy = [r for r in rows if not (r["second_tree"] or r["treeline"])]
     out["plain_horizon"] = {

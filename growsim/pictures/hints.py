@@ -14,7 +14,7 @@ from growsim.errors import UserInputError
 from growsim.pictures.reading import check_silhouette
 from growsim.pictures.record import Segmentation
 from growsim.pictures.scene import RIVAL_AREA, RIVAL_HEIGHT, Scene
-from growsim.pictures.trunk import GRABCUT_ITERATIONS, GRABCUT_PIXELS
+from growsim.pictures.trunk import GRABCUT_ITERATIONS
 
 __all__ = ["choose_tree", "hint_pixels", "in_box"]
 
@@ -39,6 +39,14 @@ LANDSCAPE_SHARE = 0.25
 #: refused: the tree touching the top, left or right edge with this many pixels or more
 #: (it is cut off; the framing needs the whole tree)
 MAX_EDGE_PIXELS = 3
+#: GrabCut in a box starts from each row's background: a pixel of the box within
+#: BOX_BACKGROUND_DE (Delta E) of a colour beside the box in its row (or BOX_ROWS rows
+#: above or below) starts as probable background, the rest as probable tree; GrabCut runs
+#: on the picture reduced so that the box holds at most BOX_GRABCUT_PIXELS pixels (chosen
+#: on the composites of tests/data/composites and runs/composites_b2, benchmarks/log/fitting.md)
+BOX_BACKGROUND_DE = 8.0
+BOX_ROWS = 2
+BOX_GRABCUT_PIXELS = 150_000
 
 
 def hint_pixels(values, n: int, per_pixel: float, shape, flag: str, name: str):
@@ -163,11 +171,33 @@ def _suggested_box(scene: Scene, o, per_pixel: float) -> list[int]:
     return [int(x0), int(y0), int(np.ceil(x1)), int(np.ceil(y1))]
 
 
+def _row_background(lab: np.ndarray, box: np.ndarray) -> np.ndarray:
+    """Each pixel of ``box`` (bool, the picture's shape): the least Delta E to the colours
+    outside the box in its row, or :data:`BOX_ROWS` rows above or below (``inf`` where a
+    row has none; colours rounded to 2 units, at most 200 a row)."""
+    h = box.shape[0]
+    d = np.full(box.shape, np.inf)
+    for r in np.flatnonzero(box.any(axis=1)):
+        lo, hi = max(0, r - BOX_ROWS), min(h, r + BOX_ROWS + 1)
+        beside = lab[lo:hi][~box[lo:hi]]
+        if not beside.size:
+            continue
+        q = np.unique(np.round(beside / 2.0), axis=0) * 2.0
+        if q.shape[0] > 200:
+            q = q[np.random.default_rng(int(r)).choice(q.shape[0], 200, replace=False)]
+        inside = lab[r, box[r]]
+        d[r, box[r]] = np.sqrt(((inside[:, None, :] - q[None, :, :]) ** 2).sum(-1)).min(axis=1)
+    return d
+
+
 def in_box(rgb, keep, sky, hint, per_pixel, name, t_start) -> Segmentation:
     """The tree in the box of ``keep`` (the hint ``--box``) where the scene could not tell
     it (no sky, nothing standing out of it, or what stands merges with a wood reaching
-    past the box): GrabCut initialised with the box (and the ``sky``, when known, as
-    background), its largest piece; checked as every silhouette is.
+    past the box): GrabCut in the box, started from each row's background (a pixel like
+    the colours beside the box in its row is probably background: the sky, a treeline, a
+    field run on past the box; :data:`BOX_BACKGROUND_DE`), the ``sky``, when known, and
+    everything outside the box background; its largest piece; checked as every
+    silhouette is.
 
     Examples
     --------
@@ -181,38 +211,40 @@ def in_box(rgb, keep, sky, hint, per_pixel, name, t_start) -> Segmentation:
     ('GrabCut in the box', True, True, False)
     """
     import cv2
+    from skimage.color import rgb2lab
     from skimage.measure import label
 
     h, w = keep.shape
-    rows, cols = np.nonzero(keep)
-    y0, y1, x0, x1 = rows.min(), rows.max() + 1, cols.min(), cols.max() + 1
-    m = max(4, int(0.1 * max(y1 - y0, x1 - x0)))
-    win = (slice(max(0, y0 - m), min(h, y1 + m)), slice(max(0, x0 - m), min(w, x1 + m)))
-    img = np.ascontiguousarray(np.round(255 * rgb[win][..., ::-1]).astype(np.uint8))
-    mask = np.where(keep[win], cv2.GC_PR_FGD, cv2.GC_BGD).astype(np.uint8)
+    f = min(1.0, np.sqrt(BOX_GRABCUT_PIXELS / max(1, int(keep.sum()))))
+    size = (max(2, round(w * f)), max(2, round(h * f)))
+    small = cv2.resize(np.ascontiguousarray(rgb, dtype=np.float32), size,
+                       interpolation=cv2.INTER_AREA) if f < 1.0 else rgb  # fmt: skip
+    box = cv2.resize(keep.astype(np.uint8), size, interpolation=cv2.INTER_NEAREST) > 0
+    mask = np.where(box, cv2.GC_PR_FGD, cv2.GC_BGD).astype(np.uint8)
+    mask[box & (_row_background(rgb2lab(np.clip(small, 0, 1)), box) < BOX_BACKGROUND_DE)] = (
+        cv2.GC_PR_BGD
+    )
     if sky is not None:
-        mask[sky[win]] = cv2.GC_BGD
-    size = mask.shape[::-1]
-    f = min(1.0, np.sqrt(2 * GRABCUT_PIXELS / mask.size))
-    if f < 1.0:
-        small = (max(2, round(size[0] * f)), max(2, round(size[1] * f)))
-        img = cv2.resize(img, small, interpolation=cv2.INTER_AREA)
-        mask = cv2.resize(mask, small, interpolation=cv2.INTER_NEAREST)
+        mask[cv2.resize(sky.astype(np.uint8), size, interpolation=cv2.INTER_NEAREST) > 0] = (
+            cv2.GC_BGD
+        )
     if not (mask == cv2.GC_BGD).any():
         mask[[0, -1], :] = cv2.GC_BGD
         mask[:, [0, -1]] = cv2.GC_BGD
+    img = np.ascontiguousarray(np.round(255 * np.clip(small, 0, 1)[..., ::-1]).astype(np.uint8))
     bgd, fgd = np.zeros((1, 65)), np.zeros((1, 65))
     cv2.setRNGSeed(0)
     cv2.grabCut(img, mask, None, bgd, fgd, GRABCUT_ITERATIONS, cv2.GC_INIT_WITH_MASK)
+    fg = (mask == cv2.GC_FGD) | (mask == cv2.GC_PR_FGD)
     if f < 1.0:
-        mask = cv2.resize(mask, size, interpolation=cv2.INTER_NEAREST)
-    fg = ((mask == cv2.GC_FGD) | (mask == cv2.GC_PR_FGD)) & keep[win]
+        fg = cv2.resize(fg.astype(np.uint8), (w, h), interpolation=cv2.INTER_LINEAR) > 0
+    fg &= keep
     parts = label(fg, connectivity=2)
     tree = np.zeros((h, w), dtype=bool)
     if parts.max() > 0:
         sizes = np.bincount(parts.ravel())
         sizes[0] = 0
-        tree[win] = parts == int(np.argmax(sizes))
+        tree = parts == int(np.argmax(sizes))
     how = "GrabCut in the box"
     if not tree.any():
         raise UserInputError(f"{name}: the silhouette is empty ({how})")
