@@ -45,8 +45,8 @@ def _row_candidates(ptr, cols, r0, r1):
 def _span(cum, r, lo, hi, w, ncols):
     """Pixels counted by ``cum`` in row ``r`` from ``floor(lo) - w`` to ``ceil(hi) + w``
     (clipped to the grid)."""
-    a = min(max((math.floor(lo)), 0), ncols - 1) - w
-    b = min(max((math.ceil(hi)), 0), ncols - 1) + w
+    a = min(max(math.floor(lo), 0), ncols - 1) - w
+    b = min(max(math.ceil(hi), 0), ncols - 1) + w
     a = max(a, 0)
     b = min(b, ncols - 1)
     return cum[r, b + 1] - cum[r, a]
@@ -73,6 +73,17 @@ def carve_depth(branch, z0, grid, cover, params):
     Returns
     -------
     ``(k,)`` float64 columns: the path of least total cost from ``z0``.
+
+    Examples
+    --------
+    >>> ptr = np.array([0, 1, 2, 3]); cols = np.array([2, 2, 2])   # a side branch at x = 2
+    >>> sil = np.zeros((3, 6), bool); sil[:, 1:4] = True
+    >>> side_r = np.zeros((3, 6)); side_r[:, 2] = 1.0
+    >>> out = np.zeros((3, 7)); out[:, 1:] = np.cumsum(~sil, axis=1)
+    >>> carve_depth((np.array([0, 1, 2]), np.zeros(3), np.ones(3), np.ones(3)), 0.0,
+    ...             (ptr, cols, out, side_r), np.zeros((3, 6), np.int32),
+    ...             np.array([0.1, 3.0, 1.0, 0.05, 0.3, 3.0, 48.0, 2.0])).tolist()
+    [0.0, 2.0, 2.0]
     """
     rows, guess, radius, step = branch
     ptr, cols, outside_cum, side_radius = grid
@@ -132,8 +143,8 @@ def carve_depth(branch, z0, grid, cover, params):
                 lo = min(pa, c)
                 hi = max(pa, c)
                 gap = _span(outside_cum, r, lo, hi, w, ncols)
-                ua = min(max((math.floor(lo)), 0), ncols - 1)
-                ub = min(max((math.ceil(hi)), 0), ncols - 1)
+                ua = min(max(math.floor(lo), 0), ncols - 1)
+                ub = min(max(math.ceil(hi), 0), ncols - 1)
                 got = unc[ub + 1] - unc[ua]
                 dz = hi - lo
                 t = cost[a] + slide * dz + steep * max(dz - step[i], 0.0) + outside * gap
@@ -176,6 +187,16 @@ def carve_across(branch, x0, grid, params):
     ``(x, kept)``: ``(k,)`` float64 columns of least cost (change of column ``slide`` a
     pixel, pixels drawn outside ``outside`` each), and the points kept: up to the first
     step that draws more than ``max_gap`` pixels outside.
+
+    Examples
+    --------
+    >>> sil = np.zeros((3, 8), bool); sil[:, 2:4] = True          # the front silhouette
+    >>> r, c = np.nonzero(sil); ptr = np.r_[0, np.cumsum(np.bincount(r, minlength=3))]
+    >>> out = np.zeros((3, 9)); out[:, 1:] = np.cumsum(~sil, axis=1)
+    >>> x, kept = carve_across((np.array([0, 1, 2]), np.ones(3)), 2.0, (ptr, c, out),
+    ...                        np.array([0.1, 3.0, 2.0]))
+    >>> x.tolist(), int(kept)
+    ([2.0, 2.0, 2.0], 3)
     """
     rows, radius = branch
     ptr, cols, outside_cum = grid

@@ -42,11 +42,13 @@ MAX_EDGE_PIXELS = 3
 #: GrabCut in a box starts from each row's background: a pixel of the box within
 #: BOX_BACKGROUND_DE (Delta E) of a colour beside the box in its row (or BOX_ROWS rows
 #: above or below) starts as probable background, the rest as probable tree; GrabCut runs
-#: on the picture reduced so that the box holds at most BOX_GRABCUT_PIXELS pixels (chosen
-#: on the composites of tests/data/composites and runs/composites_b2, benchmarks/log/fitting.md)
+#: on the whole picture (its background colours all known) reduced so that the box holds
+#: at most BOX_GRABCUT_PIXELS pixels and the picture BOX_PICTURE_PIXELS (chosen on the
+#: composites of tests/data/composites and runs/composites_b2, benchmarks/log/fitting.md)
 BOX_BACKGROUND_DE = 8.0
 BOX_ROWS = 2
 BOX_GRABCUT_PIXELS = 150_000
+BOX_PICTURE_PIXELS = 500_000
 
 
 def hint_pixels(values, n: int, per_pixel: float, shape, flag: str, name: str):
@@ -182,7 +184,9 @@ def _row_background(lab: np.ndarray, box: np.ndarray) -> np.ndarray:
         beside = lab[lo:hi][~box[lo:hi]]
         if not beside.size:
             continue
-        q = np.unique(np.round(beside / 2.0), axis=0) * 2.0
+        code = np.round(beside / 2.0).astype(np.int64) + 128  # Lab in 2-unit steps
+        key = np.unique((code[:, 0] * 256 + code[:, 1]) * 256 + code[:, 2])
+        q = np.stack([key // 65536, key // 256 % 256, key % 256], axis=1) * 2.0 - 256.0
         if q.shape[0] > 200:
             q = q[np.random.default_rng(int(r)).choice(q.shape[0], 200, replace=False)]
         inside = lab[r, box[r]]
@@ -215,7 +219,8 @@ def in_box(rgb, keep, sky, hint, per_pixel, name, t_start) -> Segmentation:
     from skimage.measure import label
 
     h, w = keep.shape
-    f = min(1.0, np.sqrt(BOX_GRABCUT_PIXELS / max(1, int(keep.sum()))))
+    f = min(1.0, np.sqrt(BOX_GRABCUT_PIXELS / max(1, int(keep.sum()))),
+            np.sqrt(BOX_PICTURE_PIXELS / (h * w)))  # fmt: skip
     size = (max(2, round(w * f)), max(2, round(h * f)))
     small = cv2.resize(np.ascontiguousarray(rgb, dtype=np.float32), size,
                        interpolation=cv2.INTER_AREA) if f < 1.0 else rgb  # fmt: skip

@@ -318,7 +318,7 @@ def _raster(rows, cols, radii, shape):
 
     sil = np.zeros(shape, np.uint8)
     for r, c, rad in zip(rows.tolist(), cols.tolist(), radii.tolist()):
-        cv2.circle(sil, (c, r), (round(max(rad, 0.5))), 1, -1)
+        cv2.circle(sil, (c, r), round(max(rad, 0.5)), 1, -1)
     skel = np.zeros(shape)
     np.maximum.at(skel, (rows, cols), np.maximum(radii, 0.5))
     return sil.astype(bool) | (skel > 0), skel
@@ -347,8 +347,8 @@ def _cover(cover, rows, cols, radii, sign: int) -> None:
     prev = cols[0]
     for r, c, rad in zip(rows.tolist(), cols.tolist(), radii.tolist()):
         w = max(rad, 0.5)
-        a0 = max((math.floor(min(prev, c) - w + 0.5)), 0)
-        a1 = min((math.ceil(max(prev, c) + w - 0.5)) + 1, ncols)
+        a0 = max(math.floor(min(prev, c) - w + 0.5), 0)
+        a1 = min(math.ceil(max(prev, c) + w - 0.5) + 1, ncols)
         if a1 > a0:
             cover[r, a0:a1] += sign
         prev = c
@@ -462,11 +462,12 @@ def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: in
     """Depth for the front branches ``world`` from the side picture's branches
     ``side_world`` (both :func:`to_world`, at one scale: the height is shared), matched as
     the module docstring says; the unmatched ones by :func:`lift_prior`. Returns
-    ``(branches, assumptions)``. ``same_picture``: the front picture stands for the side
-    one (a leafy crown seen from one side): a front branch is never matched to its own,
-    a matched branch takes the other's run in depth from its parent's end (its shape, not
-    its place: placed, short branches became long strokes in depth), and nothing is
-    carved.
+    ``(branches, assumptions, seen)``: ``seen`` the skeleton of ``branches``, ``sk`` with
+    the side picture's hidden branches grafted on. ``same_picture``: the front picture
+    stands for the side one (a leafy crown seen from one side): a front branch is never
+    matched to its own, a matched branch takes the other's run in depth from its
+    parent's end (its shape, not its place: placed, short branches became long strokes
+    in depth), and nothing is carved or grafted (``seen`` is ``sk``).
 
     Examples
     --------
@@ -475,7 +476,7 @@ def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: in
     >>> s = np.zeros((60, 40), bool)
     >>> for r in range(10, 60): s[r, 20 + (60 - r) // 5 - 1: 20 + (60 - r) // 5 + 2] = True
     >>> a, b = extract_skeleton(f), extract_skeleton(s)
-    >>> lifted, why, grown = lift_two_views(a, to_world(a, 1.0), b, to_world(b, 1.0))
+    >>> lifted, why, seen = lift_two_views(a, to_world(a, 1.0), b, to_world(b, 1.0))
     >>> why["matched"], round(float(lifted[-1][-1, 2]))     # leans away from the viewer
     (2, -10)
     """
@@ -565,7 +566,7 @@ def lift_two_views(sk: Skeleton2D, world, side: Skeleton2D, side_world, seed: in
            "depth": "two views: branches matched by height, their depths carved onto the "
            "side picture's skeleton (its pixels covered once where the heights allow), the "
            "side's branches hidden in the front picture grafted on",
-           "carve": {"slide": SLIDE, "outside": OUTSIDE, "cover": COVER,
+           "carve": {"slide": SLIDE, "steep": STEEP, "outside": OUTSIDE, "cover": COVER,
                      "thickness": THICKNESS, "guess_weight": GUESS_WEIGHT,
                      "off_side": OFF_SIDE, "passes": CARVE_PASSES},
            "grafted": grafted, "hidden_below": HIDDEN_BELOW, "graft_gap": GRAFT_GAP,
