@@ -16,7 +16,7 @@ the front alone, no flags, and judged (:func:`growsim.reconstruction.judge`):
 - ``side_blurred_ncc``: the front-only fit's side view against the true side mask
   (``<name>_side_mask.png``, ``make_mtree.py --side``), blurred NCC at 64 px (bar >= 0.8);
 - with ``--two-views``: ``ncc_front2``, ``ncc_side2`` of the fit from both pictures (bars
-  >= 0.85);
+  >= 0.85) and its ``seconds2``;
 - with ``--infer``: Honda parameters inferred (:func:`growsim.reconstruction.infer_honda`),
   the regrown tree's median branching angle and length ratio against the reconstruction's
   (bar: within 15 %);
@@ -86,7 +86,9 @@ def one(name, mask, side, photo, png, infer, two_views, seed=0) -> dict:
         fit_picture(rec.plant, mask, png / f"{name}_fit.png", side=side)
         skeleton_picture(rec, load_rgb(photo) if photo else mask, png / f"{name}_skeleton.png")
     if two_views and side is not None:
+        t = time.perf_counter()
         rec2 = reconstruct(mask, side, seed=seed)
+        row["seconds2"] = round(time.perf_counter() - t, 2)
         s2 = judge(rec2.plant, mask, side)
         row["ncc_front2"], row["ncc_side2"] = round(s2["ncc"], 4), round(s2["ncc_side"], 4)
         if png:
@@ -132,7 +134,7 @@ def passes(row: dict) -> dict:
 def summary(rows: list[dict], label: str) -> dict:
     """Means and bars met over ``rows``."""
     keys = ["ncc", "area", "precision", "recall", "outline_iou", "depth_to_width",
-            "side_blurred_ncc", "ncc_front2", "ncc_side2", "seconds"]  # fmt: skip
+            "side_blurred_ncc", "ncc_front2", "ncc_side2", "seconds", "seconds2"]  # fmt: skip
     out = {"summary": label, "n": len(rows)}
     for k in keys:
         v = [r[k] for r in rows if k in r]
