@@ -133,6 +133,40 @@ def test_a_box_starts_from_the_rows_background():
     assert (seg.tree & ~truth).sum() <= 0.5 * truth.sum()
 
 
+def _meadow_tree(edge_tree: bool, cut_by_frame: bool = False):
+    """A wide crown on a meadow under a blue sky, its low side reaching right; with
+    ``edge_tree`` a small tree at the right edge touching that side; with
+    ``cut_by_frame`` the crown itself runs past the right edge. ``(rgb, tree mask)``."""
+    rng = np.random.default_rng(1)
+    h, w = 200, 300
+    yy, xx = np.mgrid[0:h, 0:w]
+    rgb = np.zeros((h, w, 3))
+    rgb[:] = np.linspace([0.45, 0.62, 0.92], [0.72, 0.83, 0.97], h)[:, None, :]
+    rgb[150:] = [0.35, 0.6, 0.2]
+    cx = 230 if cut_by_frame else 130
+    crown = ((yy - 85) / 55.0) ** 2 + ((xx - cx) / 95.0) ** 2 <= 1
+    crown |= ((yy - 126) / 14.0) ** 2 + ((xx - 220) / 48.0) ** 2 <= 1
+    trunk = (yy >= 120) & (yy < 153) & (xx >= 124) & (xx < 136)
+    small = ((yy - 132) / 16.0) ** 2 + ((xx - 283) / 18.0) ** 2 <= 1
+    small |= (yy >= 140) & (yy < 152) & (xx >= 290) & (xx < 294)
+    rgb[crown | trunk | (small if edge_tree else False)] = [0.16, 0.32, 0.1]
+    rgb[trunk] = [0.3, 0.22, 0.15]
+    return np.clip(rgb + rng.normal(0, 0.02, rgb.shape), 0, 1), crown | trunk
+
+
+def test_a_small_tree_at_the_edge_joined_by_a_neck_is_split_off():
+    # the tree's low side touches a small tree standing at the right edge: it was refused
+    # as reaching the edge; now the small tree is split off at the neck and recorded
+    rgb, truth = _meadow_tree(edge_tree=True)
+    seg = segment_photo(rgb)
+    assert _iou(seg.tree, truth) >= 0.95
+    assert len(seg.split) == 1 and seg.split[0][2] == 300
+    # a crown cut by the frame is as tall at the edge as inside: still refused
+    rgb, _ = _meadow_tree(edge_tree=False, cut_by_frame=True)
+    with pytest.raises(UserInputError, match=r"right edge"):
+        segment_photo(rgb)
+
+
 def test_clouds_and_a_treeline_are_not_the_tree():
     """A cumulus sky and buildings, a stormy sky over a treeline: the tree alone, its
     trunk down to the ground; the segmentation picture shows what was found."""

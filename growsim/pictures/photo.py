@@ -61,7 +61,7 @@ from growsim.pictures.hints import (
 )
 from growsim.pictures.reading import check_silhouette, load_gray, load_rgb, working_scale
 from growsim.pictures.record import CONFIDENT, Segmentation, segmentation_picture
-from growsim.pictures.scene import find_scene, sky_background
+from growsim.pictures.scene import find_scene, sky_background, split_at_neck
 from growsim.pictures.sky import (
     SMOOTH_BAND,
     band_follow,
@@ -230,6 +230,12 @@ def segment_photo(
         return replace(in_box(rgb, keep, None, hint, per_pixel, name, t_start), border=border)
     if box is not None and obj.apart is None:
         obj = _split_in_whole(rgb, allowed, obj, name, flags[0])
+    if box is None and obj.apart is None and scene.ground and scene.roughness <= WOOD_ROUGH:
+        # a small tree at a side edge joined to the tree by a neck, over a smooth horizon
+        # (before a hedge or a treeline the piece may be theirs): split off
+        for side, col in (("left", 0), ("right", scene.shape[1] - 1)):
+            if obj.mask[:, col].sum() >= MAX_EDGE_PIXELS:
+                obj = split_at_neck(obj, scene.cut, side) or obj
     split: tuple = ()
     if obj.apart is not None:
         # another tree touching it, split off: its pixels are never the tree's
