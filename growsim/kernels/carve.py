@@ -53,6 +53,22 @@ def _span(cum, r, lo, hi, w, ncols):
 
 
 @njit
+def _path(value, back, cost):
+    """The path of least ``cost`` (the last point's states' costs; the first on equal
+    costs) traced back through ``back`` (each state's best previous state): its values."""
+    k = value.shape[0]
+    best = 0
+    for a in range(cost.shape[0]):
+        if cost[a] < cost[best]:
+            best = a
+    out = np.empty(k)
+    for i in range(k - 1, -1, -1):
+        out[i] = value[i, best]
+        best = back[i, best]
+    return out
+
+
+@njit
 def carve_depth(branch, z0, grid, cover, params):
     """A branch's depth columns on the side picture's grid.
 
@@ -158,15 +174,7 @@ def carve_depth(branch, z0, grid, cover, params):
         count[i] = nc + 1
         for j in range(nc + 1):
             cost[j] = new_cost[j]
-    best = 0
-    for a in range(count[k - 1]):
-        if cost[a] < cost[best]:
-            best = a
-    z = np.empty(k)
-    for i in range(k - 1, -1, -1):
-        z[i] = value[i, best]
-        best = back[i, best]
-    return z
+    return _path(value, back, cost[: count[k - 1]])
 
 
 @njit
@@ -245,14 +253,7 @@ def carve_across(branch, x0, grid, params):
             count[i] = nc
         for j in range(count[i]):
             cost[j] = new_cost[j]
-    best = 0
-    for a in range(count[k - 1]):
-        if cost[a] < cost[best]:
-            best = a
-    x = np.empty(k)
-    for i in range(k - 1, -1, -1):
-        x[i] = value[i, best]
-        best = back[i, best]
+    x = _path(value, back, cost[: count[k - 1]])
     kept = k
     for i in range(1, k):
         w = round(max(radius[i] - 0.5, 0.0))

@@ -14,6 +14,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from growsim.pictures.pieces import largest_piece
 from growsim.pictures.scene import Scene, Standing, runs, sky_background
 
 __all__ = ["background_coloured", "cloud_colours", "split_touching"]
@@ -274,7 +275,6 @@ def _two_crowns(lab, bg, o):
     tests of :func:`split_touching` but the feet): its two parts (masks), or ``None``."""
     from scipy import ndimage
     from skimage.filters import threshold_otsu
-    from skimage.measure import label
     from skimage.morphology import convex_hull_image
 
     v = lab[..., 1:] - bg[..., 1:]
@@ -295,12 +295,9 @@ def _two_crowns(lab, bg, o):
     )
     pieces = []
     for side in (clear & (share <= 0.5), clear & (share > 0.5)):
-        comps = label(side, connectivity=2)
-        if comps.max() == 0:
+        piece = largest_piece(side)
+        if not piece.any():
             return None
-        sizes = np.bincount(comps.ravel())
-        sizes[0] = 0
-        piece = comps == int(np.argmax(sizes))
         if piece.sum() < SPLIT_COHERENT * side.sum():
             return None
         if piece.sum() < SPLIT_SOLID * convex_hull_image(piece).sum():

@@ -11,6 +11,7 @@ import time
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.pictures.pieces import largest_piece
 from growsim.pictures.reading import check_silhouette
 from growsim.pictures.record import Segmentation
 from growsim.pictures.scene import RIVAL_AREA, RIVAL_HEIGHT, Scene
@@ -216,7 +217,6 @@ def in_box(rgb, keep, sky, hint, per_pixel, name, t_start) -> Segmentation:
     """
     import cv2
     from skimage.color import rgb2lab
-    from skimage.measure import label
 
     h, w = keep.shape
     f = min(1.0, np.sqrt(BOX_GRABCUT_PIXELS / max(1, int(keep.sum()))),
@@ -244,12 +244,7 @@ def in_box(rgb, keep, sky, hint, per_pixel, name, t_start) -> Segmentation:
     if f < 1.0:
         fg = cv2.resize(fg.astype(np.uint8), (w, h), interpolation=cv2.INTER_LINEAR) > 0
     fg &= keep
-    parts = label(fg, connectivity=2)
-    tree = np.zeros((h, w), dtype=bool)
-    if parts.max() > 0:
-        sizes = np.bincount(parts.ravel())
-        sizes[0] = 0
-        tree = parts == int(np.argmax(sizes))
+    tree = largest_piece(fg)
     how = "GrabCut in the box"
     if not tree.any():
         raise UserInputError(f"{name}: the silhouette is empty ({how})")

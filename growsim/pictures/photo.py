@@ -59,9 +59,10 @@ from growsim.pictures.hints import (
     hint_pixels,
     in_box,
 )
+from growsim.pictures.pieces import split_at_neck
 from growsim.pictures.reading import check_silhouette, load_gray, load_rgb, working_scale
 from growsim.pictures.record import CONFIDENT, Segmentation, segmentation_picture
-from growsim.pictures.scene import find_scene, sky_background, split_at_neck
+from growsim.pictures.scene import find_scene, sky_background
 from growsim.pictures.sky import (
     SMOOTH_BAND,
     band_follow,

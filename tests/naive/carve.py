@@ -18,6 +18,17 @@ def _count(row: np.ndarray, lo: float, hi: float, w: int) -> float:
     return float(row[a : b + 1].sum())
 
 
+def _trace(values, backs, cost):
+    """The values of the path ending in the state of least ``cost``, traced back."""
+    k = int(np.argmin(cost))
+    out = np.empty(len(values))
+    for i in range(len(values) - 1, 0, -1):
+        out[i] = values[i][k]
+        k = int(backs[i - 1][k])
+    out[0] = values[0][k]
+    return out
+
+
 def carve_depth(branch, z0, grid, cover, params):
     """The kernel's depth columns by the definition of its costs.
 
@@ -76,13 +87,7 @@ def carve_depth(branch, z0, grid, cover, params):
         cost = total[arg, np.arange(total.shape[1])]
         values.append(np.r_[prev[arg[0]] + dg, cand.astype(np.float64)])
         backs.append(arg)
-    k = int(np.argmin(cost))
-    z = np.empty(len(rows))
-    for i in range(len(rows) - 1, 0, -1):
-        z[i] = values[i][k]
-        k = int(backs[i - 1][k])
-    z[0] = values[0][k]
-    return z
+    return _trace(values, backs, cost)
 
 
 def carve_across(branch, x0, grid, params):
@@ -126,12 +131,7 @@ def carve_across(branch, x0, grid, params):
         cost = total[arg, np.arange(cand.size)]
         values.append(cand)
         backs.append(arg)
-    k = int(np.argmin(cost))
-    x = np.empty(len(rows))
-    for i in range(len(rows) - 1, 0, -1):
-        x[i] = values[i][k]
-        k = int(backs[i - 1][k])
-    x[0] = values[0][k]
+    x = _trace(values, backs, cost)
     kept = len(rows)
     for i in range(1, len(rows)):
         w = round(max(radius[i] - 0.5, 0.0))
