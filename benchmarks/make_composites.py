@@ -733,8 +733,12 @@ def _bbox(a, thresh=0.02):
     return rows[0], rows[-1], cols[0], cols[-1]
 
 
-def make_composite(spec: dict, supersample: int = SUPERSAMPLE):
-    """The composite photo: ``(rgb uint8, truth bool, jpeg bytes, info)``."""
+def make_composite(spec: dict, supersample: int = SUPERSAMPLE, background: bool = False):
+    """The composite photo: ``(rgb uint8, truth bool, jpeg bytes, info)``; with
+    ``background``, also what it was made of, in linear light, before the sensor's noise
+    and the JPEG: ``{"background": (H, W, 3), "tree": (H, W, 3) premultiplied, "cover":
+    (H, W)}`` (the picture is ``tree + (1 - cover) * background``;
+    ``benchmarks/composite_ceiling.py``)."""
     from PIL import Image
 
     W, H = spec["width"], spec["height"]
@@ -842,7 +846,10 @@ def make_composite(spec: dict, supersample: int = SUPERSAMPLE):
         buf, format="JPEG", quality=spec["quality"]
     )
     jpeg = buf.getvalue()
-    return np.asarray(Image.open(io.BytesIO(jpeg)).convert("RGB")), truth, jpeg, info
+    photo = np.asarray(Image.open(io.BytesIO(jpeg)).convert("RGB"))
+    if background:
+        return photo, truth, jpeg, info, {"background": bg, "tree": Pm, "cover": am}
+    return photo, truth, jpeg, info
 
 
 # ------------------------------------------------------------------------------ sheet
