@@ -14,7 +14,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from growsim.pictures.pieces import largest_piece
+from growsim.pictures.pieces import between_feet, largest_piece
 from growsim.pictures.scene import Scene, Standing, runs, sky_background
 
 __all__ = ["background_coloured", "cloud_colours", "split_touching"]
@@ -249,6 +249,8 @@ def split_touching(scene: Scene) -> Scene:
             if bg is None:
                 bg = sky_background(scene.lab, scene.sky)
             parts = _two_crowns(scene.lab, bg, o)
+            if parts is None:  # two trees of one colour: between their feet
+                parts = between_feet(o.mask, o.feet, edge, SPLIT_MIN, SPLIT_SHARED)
         if parts is None:
             objects.append(o)
             continue

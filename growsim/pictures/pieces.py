@@ -1,6 +1,7 @@
-"""Pieces of a mask: its largest connected piece, and a standing object split at a neck
-into the tree and a small tree beside it at the picture's edge (shape alone; two trees of
-clearly different colours are split by :func:`~growsim.pictures.colours.split_touching`).
+"""Pieces of a mask: its largest connected piece, a standing object split at a neck into
+the tree and a small tree beside it at the picture's edge, and one split between its two
+feet into two trees whose crowns touch (shape alone; two trees of clearly different
+colours are split by :func:`~growsim.pictures.colours.split_touching`, which uses both).
 """
 
 from __future__ import annotations
@@ -11,13 +12,37 @@ import numpy as np
 
 from growsim.pictures.scene import Standing
 
-__all__ = ["NECK_AREA", "NECK_SPAN", "NECK_TALL", "NECK_THIN", "largest_piece", "split_at_neck"]
+__all__ = [
+    "FEET_CONTACT",
+    "FEET_GAP",
+    "FEET_JOIN",
+    "FEET_TALL",
+    "NECK_AREA",
+    "NECK_SPAN",
+    "NECK_TALL",
+    "NECK_THIN",
+    "between_feet",
+    "largest_piece",
+    "split_at_neck",
+]
 
 #: a small tree at a side edge joined to the tree by a neck (:func:`split_at_neck`): the
 #: part beyond the neck (within NECK_SPAN of the object's width from the edge) at most
 #: NECK_AREA of the object's area and NECK_TALL of its height above the cut, the neck's
 #: column at most NECK_THIN of that part's thickest
 NECK_SPAN, NECK_AREA, NECK_TALL, NECK_THIN = 0.2, 0.1, 0.5, 0.6
+#: two trees side by side (:func:`between_feet`): the object's two feet on the band (runs
+#: of columns less than FEET_JOIN apart are one foot) apart by at least FEET_GAP times the
+#: narrower one's width (two trunks with ground between them, not one trunk's two sides)
+FEET_GAP = 1.0
+FEET_JOIN = 3
+#: ... and the two parts touching over at most FEET_CONTACT of the taller one's height
+#: (crowns side by side touch over a short stretch; one crown cut between a trunk's foot
+#: and a low limb's is cut from its top to near the ground: 0.7-0.9 on the composites)
+FEET_CONTACT = 0.5
+#: ... each part at least FEET_TALL times as tall as it is wide (a tree, not a bank of
+#: low clouds touching the band beside the crown)
+FEET_TALL = 0.5
 
 
 def largest_piece(mask: np.ndarray) -> np.ndarray:
@@ -98,3 +123,66 @@ def split_at_neck(obj: Standing, cut: np.ndarray, side: str) -> Standing | None:
         region=None if obj.region is None else obj.region & ~beyond[None, :],
         apart=m & ~main,
     )  # fmt: skip
+
+
+def between_feet(mask: np.ndarray, feet, rows: np.ndarray, least: float, shared: float):
+    """A standing object's ``mask`` split between its two ``feet`` (runs of columns where it
+    stands on the band, at ``rows`` per column): two trees side by side whose crowns touch.
+    Each pixel goes with the foot it is nearer through the mask (a flood from both feet:
+    :func:`skimage.segmentation.watershed` on a flat picture). Split when the feet lie
+    apart (:data:`FEET_GAP`), each part holds at least ``least`` of the area and is a
+    tree's shape (:data:`FEET_TALL`), and the two
+    touch along at most ``shared`` of the smaller part's outline and over at most
+    :data:`FEET_CONTACT` of the taller's height (crowns side by side, not a crown cut in
+    half from a low limb's foot); else ``None``.
+
+    Examples
+    --------
+    >>> m = np.zeros((40, 60), bool)
+    >>> m[5:20, 5:30] = True; m[20:38, 16:19] = True            # a crown on its trunk
+    >>> m[10:24, 29:55] = True; m[24:38, 41:44] = True          # another, touching it
+    >>> a, b = between_feet(m, ((16, 18), (41, 43)), np.full(60, 37), 0.1, 0.4)
+    >>> bool(a[10, 10]), bool(b[15, 50]), int((a & b).sum())
+    (True, True, 0)
+    """
+    from scipy import ndimage
+    from skimage.segmentation import watershed
+
+    joined: list[list[int]] = []
+    for c0, c1 in sorted(feet):
+        if joined and c0 - joined[-1][1] - 1 < FEET_JOIN:
+            joined[-1][1] = max(joined[-1][1], c1)
+        else:
+            joined.append([c0, c1])
+    if len(joined) != 2:
+        return None
+    (a0, a1), (b0, b1) = joined
+    if b0 - a1 - 1 < FEET_GAP * min(a1 - a0 + 1, b1 - b0 + 1):
+        return None
+    markers = np.zeros(mask.shape, dtype=np.int32)
+    for label_, (c0, c1) in ((1, (a0, a1)), (2, (b0, b1))):
+        cols = np.arange(c0, c1 + 1)
+        r = np.clip(np.asarray(rows)[cols].astype(int), 0, mask.shape[0] - 1)
+        on = mask[r, cols]
+        markers[r[on], cols[on]] = label_
+    if not ((markers == 1).any() and (markers == 2).any()):
+        return None
+    parts = watershed(np.zeros(mask.shape), markers, mask=mask)
+    a, b = parts == 1, parts == 2
+    if min(a.sum(), b.sum()) < least * mask.sum():
+        return None
+    for part in (a, b):
+        rr, cc = np.nonzero(part)
+        if np.ptp(rr) + 1 < FEET_TALL * (np.ptp(cc) + 1):
+            return None
+    small, other = (a, b) if a.sum() <= b.sum() else (b, a)
+    k = np.ones((3, 3), dtype=bool)
+    outline = small & ~ndimage.binary_erosion(small, k)
+    contact = outline & ndimage.binary_dilation(other, k)
+    if contact.sum() > shared * max(int(outline.sum()), 1):
+        return None
+    touching = np.flatnonzero(contact.any(axis=1))
+    tall = max(np.ptp(np.flatnonzero(m.any(axis=1))) + 1 for m in (a, b))
+    if np.ptp(touching) + 1 > FEET_CONTACT * tall:
+        return None
+    return a, b
