@@ -207,6 +207,40 @@ def test_two_trees_of_one_colour_touching_are_told_apart_by_their_feet():
     assert not seg.split and _iou(seg.tree, tall | limb) >= 0.9
 
 
+def _tree_on_snow():
+    """A bare tree on snow as pale and smooth as the white sky above it, a dark road
+    below the snow (the band): the trunk ends on the snow, above the band.
+    ``(rgb, the tree)``."""
+    rng = np.random.default_rng(5)
+    h, w = 240, 320
+    yy, _ = np.mgrid[0:h, 0:w]
+    rgb = np.zeros((h, w, 3))
+    rgb[:] = np.linspace([0.62, 0.7, 0.78], [0.88, 0.9, 0.92], h)[:, None, :]
+    rgb[yy >= 200] = [0.9, 0.91, 0.93]
+    road = yy >= 228
+    rgb[road] = [0.42, 0.44, 0.48] + 0.04 * rng.standard_normal((int(road.sum()), 1))
+    tree = np.zeros((h, w), bool)
+    tree[120:206, 158:163] = True  # the trunk, down to the snow
+    for k in range(14):  # bare limbs
+        a = np.radians(-160 + 140 * k / 13)
+        for t in np.linspace(0, 70, 300):
+            r, c = int(125 + t * np.sin(a)), int(160 + t * np.cos(a))
+            tree[max(0, r - 1) : r + 1, c : c + 2] = True
+    rgb[tree] = [0.2, 0.2, 0.22]
+    return np.clip(rgb + rng.normal(0, 0.01, rgb.shape), 0, 1), tree
+
+
+def test_a_tree_on_snow_the_sky_s_colour_stands_where_its_trunk_ends():
+    """Snow as pale and smooth as the sky is taken with the sky, so the tree floats above
+    the band (block 4's toned snowy verge: "no tree stands on the ground"): a floating
+    crown whose lowest part is a trunk's width stands where the trunk ends, and nothing
+    below that is the tree."""
+    rgb, tree = _tree_on_snow()
+    seg = segment_photo(rgb)
+    assert _iou(seg.tree, tree) >= 0.95
+    assert not seg.tree[207:].any()
+
+
 def test_clouds_and_a_treeline_are_not_the_tree():
     """A cumulus sky and buildings, a stormy sky over a treeline: the tree alone, its
     trunk down to the ground; the segmentation picture shows what was found."""

@@ -391,6 +391,8 @@ def segment_photo(
                 f"in {100 * spill:.0f} % of the rows below the skyline): give {flags[0]} "
                 f"x0,y0,x1,y1 around the tree"
             )
+    if obj.foot is not None:  # the ground the sky's colour: nothing below the trunk's end
+        tree[int(np.ceil((obj.foot + 2) / s)) :] = False
     how = (f"{how}, sky noise {noise:.1f}, threshold >= {floor:.1f} Delta E")  # fmt: skip
     if not tree.any():
         raise UserInputError(f"{name}: the silhouette is empty ({how})")

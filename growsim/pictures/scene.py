@@ -99,6 +99,12 @@ GROUND_EDGE = 8.0
 #: HANG_REACH of the crown's height either side of it
 HANG_AREA, HANG_OVER, HANG_TALL, HANG_GAP = 0.005, 4.0, 1 / 3, 1.0
 HANG_FOOT, HANG_DE, HANG_REACH = 0.2, 10.0, 0.05
+#: ... or, no trunk entering the band, its trunk ending above it: its lowest
+#: TRUNK_BELOW_TALL of its height as narrow as a foot, or a floating piece of its own that
+#: narrow starting at most TRUNK_BELOW_GAP coarse pixels under it and reaching
+#: TRUNK_BELOW_TALL of its height below it (a tree on snow under a white sky: the ground
+#: is the sky's there)
+TRUNK_BELOW_GAP, TRUNK_BELOW_TALL = 3, 0.3
 #: more than this share of the columns without ground (the sky reaching the bottom edge):
 #: no ground, the tree is the largest object
 NO_GROUND = 0.7
@@ -114,7 +120,8 @@ class Standing:
     ``apart``: the pixels of another tree it touched, split off it
     (:func:`~growsim.pictures.colours.split_touching`; ``None``: none), never its own;
     ``hanging``: a crown whose trunk the sky took (:func:`_hanging_crown`), standing on
-    the foot found below it."""
+    the foot found below it; ``foot``: the row its trunk ends at when the ground there is
+    the sky's (snow under a white sky), above the band: nothing below it is the tree."""
 
     mask: np.ndarray
     area: int
@@ -126,6 +133,7 @@ class Standing:
     region: np.ndarray | None = None
     apart: np.ndarray | None = None
     hanging: bool = False
+    foot: int | None = None
 
     def box(self, scale: float) -> tuple[int, int, int, int]:
         """``(x0, y0, x1, y1)`` in pixels of a picture ``1 / scale`` times larger."""
@@ -405,10 +413,19 @@ def _hanging_crown(lab, floating, objects, comps, cut, textured):
             stood[max(0, fa - 2) : fb + 3] = True
     feet = [(fa, fb) for fa, fb in trunk_feet(lab, rows, c0, c1 - 1)
             if fb - fa + 1 <= HANG_FOOT * (c1 - c0) and not stood[fa : fb + 1].any()]  # fmt: skip
-    if not feet:
-        return None  # no trunk enters the band under it: a cloud
-    lo, hi = feet[0][0], feet[0][1] + 1
     m = comps == p.label
+    if not feet:
+        # no trunk enters the band under it: a cloud, or a tree on a ground of the sky's
+        # colours (snow under a white sky), its trunk a floating piece of its own below
+        # the crown
+        trunk = _trunk_below(floating, p, comps, HANG_FOOT * (c1 - c0))
+        if trunk is None:
+            return None
+        m, foot = trunk
+        tr = np.flatnonzero(m[foot])
+        lo, hi = int(tr.min()), int(tr.max()) + 1
+    else:
+        lo, hi, foot = feet[0][0], feet[0][1] + 1, None
     # the trunk: up from its foot to the crown
     over = np.flatnonzero(m[:, lo:hi].any(axis=1))
     start = int(over.max()) if len(over) else r1 - 1
@@ -426,7 +443,29 @@ def _hanging_crown(lab, floating, objects, comps, cut, textured):
     cols = np.nonzero(mask[edge, np.arange(w)])[0]
     rr, cc = np.nonzero(mask)
     return Standing(mask, int(mask.sum()), int(rr.min()), int(rr.max()), int(cc.min()),
-                    int(cc.max()), tuple(runs(cols)), region, hanging=True)  # fmt: skip
+                    int(cc.max()), tuple(runs(cols)), region, hanging=True, foot=foot)  # fmt: skip
+
+
+def _trunk_below(floating, crown, comps, widest: float):
+    """The trunk of a floating ``crown`` on a ground the sky took (snow under a white
+    sky): its own lowest rows (:data:`TRUNK_BELOW_TALL` of its height) when they are
+    narrower than ``widest``, or a floating piece of its own that narrow, within the
+    crown's columns, starting at most :data:`TRUNK_BELOW_GAP` rows under it and reaching
+    :data:`TRUNK_BELOW_TALL` of its height below it. ``(its pixels, its lowest row)``, or
+    ``None`` when there is none (a cloud)."""
+    r0, c0, r1, c1 = crown.bbox
+    own = comps == crown.label
+    low = own[max(r0, r1 - max(2, int(TRUNK_BELOW_TALL * (r1 - r0)))) : r1]
+    cols = np.flatnonzero(low.any(axis=0))
+    if len(cols) and np.ptp(cols) + 1 <= widest:
+        return own, r1 - 1
+    for q in floating:
+        q0, d0, q1, d1 = q.bbox
+        if q is crown or d1 - d0 > widest or d0 < c0 or d1 > c1:
+            continue
+        if q0 - r1 <= TRUNK_BELOW_GAP and q1 - r1 >= TRUNK_BELOW_TALL * (r1 - r0):
+            return own | (comps == q.label), q1 - 1
+    return None
 
 
 def _clouds(lab, smooth, comps, sky):
