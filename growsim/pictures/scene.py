@@ -99,11 +99,7 @@ GROUND_EDGE = 8.0
 #: HANG_REACH of the crown's height either side of it
 HANG_AREA, HANG_OVER, HANG_TALL, HANG_GAP = 0.005, 4.0, 1 / 3, 1.0
 HANG_FOOT, HANG_DE, HANG_REACH = 0.2, 10.0, 0.05
-#: ... or, no trunk entering the band, its trunk ending above it: its lowest
-#: TRUNK_BELOW_TALL of its height as narrow as a foot, or a floating piece of its own that
-#: narrow starting at most TRUNK_BELOW_GAP coarse pixels under it and reaching
-#: TRUNK_BELOW_TALL of its height below it (a tree on snow under a white sky: the ground
-#: is the sky's there)
+#: ... or its trunk ending above the band (snow the sky's colour): :func:`_trunk_below`
 TRUNK_BELOW_GAP, TRUNK_BELOW_TALL = 3, 0.3
 #: more than this share of the columns without ground (the sky reaching the bottom edge):
 #: no ground, the tree is the largest object
@@ -414,10 +410,7 @@ def _hanging_crown(lab, floating, objects, comps, cut, textured):
     feet = [(fa, fb) for fa, fb in trunk_feet(lab, rows, c0, c1 - 1)
             if fb - fa + 1 <= HANG_FOOT * (c1 - c0) and not stood[fa : fb + 1].any()]  # fmt: skip
     m = comps == p.label
-    if not feet:
-        # no trunk enters the band under it: a cloud, or a tree on a ground of the sky's
-        # colours (snow under a white sky), its trunk a floating piece of its own below
-        # the crown
+    if not feet:  # no trunk enters the band: a cloud, or a tree on snow the sky's colour
         trunk = _trunk_below(floating, p, comps, HANG_FOOT * (c1 - c0))
         if trunk is None:
             return None
@@ -447,12 +440,10 @@ def _hanging_crown(lab, floating, objects, comps, cut, textured):
 
 
 def _trunk_below(floating, crown, comps, widest: float):
-    """The trunk of a floating ``crown`` on a ground the sky took (snow under a white
-    sky): its own lowest rows (:data:`TRUNK_BELOW_TALL` of its height) when they are
-    narrower than ``widest``, or a floating piece of its own that narrow, within the
-    crown's columns, starting at most :data:`TRUNK_BELOW_GAP` rows under it and reaching
-    :data:`TRUNK_BELOW_TALL` of its height below it. ``(its pixels, its lowest row)``, or
-    ``None`` when there is none (a cloud)."""
+    """The trunk of a floating ``crown`` on a ground the sky took (snow under a white sky):
+    its lowest :data:`TRUNK_BELOW_TALL` of its height narrower than ``widest``, or a
+    floating piece that narrow in its columns, at most :data:`TRUNK_BELOW_GAP` rows under
+    it and that long. ``(the crown with it, its lowest row)``, or ``None`` (a cloud)."""
     r0, c0, r1, c1 = crown.bbox
     own = comps == crown.label
     low = own[max(r0, r1 - max(2, int(TRUNK_BELOW_TALL * (r1 - r0)))) : r1]
