@@ -131,10 +131,9 @@ def between_feet(mask: np.ndarray, feet, rows: np.ndarray, least: float, shared:
     Each pixel goes with the foot it is nearer through the mask (a flood from both feet:
     :func:`skimage.segmentation.watershed` on a flat picture). Split when the feet lie
     apart (:data:`FEET_GAP`), each part holds at least ``least`` of the area and is a
-    tree's shape (:data:`FEET_TALL`), and the two
-    touch along at most ``shared`` of the smaller part's outline and over at most
-    :data:`FEET_CONTACT` of the taller's height (crowns side by side, not a crown cut in
-    half from a low limb's foot); else ``None``.
+    tree's shape (:data:`FEET_TALL`), and the two touch along at most ``shared`` of the
+    smaller part's outline and over at most :data:`FEET_CONTACT` of the taller's height
+    (crowns side by side, not a crown cut in half from a low limb's foot); else ``None``.
 
     Examples
     --------
@@ -182,7 +181,7 @@ def between_feet(mask: np.ndarray, feet, rows: np.ndarray, least: float, shared:
     if contact.sum() > shared * max(int(outline.sum()), 1):
         return None
     touching = np.flatnonzero(contact.any(axis=1))
-    tall = max(np.ptp(np.flatnonzero(m.any(axis=1))) + 1 for m in (a, b))
+    tall = max(np.ptp(np.flatnonzero(part.any(axis=1))) + 1 for part in (a, b))
     if np.ptp(touching) + 1 > FEET_CONTACT * tall:
         return None
     return a, b
