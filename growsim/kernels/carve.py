@@ -53,6 +53,19 @@ def _span(cum, r, lo, hi, w, ncols):
 
 
 @njit
+def _trellis(k, width, start):
+    """The Viterbi trellis of a path of ``k`` points with at most ``width`` states each:
+    ``(value, back, count, cost, new_cost)``, its first point's one state at ``start``
+    (cost 0)."""
+    value = np.empty((k, width))
+    back = np.zeros((k, width), np.int64)
+    count = np.zeros(k, np.int64)
+    value[0, 0] = start
+    count[0] = 1
+    return value, back, count, np.zeros(width), np.empty(width)
+
+
+@njit
 def _path(value, back, cost):
     """The path of least ``cost`` (the last point's states' costs; the first on equal
     costs) traced back through ``back`` (each state's best previous state): its values."""
@@ -109,13 +122,7 @@ def carve_depth(branch, z0, grid, cover, params):
     k = rows.shape[0]
     nrows, ncols = side_radius.shape
     width = max_c + 1
-    value = np.empty((k, width))
-    back = np.zeros((k, width), np.int64)
-    count = np.zeros(k, np.int64)
-    value[0, 0] = z0
-    count[0] = 1
-    cost = np.zeros(width)
-    new_cost = np.empty(width)
+    value, back, count, cost, new_cost = _trellis(k, width, z0)
     unc = np.zeros(ncols + 1)
     for i in range(1, k):
         r = rows[i]
@@ -214,13 +221,7 @@ def carve_across(branch, x0, grid, params):
     widest = 1
     for r in range(outside_cum.shape[0]):
         widest = max(widest, ptr[r + 1] - ptr[r])
-    value = np.empty((k, widest))
-    back = np.zeros((k, widest), np.int64)
-    count = np.zeros(k, np.int64)
-    value[0, 0] = x0
-    count[0] = 1
-    cost = np.zeros(widest)
-    new_cost = np.empty(widest)
+    value, back, count, cost, new_cost = _trellis(k, widest, x0)
     for i in range(1, k):
         r = rows[i]
         n_prev = count[i - 1]
