@@ -133,16 +133,22 @@ def test_a_box_starts_from_the_rows_background():
     assert (seg.tree & ~truth).sum() <= 0.5 * truth.sum()
 
 
+def _scene(h, w, zenith, horizon, ground_row, ground):
+    """A sky graded from ``zenith`` to ``horizon`` over a ground of colour ``ground`` from
+    row ``ground_row``: ``(rgb, yy, xx)``."""
+    yy, xx = np.mgrid[0:h, 0:w]
+    rgb = np.zeros((h, w, 3))
+    rgb[:] = np.linspace(zenith, horizon, h)[:, None, :]
+    rgb[ground_row:] = ground
+    return rgb, yy, xx
+
+
 def _meadow_tree(edge_tree: bool, cut_by_frame: bool = False):
     """A wide crown on a meadow under a blue sky, its low side reaching right; with
     ``edge_tree`` a small tree at the right edge touching that side; with
     ``cut_by_frame`` the crown itself runs past the right edge. ``(rgb, tree mask)``."""
     rng = np.random.default_rng(1)
-    h, w = 200, 300
-    yy, xx = np.mgrid[0:h, 0:w]
-    rgb = np.zeros((h, w, 3))
-    rgb[:] = np.linspace([0.45, 0.62, 0.92], [0.72, 0.83, 0.97], h)[:, None, :]
-    rgb[150:] = [0.35, 0.6, 0.2]
+    rgb, yy, xx = _scene(200, 300, [0.45, 0.62, 0.92], [0.72, 0.83, 0.97], 150, [0.35, 0.6, 0.2])
     cx = 230 if cut_by_frame else 130
     crown = ((yy - 85) / 55.0) ** 2 + ((xx - cx) / 95.0) ** 2 <= 1
     crown |= ((yy - 126) / 14.0) ** 2 + ((xx - 220) / 48.0) ** 2 <= 1
@@ -173,11 +179,7 @@ def _two_bare_trees(second: bool, at: int = 150):
     tells them apart); without it, the tall one's low limb reaching down to the ground on
     its right instead. ``(rgb, the tall tree, the other or the limb)``."""
     rng = np.random.default_rng(4)
-    h, w = 240, 320
-    yy, xx = np.mgrid[0:h, 0:w]
-    rgb = np.zeros((h, w, 3))
-    rgb[:] = np.linspace([0.45, 0.62, 0.92], [0.75, 0.84, 0.97], h)[:, None, :]
-    rgb[yy >= 200] = [0.3, 0.55, 0.2]
+    rgb, yy, xx = _scene(240, 320, [0.45, 0.62, 0.92], [0.75, 0.84, 0.97], 200, [0.3, 0.55, 0.2])
     tall = ((yy - 90) / 70.0) ** 2 + ((xx - 120) / 16.0) ** 2 <= 1
     tall |= (yy >= 150) & (yy < 202) & (xx >= 116) & (xx < 124)
     if second:
@@ -212,11 +214,8 @@ def _tree_on_snow():
     below the snow (the band): the trunk ends on the snow, above the band.
     ``(rgb, the tree)``."""
     rng = np.random.default_rng(5)
-    h, w = 240, 320
-    yy, _ = np.mgrid[0:h, 0:w]
-    rgb = np.zeros((h, w, 3))
-    rgb[:] = np.linspace([0.62, 0.7, 0.78], [0.88, 0.9, 0.92], h)[:, None, :]
-    rgb[yy >= 200] = [0.9, 0.91, 0.93]
+    rgb, yy, _ = _scene(240, 320, [0.62, 0.7, 0.78], [0.88, 0.9, 0.92], 200, [0.9, 0.91, 0.93])
+    h, w = yy.shape
     road = yy >= 228
     rgb[road] = [0.42, 0.44, 0.48] + 0.04 * rng.standard_normal((int(road.sum()), 1))
     tree = np.zeros((h, w), bool)
