@@ -173,6 +173,38 @@ def test_a_small_tree_at_the_edge_joined_by_a_neck_is_split_off():
         segment_photo(rgb)
 
 
+def _tree_to_the_top(cut: bool):
+    """A round crown on a meadow whose twig tips touch the top edge (block 4's baobab and
+    campus tree), or with ``cut`` a crown whose top is cut off by the frame.
+    ``(rgb, tree mask)``."""
+    rng = np.random.default_rng(3)
+    rgb, yy, xx = _scene(200, 300, [0.4, 0.6, 0.95], [0.7, 0.82, 0.97], 170, [0.35, 0.6, 0.2])
+    crown = ((yy - (52 if cut else 70)) / 58.0) ** 2 + ((xx - 150) / 80.0) ** 2 <= 1
+    crown |= (np.abs(xx - 150 - 0.1 * yy) < 1.2) & (yy < 20)  # twigs up to the edge
+    crown |= (np.abs(xx - 131 + 0.2 * yy) < 1.0) & (yy < 20)
+    trunk = (yy >= 90) & (yy < 173) & (xx >= 144) & (xx < 156)
+    # a crown is textured (clumps of leaves), the sky smooth
+    leaves = np.kron(rng.uniform(0.4, 1.6, (50, 75, 1)), np.ones((4, 4, 1)))
+    rgb[crown] = ([0.18, 0.3, 0.12] * leaves)[crown]
+    rgb[trunk] = [0.3, 0.22, 0.15]
+    return np.clip(rgb + rng.normal(0, 0.02, rgb.shape), 0, 1), crown | trunk
+
+
+def test_with_a_box_twigs_grazing_the_top_edge_are_whole():
+    """Twig tips touching the top edge may be a crown cut off: refused, naming the box;
+    the box says the whole tree is in the picture, and the tree is fitted, the pixels it
+    grazes recorded. A crown cut off by the frame, wide at the edge, is refused even so."""
+    rgb, truth = _tree_to_the_top(cut=False)
+    with pytest.raises(UserInputError, match=r"top edge .*--box x0,y0,x1,y1"):
+        segment_photo(rgb)
+    seg = segment_photo(rgb, box=(40, 0, 260, 200))
+    assert _iou(seg.tree, truth) >= 0.9 and seg.grazes == int(seg.tree[0].sum()) > 0
+    assert "grazing the top edge" in seg.describe()
+    rgb, _ = _tree_to_the_top(cut=True)
+    with pytest.raises(UserInputError, match=r"top edge .*farther away"):
+        segment_photo(rgb, box=(40, 0, 260, 200))
+
+
 def _two_bare_trees(second: bool, at: int = 150):
     """Grey trees on grass under a blue gradient: a tall narrow one and, with ``second``,
     a short bushy one at column ``at`` whose crown touches its trunk (one colour: no hue

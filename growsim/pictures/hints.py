@@ -7,6 +7,7 @@ thresholds of the refusals.
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 import numpy as np
 
@@ -17,7 +18,7 @@ from growsim.pictures.record import Segmentation
 from growsim.pictures.scene import RIVAL_AREA, RIVAL_HEIGHT, Scene
 from growsim.pictures.trunk import GRABCUT_ITERATIONS
 
-__all__ = ["choose_tree", "hint_pixels", "in_box"]
+__all__ = ["choose_tree", "grazing", "hint_pixels", "in_box"]
 
 #: refused without a box: the tree taken below the cut reaches both sides of its columns
 #: in more than this share of those rows (a wood, a hedge of its colours behind it)
@@ -40,6 +41,10 @@ LANDSCAPE_SHARE = 0.25
 #: refused: the tree touching the top, left or right edge with this many pixels or more
 #: (it is cut off; the framing needs the whole tree)
 MAX_EDGE_PIXELS = 3
+#: ... but with a box (the user's word that the whole tree is in the picture) a tree
+#: touching the top edge over at most this share of its width is whole: twig tips or the
+#: crown's top grazing the frame (:func:`grazing`); a crown cut off is wide at the edge
+GRAZE_WIDTH = 0.05
 #: GrabCut in a box starts from each row's background: a pixel of the box within
 #: BOX_BACKGROUND_DE (Delta E) of a colour beside the box in its row (or BOX_ROWS rows
 #: above or below) starts as probable background, the rest as probable tree; GrabCut runs
@@ -195,6 +200,27 @@ def _row_background(lab: np.ndarray, box: np.ndarray) -> np.ndarray:
     return d
 
 
+def grazing(tree: np.ndarray) -> bool:
+    """Whether the silhouette ``tree`` ``(H, W)`` bool touches the picture's top edge over
+    at most :data:`GRAZE_WIDTH` of its width (twig tips, a crown's top grazing the frame:
+    whole when a box says the tree is in the picture), not at all or wider (cut off): False.
+
+    Examples
+    --------
+    >>> yy, xx = np.mgrid[0:200, 0:200]
+    >>> crown = (yy - 80) ** 2 + (xx - 100) ** 2 <= 80.05 ** 2  # touches row 0 (5 px)
+    >>> cut = (yy - 40) ** 2 + (xx - 100) ** 2 <= 80 ** 2       # its top 40 rows cut off
+    >>> grazing(crown), grazing(cut), grazing(crown[1:])
+    (True, False, False)
+    """
+    tree = np.asarray(tree, dtype=bool)
+    touching = int(tree[0].sum())
+    if not touching:
+        return False
+    cols = np.flatnonzero(tree.any(axis=0))
+    return bool(touching <= GRAZE_WIDTH * (cols.max() - cols.min() + 1))
+
+
 def in_box(rgb, keep, sky, hint, per_pixel, name, t_start) -> Segmentation:
     """The tree in the box of ``keep`` (the hint ``--box``) where the scene could not tell
     it (no sky, nothing standing out of it, or what stands merges with a wood reaching
@@ -256,7 +282,9 @@ def in_box(rgb, keep, sky, hint, per_pixel, name, t_start) -> Segmentation:
     )  # fmt: skip
     for edge_name, n_edge in (("top", int(tree[0].sum())), ("left", int(tree[:, 0].sum())),
                               ("right", int(tree[:, -1].sum()))):  # fmt: skip
-        if n_edge >= MAX_EDGE_PIXELS:
+        if edge_name == "top" and grazing(tree):
+            seg = replace(seg, grazes=n_edge)  # the box holds the whole tree
+        elif n_edge >= MAX_EDGE_PIXELS:
             raise UserInputError(
                 f"{name}: the tree touches the picture's {edge_name} edge ({n_edge} pixels): "
                 "it is cut off, and the whole tree must be in the picture: take it from "

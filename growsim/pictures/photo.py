@@ -56,6 +56,7 @@ from growsim.pictures.hints import (
     MIN_CONTRAST,
     WOOD_ROUGH,
     choose_tree,
+    grazing,
     hint_pixels,
     in_box,
 )
@@ -161,7 +162,8 @@ def segment_photo(
     as tall and large as the tree without a hint (the message names the hint that settles
     it), a tree that hardly differs from its background
     (:data:`~growsim.pictures.hints.MIN_CONTRAST`), a tree cut off by the top or side edges
-    (:data:`~growsim.pictures.hints.MAX_EDGE_PIXELS`), and every silhouette
+    (:data:`~growsim.pictures.hints.MAX_EDGE_PIXELS`; with a box, twig tips grazing the top
+    edge are whole: :func:`~growsim.pictures.hints.grazing`), and every silhouette
     :func:`~growsim.pictures.reading.check_silhouette` refuses.
 
     Examples
@@ -433,7 +435,9 @@ def segment_photo(
         ("left", int(tree[: int(cut[0]), 0].sum())),
         ("right", int(tree[: int(cut[-1]), -1].sum())),
     ):
-        if n_edge >= MAX_EDGE_PIXELS:
+        if box is not None and edge_name == "top" and grazing(tree):
+            seg = replace(seg, grazes=n_edge)  # the box holds the whole tree
+        elif n_edge >= MAX_EDGE_PIXELS:
             settle = (
                 "the whole tree must be in the picture: take it from farther away"
                 if box is not None

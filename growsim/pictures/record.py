@@ -38,7 +38,9 @@ class Segmentation:
     (the boxes of the trees whose crowns touched the tree's, split off it:
     :func:`~growsim.pictures.colours.split_touching`; their pixels are not the tree's),
     ``border`` (the lines of a frame around the photograph painted over, top, bottom,
-    left, right: :func:`~growsim.pictures.border.paint_over_border`).
+    left, right: :func:`~growsim.pictures.border.paint_over_border`), ``grazes`` (the
+    pixels of the top edge the tree touches, whole by the box:
+    :func:`~growsim.pictures.hints.grazing`).
 
     Examples
     --------
@@ -69,6 +71,7 @@ class Segmentation:
     hint_scale: float = 1.0
     split: tuple = ()
     border: tuple = (0, 0, 0, 0)
+    grazes: int = 0
 
     def describe(self) -> str:
         """One line: what was found (for messages and logs)."""
@@ -77,6 +80,8 @@ class Segmentation:
         if self.split:
             boxes = " and ".join(",".join(map(str, b)) for b in self.split)
             hint += f", a touching tree split off at {boxes}"
+        if self.grazes:
+            hint += f", grazing the top edge ({self.grazes} pixels)"
         return (
             f"photo segmentation ({self.method}{hint}): {ground}, {len(self.objects)} "
             f"standing object(s), sky noise {self.sky_noise:.1f}, tree/background threshold "
@@ -101,6 +106,7 @@ class Segmentation:
             "objects": [list(map(int, o)) for o in self.objects],
             "split_off": [list(map(int, b)) for b in self.split],
             "border": list(map(int, self.border)),
+            "grazes_top": int(self.grazes),
             "tree_box": _box_of(rows, cols),
             "tree_pixels": int(rows.size),
             "sky_noise": round(self.sky_noise, 2),
