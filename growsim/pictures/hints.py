@@ -94,7 +94,8 @@ def choose_tree(scene: Scene, point, boxed: bool, name: str, flags, how: str, pe
     side edge, less than :data:`LANDSCAPE_TALL` times as tall as wide: a hill) when
     another is at least :data:`LANDSCAPE_SHARE` of its size; refused when there is none,
     or another one (not the landscape's) nearly as large and no hint (``boxed``: the
-    objects are already those inside a box).
+    objects are already those inside a box). Beside a whole tree, one cut by the
+    picture's side edge is no rival: the photograph is of the whole one.
 
     Examples
     --------
@@ -153,6 +154,8 @@ def choose_tree(scene: Scene, point, boxed: bool, name: str, flags, how: str, pe
     rivals = [o for o in inside if o is not tree
               and o.area >= RIVAL_AREA * tree.area
               and o.bottom - o.top + 1 >= RIVAL_HEIGHT * height]  # fmt: skip
+    if tree.left > 0 and tree.right < w - 1:  # a whole tree: one cut by the frame is not
+        rivals = [o for o in rivals if o.left > 0 and o.right < w - 1]  # what it shows
     if rivals and not boxed:
         boxes = " or ".join(
             f"{flags[0]} {','.join(map(str, _suggested_box(scene, o, per_pixel)))}"
