@@ -204,9 +204,10 @@ def _row_background(lab: np.ndarray, box: np.ndarray) -> np.ndarray:
 
 
 def grazing(tree: np.ndarray) -> bool:
-    """Whether the silhouette ``tree`` ``(H, W)`` bool touches the picture's top edge over
-    at most :data:`GRAZE_WIDTH` of its width (twig tips, a crown's top grazing the frame:
-    whole when a box says the tree is in the picture), not at all or wider (cut off): False.
+    """True when the silhouette ``tree`` ``(H, W)`` bool touches the picture's top edge
+    over at most :data:`GRAZE_WIDTH` of its width (twig tips or a crown's top grazing the
+    frame: whole when a box says the tree is in the picture); False when it does not touch
+    it, or touches it wider (cut off).
 
     Examples
     --------
