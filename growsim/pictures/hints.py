@@ -18,7 +18,7 @@ from growsim.pictures.record import Segmentation
 from growsim.pictures.scene import RIVAL_AREA, RIVAL_HEIGHT, Scene
 from growsim.pictures.trunk import GRABCUT_ITERATIONS
 
-__all__ = ["choose_tree", "grazing", "hint_pixels", "in_box"]
+__all__ = ["choose_tree", "grazing", "hint_pixels", "in_box", "judge_edges"]
 
 #: refused without a box: the tree taken below the cut reaches both sides of its columns
 #: in more than this share of those rows (a wood, a hedge of its colours behind it)
@@ -225,6 +225,36 @@ def grazing(tree: np.ndarray) -> bool:
     return bool(touching <= GRAZE_WIDTH * (cols.max() - cols.min() + 1))
 
 
+def judge_edges(seg: Segmentation, edges, boxed: bool, name: str, settle: str, how: str):
+    """``seg`` judged by its tree's pixels on the picture's edges, ``edges`` ``((name,
+    pixels), ...)``: refused naming the edge and what would ``settle`` it when they are
+    :data:`MAX_EDGE_PIXELS` or more (cut off, or merging with what is), but with a box
+    (``boxed``) a tree :func:`grazing` the top edge is whole: ``seg`` returned with
+    ``grazes`` set.
+
+    Examples
+    --------
+    >>> tree = np.zeros((60, 100), bool); tree[5:40, 5:95] = True   # a crown 90 px wide
+    >>> tree[0:5, 48:51] = True                                      # a twig: 3 on the top
+    >>> seg = Segmentation(tree, np.zeros((60, 100), bool), 50, np.zeros((60, 100)), 10.0,
+    ...                    0.5, 40.0)
+    >>> judge_edges(seg, (("top", 3),), True, "t.jpg", "take it from farther away", "").grazes
+    3
+    >>> judge_edges(seg, (("top", 3),), False, "t.jpg", "give --box", "")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    growsim.errors.UserInputError: t.jpg: the tree touches the picture's top edge (3 ...
+    """
+    for edge_name, n_edge in edges:
+        if boxed and edge_name == "top" and grazing(seg.tree):
+            seg = replace(seg, grazes=n_edge)  # the box holds the whole tree
+        elif n_edge >= MAX_EDGE_PIXELS:
+            raise UserInputError(
+                f"{name}: the tree touches the picture's {edge_name} edge ({n_edge} pixels): "
+                f"{settle} ({how})"
+            )
+    return seg
+
+
 def in_box(rgb, keep, sky, hint, per_pixel, name, t_start) -> Segmentation:
     """The tree in the box of ``keep`` (the hint ``--box``) where the scene could not tell
     it (no sky, nothing standing out of it, or what stands merges with a wood reaching
@@ -284,15 +314,9 @@ def in_box(rgb, keep, sky, hint, per_pixel, name, t_start) -> Segmentation:
         method="GrabCut in the box", seconds=time.perf_counter() - t_start,
         hint_scale=per_pixel,
     )  # fmt: skip
-    for edge_name, n_edge in (("top", int(tree[0].sum())), ("left", int(tree[:, 0].sum())),
-                              ("right", int(tree[:, -1].sum()))):  # fmt: skip
-        if edge_name == "top" and grazing(tree):
-            seg = replace(seg, grazes=n_edge)  # the box holds the whole tree
-        elif n_edge >= MAX_EDGE_PIXELS:
-            raise UserInputError(
-                f"{name}: the tree touches the picture's {edge_name} edge ({n_edge} pixels): "
-                "it is cut off, and the whole tree must be in the picture: take it from "
-                f"farther away ({how})"
-            )
+    edges = (("top", int(tree[0].sum())), ("left", int(tree[:, 0].sum())),
+             ("right", int(tree[:, -1].sum())))  # fmt: skip
+    settle = "it is cut off, and the whole tree must be in the picture: take it from farther away"
+    seg = judge_edges(seg, edges, True, name, settle, how)
     check_silhouette(tree, keep, name=name, how=how)
     return seg

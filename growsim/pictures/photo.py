@@ -56,9 +56,9 @@ from growsim.pictures.hints import (
     MIN_CONTRAST,
     WOOD_ROUGH,
     choose_tree,
-    grazing,
     hint_pixels,
     in_box,
+    judge_edges,
 )
 from growsim.pictures.pieces import split_at_neck
 from growsim.pictures.reading import check_silhouette, load_gray, load_rgb, working_scale
@@ -430,25 +430,16 @@ def segment_photo(
             f"{contrast:.1f} Delta E (at least {MIN_CONTRAST:g}; {how}); use a picture with "
             "more contrast, or a mask"
         )
-    for edge_name, n_edge in (
-        ("top", int(tree[0].sum())),
-        ("left", int(tree[: int(cut[0]), 0].sum())),
-        ("right", int(tree[: int(cut[-1]), -1].sum())),
-    ):
-        if box is not None and edge_name == "top" and grazing(tree):
-            seg = replace(seg, grazes=n_edge)  # the box holds the whole tree
-        elif n_edge >= MAX_EDGE_PIXELS:
-            settle = (
-                "the whole tree must be in the picture: take it from farther away"
-                if box is not None
-                else "it is cut off, or merges with something that does (a wood, other "
-                f"trees): if the whole tree is in the picture give {flags[0]} x0,y0,x1,y1 "
-                "around it, else take it from farther away"
-            )
-            raise UserInputError(
-                f"{name}: the tree touches the picture's {edge_name} edge ({n_edge} pixels): "
-                f"{settle} ({how})"
-            )
+    edges = (("top", int(tree[0].sum())), ("left", int(tree[: int(cut[0]), 0].sum())),
+             ("right", int(tree[: int(cut[-1]), -1].sum())))  # fmt: skip
+    settle = (
+        "the whole tree must be in the picture: take it from farther away"
+        if box is not None
+        else "it is cut off, or merges with something that does (a wood, other "
+        f"trees): if the whole tree is in the picture give {flags[0]} x0,y0,x1,y1 "
+        "around it, else take it from farther away"
+    )
+    seg = judge_edges(seg, edges, box is not None, name, settle, how)
     check_silhouette(tree, keep, name=name, how=how)
     return seg
 
