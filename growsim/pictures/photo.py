@@ -60,7 +60,7 @@ from growsim.pictures.hints import (
     in_box,
     judge_edges,
 )
-from growsim.pictures.pieces import split_at_neck
+from growsim.pictures.pieces import split_at_neck, trim_skirt
 from growsim.pictures.reading import check_silhouette, load_gray, load_rgb, working_scale
 from growsim.pictures.record import CONFIDENT, Segmentation, segmentation_picture
 from growsim.pictures.scene import find_scene, sky_background
@@ -239,6 +239,13 @@ def segment_photo(
         for side, col in (("left", 0), ("right", scene.shape[1] - 1)):
             if obj.mask[:, col].sum() >= MAX_EDGE_PIXELS:
                 obj = split_at_neck(obj, scene.cut, side) or obj
+    if box is None and scene.ground:
+        # the horizon's low clutter joined to it from a side edge: not the tree
+        for side, col in (("left", 0), ("right", scene.shape[1] - 1)):
+            trimmed = obj.mask[:, col].sum() >= MAX_EDGE_PIXELS and trim_skirt(obj, scene.cut, side)
+            if trimmed:
+                obj, skirt = trimmed
+                keep = keep & ~upsample(skirt, (h, w), s)
     split: tuple = ()
     if obj.apart is not None:
         # another tree touching it, split off: its pixels are never the tree's

@@ -1,5 +1,6 @@
 """Pieces of a mask: its largest connected piece, a standing object split at a neck into
-the tree and a small tree beside it at the picture's edge, and one split between its two
+the tree and a small tree beside it at the picture's edge, one less the horizon's low
+clutter joined to it from a side edge (its skirt), and one split between its two
 feet into two trees whose crowns touch (shape alone; two trees of clearly different
 colours are split by :func:`~growsim.pictures.colours.split_touching`, which uses both).
 """
@@ -10,7 +11,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from growsim.pictures.scene import Standing
+from growsim.pictures.scene import Standing, runs
 
 __all__ = [
     "FEET_CONTACT",
@@ -21,9 +22,12 @@ __all__ = [
     "NECK_SPAN",
     "NECK_TALL",
     "NECK_THIN",
+    "SKIRT_OVER",
+    "SKIRT_TALL",
     "between_feet",
     "largest_piece",
     "split_at_neck",
+    "trim_skirt",
 ]
 
 #: a small tree at a side edge joined to the tree by a neck (:func:`split_at_neck`): the
@@ -31,6 +35,13 @@ __all__ = [
 #: NECK_AREA of the object's area and NECK_TALL of its height above the cut, the neck's
 #: column at most NECK_THIN of that part's thickest
 NECK_SPAN, NECK_AREA, NECK_TALL, NECK_THIN = 0.2, 0.1, 0.5, 0.6
+#: the horizon's low clutter joined to the tree from a side edge (:func:`trim_skirt`): the
+#: columns from the edge in which the object rises at most SKIRT_TALL of its height above
+#: the cut (distant trees, hedges, hills, houses), at most SKIRT_SPAN of its width ...
+SKIRT_TALL, SKIRT_SPAN = 0.4, 0.5
+#: ... and under the crown on from them, the lowest run of a column standing on the band
+#: with sky above it, at most SKIRT_OVER times the skirt's height
+SKIRT_OVER = 1.2
 #: two trees side by side (:func:`between_feet`): the object's two feet on the band (runs
 #: of columns less than FEET_JOIN apart are one foot) apart by at least FEET_GAP times the
 #: narrower one's width (two trunks with ground between them, not one trunk's two sides)
@@ -123,6 +134,73 @@ def split_at_neck(obj: Standing, cut: np.ndarray, side: str) -> Standing | None:
         region=None if obj.region is None else obj.region & ~beyond[None, :],
         apart=m & ~main,
     )  # fmt: skip
+
+
+def trim_skirt(obj: Standing, cut: np.ndarray, side: str) -> tuple[Standing, np.ndarray] | None:
+    """``obj`` (which reaches the picture's ``side`` edge, "left" or "right") less its
+    skirt: the horizon's clutter joined to it along the band (distant trees, a hedge, a
+    hill's edge, houses), the columns from that edge in which it rises at most
+    :data:`SKIRT_TALL` of its height above the ``cut`` (per column), at most
+    :data:`SKIRT_SPAN` of its width, and on from them under the crown, column by column,
+    the lowest run of the object standing on the band with sky above it, at most
+    :data:`SKIRT_OVER` times as tall as the skirt (the hedge below the crown's low side).
+    Returns the object less them and the skirt's pixels (never the tree's), or ``None``
+    when it has no skirt or still reaches the edge (a crown cut by the frame rises as high
+    at the edge as inside).
+
+    Examples
+    --------
+    >>> m = np.zeros((40, 60), bool)
+    >>> m[5:30, 10:45] = True; m[30:38, 25:29] = True   # a crown on its trunk
+    >>> m[26:30, 45:60] = True                          # a hedge along the band
+    >>> o = Standing(m, int(m.sum()), 5, 37, 10, 59)
+    >>> t, skirt = trim_skirt(o, np.full(60, 38.0), "right")
+    >>> t.right, int(skirt.sum()), bool(t.mask[:, 45:].any()), t.feet
+    (44, 60, False, ((25, 28),))
+    >>> m[5:30, 45:60] = True                           # the crown cut by the frame
+    >>> trim_skirt(Standing(m, int(m.sum()), 5, 37, 10, 59), np.full(60, 38.0), "right")
+    """
+    m = obj.mask
+    h, w = m.shape
+    has = m.any(axis=0)
+    rise = np.where(has, cut - np.argmax(m, axis=0), 0.0)
+    tall = float(rise.max())
+    high = np.flatnonzero(rise > SKIRT_TALL * tall)
+    if tall <= 0 or not high.size:
+        return None
+    cols = np.arange(w)
+    skirt = cols > high.max() if side == "right" else cols < high.min()
+    width = obj.right - obj.left + 1
+    if not skirt.any() or skirt[obj.left : obj.right + 1].sum() > SKIRT_SPAN * width:
+        return None
+    low = m & skirt[None, :]
+    # and on under the crown: the lowest run of each column on from the skirt that stands
+    # on the band, apart from the crown above it (sky between) and no taller than the skirt
+    floor = cut - max(float(rise[skirt].max()), 1.0) * SKIRT_OVER
+    for c in (range(int(np.flatnonzero(skirt).max()) + 1, w) if side == "left"
+              else range(int(np.flatnonzero(skirt).min()) - 1, -1, -1)):  # fmt: skip
+        on = np.flatnonzero(m[:, c])
+        if not on.size or on[-1] < cut[c] - 2:
+            break
+        gaps = np.flatnonzero(np.diff(on) > 1)
+        start = on[gaps[-1] + 1] if gaps.size else on[0]
+        if not gaps.size or start < floor[c]:
+            break
+        low[start:, c] = m[start:, c]
+    main = largest_piece(m & ~low)
+    edge = w - 1 if side == "right" else 0
+    if not main.any() or main[:, edge].any():
+        return None
+    kept = np.flatnonzero(main.any(axis=0))
+    # its feet: where what is left of it enters the band (as the scene found them)
+    row = np.clip(np.ceil(cut).astype(int) - 1, 0, h - 1)
+    feet = runs(np.flatnonzero(main[row, cols] | main[np.clip(row - 1, 0, h - 1), cols]))
+    trimmed = replace(
+        obj, mask=main, area=int(main.sum()), top=int(np.flatnonzero(main.any(axis=1)).min()),
+        left=int(kept.min()), right=int(kept.max()), feet=tuple(feet),
+        region=None if obj.region is None else obj.region & ~skirt[None, :] & ~low,
+    )  # fmt: skip
+    return trimmed, m & ~main
 
 
 def between_feet(mask: np.ndarray, feet, rows: np.ndarray, least: float, shared: float):

@@ -29,7 +29,7 @@ The scene, coarse:
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -367,6 +367,9 @@ def find_scene(
         # largest is the tree
         pass
     objects.sort(key=lambda o: -o.area)
+    # another standing object (a hedge, a second tree) is not in an object's region
+    every = np.logical_or.reduce([o.mask for o in objects]) if objects else None
+    objects = [replace(o, region=o.region & (o.mask | ~every)) for o in objects]
     crown = _hanging_crown(lab, floating, objects, comps, cut, textured) if ground else None
     if crown is not None:
         sky = sky & ~crown.region
