@@ -169,27 +169,30 @@ def test_a_small_tree_at_the_edge_joined_by_a_neck_is_split_off():
         segment_photo(rgb)
 
 
-def _tree_joined_to_a_hedge():
-    """A leafy crown on a meadow whose lower left side touches a hedge running to the
-    picture's left edge along the horizon (a fifth of the tree's height): ``(rgb, tree)``."""
+def _tree_and_a_hedge(reach: int):
+    """A leafy crown on a meadow and a hedge along the horizon (a fifth of the tree's
+    height) from the picture's left edge to column ``reach`` (115: it touches the crown's
+    lower left side; 105: it stands apart): ``(rgb, tree)``."""
     rng = np.random.default_rng(7)
     rgb, yy, xx = _scene(200, 320, [0.4, 0.6, 0.95], [0.7, 0.82, 0.97], 170, [0.45, 0.62, 0.25])
     leaves = np.kron(rng.uniform(0.5, 1.5, (50, 80, 1)), np.ones((4, 4, 1)))
     tree = ((yy - 92) / 60.0) ** 2 + ((xx - 130) / 50.0) ** 2 <= 1
     tree |= (yy >= 120) & (yy < 173) & (xx >= 125) & (xx < 135)
-    hedge = (yy >= 146 + 5 * np.sin(xx / 7.0)) & (yy < 171) & (xx < 115) & ~tree
+    hedge = (yy >= 146 + 5 * np.sin(xx / 7.0)) & (yy < 171) & (xx < reach) & ~tree
     rgb[tree] = ([0.18, 0.3, 0.12] * leaves)[tree]
     rgb[hedge] = ([0.12, 0.22, 0.1] * leaves)[hedge]
     return np.clip(rgb + rng.normal(0, 0.02, rgb.shape), 0, 1), tree
 
 
-def test_the_horizon_s_low_clutter_joined_from_a_side_edge_is_not_the_tree():
-    """A hedge along the horizon touching the crown and running to the left edge (block 2's
-    beech over garden shrubs, block 6's tree over a playground's distant trees) was taken
-    with the tree, and the tree refused as reaching the edge: now it is left out."""
-    rgb, tree = _tree_joined_to_a_hedge()
+@pytest.mark.parametrize("reach", [115, 105])
+def test_the_horizon_s_low_clutter_beside_the_tree_is_not_the_tree(reach):
+    """A hedge along the horizon running to the left edge: touching the crown (block 2's
+    beech over garden shrubs, block 6's tree over a playground's distant trees) it was
+    taken with the tree, and the tree refused as reaching the edge; standing apart, it was
+    taken as the crown's region (IoU 0.89). Now it is left out."""
+    rgb, tree = _tree_and_a_hedge(reach)
     seg = segment_photo(rgb)
-    assert _iou(seg.tree, tree) >= 0.9 and not seg.tree[:, :60].any()
+    assert _iou(seg.tree, tree) >= 0.93 and not seg.tree[:, :60].any()
 
 
 def _tree_to_the_top(cut: bool):
