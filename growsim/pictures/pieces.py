@@ -11,7 +11,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from growsim.pictures.scene import Standing, runs
+from growsim.pictures.scene import Standing, band_feet
 
 __all__ = [
     "FEET_CONTACT",
@@ -161,7 +161,7 @@ def trim_skirt(obj: Standing, cut: np.ndarray, side: str) -> tuple[Standing, np.
     >>> trim_skirt(Standing(m, int(m.sum()), 5, 37, 10, 59), np.full(60, 38.0), "right")
     """
     m = obj.mask
-    h, w = m.shape
+    w = m.shape[1]
     has = m.any(axis=0)
     rise = np.where(has, cut - np.argmax(m, axis=0), 0.0)
     tall = float(rise.max())
@@ -192,12 +192,9 @@ def trim_skirt(obj: Standing, cut: np.ndarray, side: str) -> tuple[Standing, np.
     if not main.any() or main[:, edge].any():
         return None
     kept = np.flatnonzero(main.any(axis=0))
-    # its feet: where what is left of it enters the band (as the scene found them)
-    row = np.clip(np.ceil(cut).astype(int) - 1, 0, h - 1)
-    feet = runs(np.flatnonzero(main[row, cols] | main[np.clip(row - 1, 0, h - 1), cols]))
     trimmed = replace(
         obj, mask=main, area=int(main.sum()), top=int(np.flatnonzero(main.any(axis=1)).min()),
-        left=int(kept.min()), right=int(kept.max()), feet=tuple(feet),
+        left=int(kept.min()), right=int(kept.max()), feet=tuple(band_feet(main, cut)),
         region=None if obj.region is None else obj.region & ~skirt[None, :] & ~low,
     )  # fmt: skip
     return trimmed, m & ~main

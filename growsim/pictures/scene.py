@@ -39,6 +39,7 @@ __all__ = [
     "COARSE",
     "Scene",
     "Standing",
+    "band_feet",
     "band_line",
     "example_photo",
     "fill",
@@ -346,26 +347,20 @@ def find_scene(
     textured = label((above | ~smooth) & up, connectivity=2)
     objects = []
     floating = []
-    # the row just above the cut, per column (an object reaching it stands on the band)
-    edge = np.clip(np.ceil(cut).astype(int) - 1, 0, h - 1)
     for p in regionprops(comps):
         r0, c0, r1, c1 = p.bbox
         m = comps == p.label
-        cols = np.nonzero(m[edge, np.arange(w)] | m[np.clip(edge - 1, 0, h - 1), np.arange(w)])[0]
-        if ground and not len(cols):
+        feet = band_feet(m, cut)
+        if ground and not feet:
             floating.append(p)  # a cloud's edge, a bird, a wire; or a crown hanging
             continue
-        feet = runs(cols)
         ids = np.unique(textured[m])
         reach = max(2, int(REGION_REACH * (r1 - r0)))
         near = np.zeros((h, w), dtype=bool)
         near[max(0, r0 - reach) : r1 + reach, max(0, c0 - reach) : c1 + reach] = True
         region = np.isin(textured, ids[ids > 0]) & near
         objects.append(Standing(m, int(p.area), r0, r1 - 1, c0, c1 - 1, tuple(feet), region))
-    if not ground and objects:
-        # no ground (a tree cut out on white, a drawing): every object counts, the
-        # largest is the tree
-        pass
+    # without ground (a tree cut out on white, a drawing) every object counts
     objects.sort(key=lambda o: -o.area)
     # another standing object (a hedge, a second tree) is not in an object's region
     every = np.logical_or.reduce([o.mask for o in objects]) if objects else None
@@ -562,6 +557,21 @@ def runs(cols: np.ndarray) -> list[tuple[int, int]]:
     starts = np.r_[cols[0], cols[breaks + 1]]
     ends = np.r_[cols[breaks], cols[-1]]
     return [(int(a), int(b)) for a, b in zip(starts, ends)]
+
+
+def band_feet(mask: np.ndarray, cut: np.ndarray) -> list[tuple[int, int]]:
+    """Where a standing object's ``mask`` (coarse) enters the band: the runs of columns
+    in which it reaches the row just above the ``cut`` (per column) or the one above that.
+
+    Examples
+    --------
+    >>> m = np.zeros((10, 8), bool); m[2:9, 3:5] = True; m[2:4, 6:8] = True
+    >>> band_feet(m, np.full(8, 9.0))
+    [(3, 4)]
+    """
+    h, w = mask.shape
+    edge, cols = np.clip(np.ceil(cut).astype(int) - 1, 0, h - 1), np.arange(w)
+    return runs(np.flatnonzero(mask[edge, cols] | mask[np.clip(edge - 1, 0, h - 1), cols]))
 
 
 def fill(values: np.ndarray, known: np.ndarray, *, smooth: float = 1.0) -> np.ndarray:
