@@ -100,9 +100,12 @@ def test_a_second_tree_is_refused_then_settled_by_a_hint():
 
 
 def test_a_tree_before_a_wood_is_refused_then_settled_by_a_box():
-    p = BY_NAME["c23_cumulus_hills_wood_leafy"]
+    """A bare crown before a treeline (its twigs' pixels mixed with the treeline's
+    colours) is refused naming the box; with a box a tree before a wood is GrabCut's."""
+    p = BY_NAME["c12_stormy_crop_rows_treeline_bare"]
     with pytest.raises(UserInputError, match=r"in front of a wood.*--box"):
         segment_photo(DATA / p["photo"])
+    p = BY_NAME["c23_cumulus_hills_wood_leafy"]
     truth = _mask(p)
     rows, cols = np.nonzero(truth)
     pad = 0.05 * max(np.ptp(rows), np.ptp(cols))
@@ -193,6 +196,34 @@ def test_the_horizon_s_low_clutter_beside_the_tree_is_not_the_tree(reach):
     rgb, tree = _tree_and_a_hedge(reach)
     seg = segment_photo(rgb)
     assert _iou(seg.tree, tree) >= 0.93 and not seg.tree[:, :60].any()
+
+
+def _tree_before_a_treeline(crown_colour):
+    """A round crown of ``crown_colour`` on a meadow before a treeline of dark green
+    crowns across the picture, as tall as two thirds of the tree: ``(rgb, tree)``."""
+    rng = np.random.default_rng(11)
+    rgb, yy, xx = _scene(240, 360, [0.4, 0.6, 0.95], [0.7, 0.82, 0.97], 200, [0.45, 0.62, 0.25])
+    leaves = np.kron(rng.uniform(0.6, 1.4, (60, 90, 1)), np.ones((4, 4, 1)))
+    wood = yy >= 95 + 12 * np.abs(np.sin(xx / 9.0)) + 6 * np.sin(xx / 23.0)
+    rgb[wood & (yy < 200)] = ([0.1, 0.25, 0.1] * leaves)[wood & (yy < 200)]
+    tree = ((yy - 105) / 70.0) ** 2 + ((xx - 180) / 60.0) ** 2 <= 1
+    trunk = (yy >= 160) & (yy < 204) & (xx >= 175) & (xx < 186)
+    rgb[tree] = (np.asarray(crown_colour) * leaves)[tree]
+    rgb[trunk & ~tree] = [0.3, 0.22, 0.15]
+    return np.clip(rgb + rng.normal(0, 0.02, rgb.shape), 0, 1), tree | trunk
+
+
+def test_a_crown_of_its_own_colours_before_a_treeline_is_read_below_its_top():
+    """A red crown before a green treeline two thirds its height (block 2's autumn ash,
+    block 6's crabapple): its part below the treeline's top is read by its colours
+    against the treeline's; refused before as standing before a wood. A green crown
+    before the green treeline is still refused, naming the box."""
+    rgb, tree = _tree_before_a_treeline([0.75, 0.22, 0.1])
+    seg = segment_photo(rgb)
+    assert _iou(seg.tree, tree) >= 0.9
+    rgb, _ = _tree_before_a_treeline([0.15, 0.32, 0.12])
+    with pytest.raises(UserInputError, match=r"in front of a wood or a treeline .* --box"):
+        segment_photo(rgb)
 
 
 def _tree_to_the_top(cut: bool):

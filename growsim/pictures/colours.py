@@ -4,8 +4,10 @@ beside the crown, taken for it because it differs from the sky filled in around 
 top of a hedge or a treeline beside the trunk), found by comparing how often their colour
 occurs among the background's own pixels and among the tree's sure pixels
 (:func:`background_coloured`; the clouds' colours seen away from the tree counted with
-the sky's, :func:`cloud_colours`); and two trees of clearly different colours whose
-crowns touch, one standing object of the scene, split apart (:func:`split_touching`).
+the sky's, :func:`cloud_colours`); the crown below a treeline's top told from the
+treeline by their colours (:func:`crown_coloured`); and two trees of clearly different
+colours whose crowns touch, one standing object of the scene, split apart
+(:func:`split_touching`).
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ import numpy as np
 from growsim.pictures.pieces import between_feet, largest_piece
 from growsim.pictures.scene import Scene, Standing, runs, sky_background
 
-__all__ = ["background_coloured", "cloud_colours", "split_touching"]
+__all__ = ["background_coloured", "cloud_colours", "crown_coloured", "split_touching"]
 
 #: two touching trees (:func:`split_touching`): a standing object's pixels are read for
 #: their hue where their colour lies at least SPLIT_CHROMA (Delta E, a* b*) from the sky
@@ -148,6 +150,87 @@ def background_coloured(lab, fg, background, region, sure=None, extra=None) -> n
             return none
     opened = ndimage.binary_opening(like, np.ones((3, 3), dtype=bool))
     return ndimage.binary_propagation(opened, mask=like)
+
+
+#: the crown before a treeline (:func:`crown_coloured`): each pixel is the class of most of
+#: its CROWN_K nearest colours among the crown's and the clutter's samples (CIELAB, the
+#: lightness weighted CROWN_L: a crown's lit and shaded sides differ most in it); trusted
+#: when, each sample left out in turn, at least CROWN_APART of the crown's samples and
+#: CLUTTER_APART of the clutter's are told right
+CROWN_K = 7
+CROWN_L = 0.5
+CROWN_APART = 0.85
+CLUTTER_APART = 0.75
+#: ... a pixel farther from every clutter sample than this share of the clutter's samples
+#: are from their nearest is not the clutter's either (the tree's bark, a branch)
+CLUTTER_NOVEL = 0.999
+
+
+def crown_coloured(lab, crown, clutter, zone):
+    """The pixels of ``zone`` whose colour is the crown's, not the clutter's: a crown
+    hanging below a treeline's top, before trees of other colours (a red maple before
+    green ones, a pine before bare woods). ``lab``: CIELAB ``(H, W, 3)``; ``crown``: the
+    crown's sure pixels (found against the sky); ``clutter``: the treeline's and the
+    ground's pixels beside the tree. Each zone pixel takes the class of most of its
+    :data:`CROWN_K` nearest sample colours (:data:`SAMPLES` of each, lightness weighted
+    :data:`CROWN_L`), or is the tree's when no colour of the clutter's is near it
+    (:data:`CLUTTER_NOVEL`: a pale trunk), a majority over its 3 x 3 after. ``None`` when
+    the colours do not tell the two apart (:data:`CROWN_APART`, :data:`CLUTTER_APART`,
+    each sample judged by the others) or either has fewer than :data:`MIN_PIXELS`.
+
+    Examples
+    --------
+    >>> from skimage.color import rgb2lab
+    >>> rng = np.random.default_rng(0)
+    >>> rgb = np.ones((60, 80, 3)) * [0.2, 0.4, 0.15]                  # a green treeline
+    >>> rgb[:20] = [0.55, 0.7, 0.95]                                   # the sky above it
+    >>> rgb[5:45, 25:55] = [0.8, 0.25, 0.1]                            # a red crown
+    >>> lab = rgb2lab(np.clip(rgb + rng.normal(0, 0.03, rgb.shape), 0, 1))
+    >>> crown = np.zeros((60, 80), bool); crown[6:19, 26:54] = True    # above the treeline
+    >>> clutter = np.zeros((60, 80), bool); clutter[20:, :20] = clutter[20:, 60:] = True
+    >>> zone = np.zeros((60, 80), bool); zone[20:, 20:60] = True
+    >>> low = crown_coloured(lab, crown, clutter, zone)
+    >>> bool(low[20:45, 26:54].all()), bool(low[46:, :].any() or low[:, :24].any())
+    (True, False)
+    >>> crown_coloured(lab, clutter & (np.arange(80) < 10), clutter, zone) is None
+    True
+    """
+    from scipy import ndimage
+    from scipy.spatial import cKDTree
+
+    if crown.sum() < MIN_PIXELS or clutter.sum() < MIN_PIXELS:
+        return None
+    rng = np.random.default_rng(0)
+    weight = np.array([CROWN_L, 1.0, 1.0])
+
+    def sample(mask):
+        pts = lab[mask]
+        if len(pts) > SAMPLES:
+            pts = pts[rng.choice(len(pts), SAMPLES, replace=False)]
+        return pts * weight
+
+    ours, theirs = sample(crown), sample(clutter)
+    points = np.concatenate([ours, theirs])
+    is_crown = np.r_[np.ones(len(ours)), np.zeros(len(theirs))]
+    near = cKDTree(points)
+    _, ii = near.query(points, k=CROWN_K + 1)  # each sample's first neighbour: itself
+    vote = is_crown[ii[:, 1:]].mean(axis=1)
+    if (vote[: len(ours)] > 0.5).mean() < CROWN_APART or (
+        vote[len(ours) :] <= 0.5
+    ).mean() < CLUTTER_APART:
+        return None
+    # the zone's colours, rounded to whole units: each looked up once
+    colours, back = np.unique(np.round(lab[zone]), axis=0, return_inverse=True)
+    _, ii = near.query(colours * weight, k=CROWN_K)
+    out = np.zeros(zone.shape, dtype=bool)
+    take = is_crown[ii].mean(axis=1) > 0.5
+    # and what is no colour of the clutter's (a pale trunk before a dark wood): farther
+    # from its samples than all but CLUTTER_NOVEL of them are from their nearest
+    clutter_near = cKDTree(theirs)
+    spread = clutter_near.query(theirs, k=2)[0][:, 1]
+    take |= clutter_near.query(colours * weight)[0] > np.quantile(spread, CLUTTER_NOVEL)
+    out[zone] = take[back.ravel()]
+    return ndimage.median_filter(out.view(np.uint8), size=3).astype(bool) & zone
 
 
 def cloud_colours(rgb, scene, obj, keep=None) -> np.ndarray:

@@ -29,6 +29,7 @@ from growsim.pictures.colours import (
     MIN_PIXELS,
     background_coloured,
     cloud_colours,
+    crown_coloured,
     split_touching,
 )
 from growsim.pictures.coverage import (
@@ -87,6 +88,61 @@ __all__ = [
 #: the clouds taken for the crown are found and the sky filled in again with them at
 #: most this many times
 CLOUD_ROUNDS = 2
+#: before a treeline the crown below its top is read by colour in the tree's columns and
+#: this share of its width either side (a crown's low sides spread wider than its top)
+TREELINE_MARGIN = 0.1
+#: ... and refused when what is read reaches the edge of those columns in more than this
+#: share of the rows read (the clutter has the crown's colours: mist under a cloud taken
+#: for the crown, a bare crown before bare trees)
+TREELINE_SPILL = 0.5
+#: ... and only for a crown of leaves: at least this share of its pixels above the
+#: treeline's top fully covered (their 3 x 3 all the crown's); a bare crown's twigs are
+#: mixed pixels whose colour is neither the crown's nor the treeline's
+TREELINE_SOLID = 0.6
+#: ... and refused unless the silhouette then reaches within this share of its height of
+#: the row where the ground begins (the trunk found down to it; a crown read only above
+#: a hillside's or a hedge's top is not the tree)
+TREELINE_GROUND = 0.05
+
+
+def _before_treeline(rgb, tree, below, scene, obj, keep, rows):
+    """The tree found above a treeline's top (``tree``, ``below`` the cut excluded) with
+    its crown below that top, down to where the ground begins (``scene.ground_line``):
+    the pixels in the object's columns (and :data:`TREELINE_MARGIN` of its width either
+    side) of the crown's colours rather than those of the treeline beside it in its rows
+    (:func:`~growsim.pictures.colours.crown_coloured`), joined to the tree. ``None`` when
+    the crown is of twigs (:data:`TREELINE_SOLID`), the colours do not tell them apart, or
+    what they take reaches the edge of those columns in most rows
+    (:data:`TREELINE_SPILL`)."""
+    from scipy import ndimage
+    from skimage.color import rgb2lab
+
+    h, w = tree.shape
+    s = scene.scale
+    lo, hi = int(obj.left / s), int(np.ceil((obj.right + 1) / s))
+    m = int(np.ceil(TREELINE_MARGIN * (hi - lo)))
+    span = np.zeros((1, w), dtype=bool)
+    span[0, max(0, lo - m) : min(w, hi + m)] = True
+    sky = upsample(scene.sky, (h, w), s)
+    rows_of = below & (rows <= scene.ground_line / s) & keep  # the treeline's rows
+    beside = rows_of & ~span & ~sky
+    zone = rows_of & span
+    sure = ndimage.binary_erosion(tree & ~below, np.ones((3, 3), dtype=bool))
+    if sure.sum() < TREELINE_SOLID * (tree & ~below).sum():
+        return None  # a crown of twigs: its pixels mixed with the treeline's behind them
+    low = crown_coloured(rgb2lab(rgb), sure, beside, zone)
+    if low is None:
+        return None
+    joined, _ = ndimage.label(tree | low, np.ones((3, 3), dtype=bool))
+    out = np.isin(joined, np.unique(joined[tree])) & (joined > 0)
+    # reaching the edge of the columns read in most rows: the clutter has its colours
+    rows_read = np.flatnonzero(zone.any(axis=1))
+    edges = np.flatnonzero(span[0])[[0, -1]]
+    at_edge = (out[rows_read][:, edges[0] : edges[0] + 3].any(axis=1)
+               | out[rows_read][:, edges[1] - 2 : edges[1] + 1].any(axis=1))  # fmt: skip
+    if len(rows_read) and at_edge.mean() > TREELINE_SPILL:
+        return None
+    return out
 
 
 def segment_photo(
@@ -268,12 +324,13 @@ def segment_photo(
     band_at = float(np.median(scene.band[obj.left : obj.right + 1]))
     clutter = (scene.ground_line - band_at) / max(scene.ground_line - obj.top, 1.0)
     wooded = scene.roughness > WOOD_ROUGH  # a hill's or a field's smooth edge: no wood
-    if scene.ground and wooded and clutter > MAX_CLUTTER and (box is not None or not touching):
-        if box is None:
-            raise UserInputError(
-                f"{name}: the tree stands in front of a wood or a treeline as tall as "
-                f"{100 * clutter:.0f} % of it: give {flags[0]} x0,y0,x1,y1 around the tree"
-            )
+    treeline = (scene.ground and wooded and clutter > MAX_CLUTTER
+                and (box is not None or not touching))  # fmt: skip
+    before_wood = (
+        f"{name}: the tree stands in front of a wood or a treeline as tall as "
+        f"{100 * clutter:.0f} % of it: give {flags[0]} x0,y0,x1,y1 around the tree"
+    )
+    if treeline and box is not None:
         # the box holds the tree and the wood behind it: GrabCut, the sky known (away from
         # the crown's outline, which the reduced picture blurs)
         sky = ndimage.binary_erosion(scene.sky, disk(2 * CROWN_MARGIN), border_value=1)
@@ -391,8 +448,22 @@ def segment_photo(
         # below the cut: the trunk and what hangs low, apart from the ground and the
         # horizon's clutter by their colours (GrabCut, seeded by the crown above)
         sky = upsample(scene.sky, (h, w), s) & ~below & ~tree
-        low, spill = below_cut(rgb, tree, below, sky, obj, s, keep)
+        under = below
+        if treeline:
+            # before a treeline: the crown below its top told from it by their colours
+            # (a red maple before green trees), down to where the ground begins; the
+            # trunk below that as under a lone tree. Refused when colours do not tell
+            tree = _before_treeline(rgb, tree, below, scene, obj, keep, rows)
+            if tree is None:
+                raise UserInputError(before_wood)
+            under = below & (rows > scene.ground_line / s)
+        low, spill = below_cut(rgb, tree, under, sky, obj, s, keep)
         tree |= low
+        if treeline:
+            # read down to the ground: the trunk found to where the ground begins
+            filled = np.flatnonzero(tree.any(axis=1))
+            if scene.ground_line / s - filled[-1] > TREELINE_GROUND * (filled[-1] - filled[0] + 1):
+                raise UserInputError(before_wood)
         if spill > MAX_SPILL and box is None:
             raise UserInputError(
                 f"{name}: the tree's lower part cannot be told from what stands behind it "
