@@ -170,8 +170,8 @@ def crown_coloured(lab, crown, clutter, zone):
     """The pixels of ``zone`` whose colour is the crown's, not the clutter's: a crown
     hanging below a treeline's top, before trees of other colours (a red maple before
     green ones, a pine before bare woods). ``lab``: CIELAB ``(H, W, 3)``; ``crown``: the
-    crown's sure pixels (found against the sky); ``clutter``: the treeline's and the
-    ground's pixels beside the tree. Each zone pixel takes the class of most of its
+    crown's sure pixels (found against the sky); ``clutter``: the treeline's pixels
+    beside the tree, in the zone's rows. Each zone pixel takes the class of most of its
     :data:`CROWN_K` nearest sample colours (:data:`SAMPLES` of each, lightness weighted
     :data:`CROWN_L`), or is the tree's when no colour of the clutter's is near it
     (:data:`CLUTTER_NOVEL`: a pale trunk), a majority over its 3 x 3 after. ``None`` when

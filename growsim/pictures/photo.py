@@ -211,7 +211,11 @@ def segment_photo(
        :data:`~growsim.pictures.crown.GAP` pixels from it (a twig broken by a pixel as pale as the
        sky) and every piece in the crown's region; below the band's top, the trunk's pieces joined
        to it, bridged over gaps up to :data:`~growsim.pictures.trunk.TRUNK_GAP` of its height (a
-       trunk the colour of the hedge behind it).
+       trunk the colour of the hedge behind it);
+    6. before a treeline taller than :data:`~growsim.pictures.hints.MAX_CLUTTER` of the tree,
+       with no box, a leafy crown's part below the treeline's top is read by colour against
+       the treeline's beside it, down to where the ground begins (:func:`_before_treeline`),
+       and the trunk below that as in step 5; refused, naming the box, when it cannot be.
 
     Refused with :class:`UserInputError` naming ``name`` (a bad segmentation is not
     fitted): no sky along the top edge, no object standing on the ground, other objects
