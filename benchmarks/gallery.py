@@ -469,6 +469,51 @@ def make_fit_image(out: Path) -> None:
         photo_fit.error_figure(Path(tmp, "photos"), out, worst, 830)
 
 
+#: real photographs whose licence allows them here (``benchmarks/data/real_photos/``)
+REAL = ROOT / "benchmarks" / "data" / "real_photos"
+
+
+def make_fit_real(out: Path) -> None:
+    """Each real photograph of ``REAL`` as a user gives it, no flags: the photo with the
+    tree's outline beside the target and the fit (``growsim fit-image``), or the photo
+    with the refusal's one line. About a minute."""
+    import textwrap
+
+    from PIL import Image, ImageDraw, ImageFont
+
+    from growsim.errors import UserInputError
+    from growsim.pictures.photo import segment_photo
+
+    font = ImageFont.load_default(size=18)
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for photo in sorted(REAL.glob("*.jpg")):
+            try:
+                segment_photo(photo, name=photo.name)
+            except UserInputError as e:
+                im = Image.open(photo).convert("RGB")
+                im = im.resize((round(im.width * 300 / im.height), 300))
+                note = Image.new("RGB", (560, 300), "white")
+                lines = textwrap.wrap(f"refused: {str(e).replace(str(photo), photo.name)}", 48)
+                ImageDraw.Draw(note).multiline_text((10, 10), "\n".join(lines), fill="black",
+                                                    font=font)  # fmt: skip
+                rows.append((im, note))
+                continue
+            fit = Path(tmp) / photo.stem
+            growsim("fit-image {photo} --out {fit}", photo=photo, fit=fit)
+            seg = Image.open(fit / "segmentation_front.png").convert("RGB")
+            seg = seg.crop((0, 0, seg.width // 2, seg.height))  # the photo and its outline
+            sil = Image.open(fit / "silhouettes.png").convert("RGB")
+            rows.append((seg.resize((round(seg.width * 300 / seg.height), 300)),
+                         sil.resize((round(sil.width * 300 / sil.height), 300))))  # fmt: skip
+    width = max(a.width + b.width for a, b in rows) + 10
+    sheet = Image.new("RGB", (width, 310 * len(rows)), "white")
+    for i, (a, b) in enumerate(rows):
+        sheet.paste(a, (0, 310 * i))
+        sheet.paste(b, (a.width + 10, 310 * i))
+    sheet.quantize(256).save(out / "fitting_real_photos.png", optimize=True)  # photos: small
+
+
 MAKERS: dict[str, Maker] = {
     "env": Maker(
         make_env,
@@ -597,6 +642,12 @@ MAKERS: dict[str, Maker] = {
         None
         if (MTREE / "index.json").is_file()
         else ("needs runs/mtree: python benchmarks/make_mtree.py --out runs/mtree --side"),
+    ),
+    "fit_real": Maker(
+        make_fit_real,
+        ("fitting_real_photos.png",),
+        "growsim fit-image on each photograph of benchmarks/data/real_photos/, no flags "
+        "(the refused ones with their one line; about a minute)",
     ),
     "fit_image": Maker(
         make_fit_image,
