@@ -30,3 +30,17 @@ def test_the_gallery_page_shows_every_picture():
     page = (ROOT / "docs" / "gallery.md").read_text()
     missing = [p.name for p in IMAGES.iterdir() if f"images/{p.name})" not in page]
     assert not missing, f"docs/gallery.md does not show {missing}"
+
+
+def test_every_real_photograph_kept_names_its_source_and_licence():
+    """A photograph is kept in ``benchmarks/data/real_photos/`` only with its row in
+    ``SOURCES.md`` (where it comes from, under which licence)."""
+    folder = ROOT / "benchmarks" / "data" / "real_photos"
+    rows = [
+        line for line in (folder / "SOURCES.md").read_text().splitlines() if line.startswith("| `")
+    ]
+    named = {re.match(r"\| `([^`]+)`", line).group(1): line for line in rows}
+    photos = sorted(p.name for p in folder.iterdir() if p.suffix.lower() in {".jpg", ".png"})
+    assert photos and all(p in named for p in photos), sorted(set(photos) - set(named))
+    licence = re.compile(r"CC BY(-SA)? [0-9.]+|CC0|Public domain|MIT")
+    assert all(licence.search(named[p]) for p in photos)
