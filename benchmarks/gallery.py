@@ -476,7 +476,7 @@ REAL = ROOT / "benchmarks" / "data" / "real_photos"
 def make_fit_real(out: Path) -> None:
     """Each real photograph of ``REAL`` as a user gives it, no flags: the photo with the
     tree's outline beside the fitted silhouette and the fit's NCC, or the photo with the
-    refusal's line; four a row. About ten minutes (35 photographs)."""
+    refusal's line; four a row. About 70 s (35 photographs, 8 fitted)."""
     import textwrap
 
     from PIL import Image, ImageDraw, ImageFont
@@ -657,7 +657,7 @@ MAKERS: dict[str, Maker] = {
         make_fit_real,
         ("fitting_real_photos.png",),
         "growsim fit-image on each photograph of benchmarks/data/real_photos/, no flags "
-        "(the refused ones with their one line; about ten minutes)",
+        "(the refused ones with their one line; about 70 s)",
     ),
     "fit_image": Maker(
         make_fit_image,
