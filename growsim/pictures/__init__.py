@@ -18,6 +18,8 @@ colour photo by its sky and ground), checking and framing it for a fit.
   against the tree;
 - :mod:`~growsim.pictures.scene`: an outdoor photo's scene: the sky, the horizon's
   clutter, the objects standing on the ground;
+- :mod:`~growsim.pictures.backdrop`: what lies behind the tree (the sky, a row's ground),
+  filled in where the tree hides it;
 - :mod:`~growsim.pictures.pixels`: drawings made of square pixels, read back pixel for
   pixel;
 - :mod:`~growsim.pictures.reading`: opening a picture file, the checks every silhouette

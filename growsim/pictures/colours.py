@@ -16,8 +16,9 @@ from dataclasses import replace
 
 import numpy as np
 
+from growsim.pictures.backdrop import sky_background
 from growsim.pictures.pieces import between_feet, largest_piece
-from growsim.pictures.scene import Scene, Standing, runs, sky_background
+from growsim.pictures.scene import Scene, Standing, runs
 
 __all__ = ["background_coloured", "cloud_colours", "crown_coloured", "split_touching"]
 

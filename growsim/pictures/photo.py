@@ -24,6 +24,7 @@ from dataclasses import replace
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.pictures.backdrop import sky_background
 from growsim.pictures.border import paint_over_border
 from growsim.pictures.colours import (
     MIN_PIXELS,
@@ -64,7 +65,7 @@ from growsim.pictures.hints import (
 from growsim.pictures.pieces import split_at_neck, trim_skirt
 from growsim.pictures.reading import check_silhouette, load_gray, load_rgb, working_scale
 from growsim.pictures.record import CONFIDENT, Segmentation, segmentation_picture
-from growsim.pictures.scene import find_scene, sky_background
+from growsim.pictures.scene import find_scene
 from growsim.pictures.sky import (
     SMOOTH_BAND,
     band_follow,
@@ -175,10 +176,10 @@ def segment_photo(
        pixels are never the tree's, :attr:`Segmentation.split` records it; a box around
        one of them is read against the split of the whole picture);
     2. each pixel's **background**: in the crown's region the sky filled in from the sky
-       around and between the branches (:func:`~growsim.pictures.scene.sky_background`,
+       around and between the branches (:func:`~growsim.pictures.backdrop.sky_background`,
        thin lines left out: :data:`~growsim.pictures.sky.THIN_DE`), the sky's pockets in the crown
        added to it; in the trunk's columns below the band's top each row's colour beside the trunk,
-       interpolated across it (:func:`~growsim.pictures.scene.row_background`: the
+       interpolated across it (:func:`~growsim.pictures.backdrop.row_background`: the
        ground, a hedge, a field behind the trunk);
     3. the **fully covered** pixels: the interior (3 x 3 erosion) of those over a local
        threshold (:data:`~growsim.pictures.coverage.LOCAL_SHARE` of the strongest difference within

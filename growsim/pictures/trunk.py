@@ -7,11 +7,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from growsim.pictures.backdrop import row_background
 from growsim.pictures.colours import background_coloured
 from growsim.pictures.coverage import MIN_DE, robust_sigma, tree_cover
 from growsim.pictures.crown import row_spans
 from growsim.pictures.reading import SPECK
-from growsim.pictures.scene import row_background, runs, trunk_feet
+from growsim.pictures.scene import runs, trunk_feet
 
 __all__ = ["below_cut", "hanging_trunk"]
 
