@@ -67,6 +67,14 @@ CLOUD_AWAY = 0.1
 CLOUD_MIN_AWAY = 3.0
 
 
+def _at_most(points: np.ndarray, rng) -> np.ndarray:
+    """``points`` ``(N, C)``, or :data:`SAMPLES` of them drawn without replacement by
+    ``rng`` when there are more (a colour model's samples: the same for every picture)."""
+    if len(points) <= SAMPLES:
+        return points
+    return points[rng.choice(len(points), SAMPLES, replace=False)]
+
+
 def background_coloured(lab, fg, background, region, sure=None, extra=None) -> np.ndarray:
     """The pixels of the foreground ``fg`` in ``region`` that are the ``background``'s
     colour (``lab``: CIELAB; ``background``: the background's own pixels, e.g. the sky's),
@@ -105,18 +113,11 @@ def background_coloured(lab, fg, background, region, sure=None, extra=None) -> n
     if np.median(np.hypot(lab[sure][:, 1], lab[sure][:, 2])) < MIN_CHROMA:
         return none
     rng = np.random.default_rng(0)
-
-    def sample(mask):
-        pts = lab[mask]
-        if len(pts) > SAMPLES:
-            pts = pts[rng.choice(len(pts), SAMPLES, replace=False)]
-        return pts
-
     cand = fg & region
     # the candidates' colours, rounded to whole units: each looked up once
     colours, back = np.unique(np.round(lab[cand]), axis=0, return_inverse=True)
-    backs = sample(background)
-    picked = sample(sure)
+    backs = _at_most(lab[background], rng)
+    picked = _at_most(lab[sure], rng)
 
     def counts(points):
         # how many of ``points`` lie near each candidate colour; which sure pixels have one
@@ -142,9 +143,7 @@ def background_coloured(lab, fg, background, region, sure=None, extra=None) -> n
     if extra is not None and len(extra) >= MIN_PIXELS:
         # and the background seen elsewhere (the clouds away from the tree): the tree's
         # own colours are then its sure pixels none of those is near either
-        more = np.asarray(extra, dtype=np.float64)
-        if len(more) > SAMPLES:
-            more = more[rng.choice(len(more), SAMPLES, replace=False)]
+        more = _at_most(np.asarray(extra, dtype=np.float64), rng)
         n_more, near_more = counts(more)
         like = like_of(n_back + n_more, len(backs) + len(more), ~near_back & ~near_more)
         if like is None:
@@ -203,14 +202,8 @@ def crown_coloured(lab, crown, clutter, zone):
         return None
     rng = np.random.default_rng(0)
     weight = np.array([CROWN_L, 1.0, 1.0])
-
-    def sample(mask):
-        pts = lab[mask]
-        if len(pts) > SAMPLES:
-            pts = pts[rng.choice(len(pts), SAMPLES, replace=False)]
-        return pts * weight
-
-    ours, theirs = sample(crown), sample(clutter)
+    ours = _at_most(lab[crown], rng) * weight
+    theirs = _at_most(lab[clutter], rng) * weight
     points = np.concatenate([ours, theirs])
     is_crown = np.r_[np.ones(len(ours)), np.zeros(len(theirs))]
     near = cKDTree(points)
@@ -283,9 +276,7 @@ def cloud_colours(rgb, scene, obj, keep=None) -> np.ndarray:
     big = clouds[rows[:, None], cols[None, :]]
     if keep is not None:
         big &= keep
-    px = rgb[big]
-    if len(px) > SAMPLES:
-        px = px[np.random.default_rng(0).choice(len(px), SAMPLES, replace=False)]
+    px = _at_most(rgb[big], np.random.default_rng(0))
     return rgb2lab(px[:, None, :])[:, 0, :]
 
 
