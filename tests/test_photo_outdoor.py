@@ -491,3 +491,15 @@ def test_fit_with_a_hint_writes_how_the_tree_was_found(tmp_path, capsys):
     assert pic.shape == (200, 2 * 320 + 8, 3)
     state = json.loads((out / "fit-state.json").read_text())["options"]
     assert state["point"] == [110.0, 60.0] and state["box"] is None
+
+
+def test_the_backdrop_s_old_names_still_import_with_a_warning():
+    """``fill``, ``sky_background`` and ``row_background`` moved from ``scene`` to
+    ``backdrop``: the old names give the same functions, with a DeprecationWarning."""
+    from growsim.pictures import backdrop, scene
+
+    for name in ("fill", "sky_background", "row_background"):
+        with pytest.warns(DeprecationWarning, match=f"backdrop.{name}"):
+            assert getattr(scene, name) is getattr(backdrop, name)
+    with pytest.raises(AttributeError):
+        scene.no_such_name  # noqa: B018

@@ -27,11 +27,13 @@ The scene, coarse:
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from growsim.errors import UserInputError
+from growsim.pictures import backdrop
 from growsim.pictures.backdrop import row_background
 
 __all__ = [
@@ -45,6 +47,22 @@ __all__ = [
     "runs",
     "trunk_feet",
 ]
+
+#: moved to :mod:`growsim.pictures.backdrop` (0.2 -> 0.3): still importable from here,
+#: with a warning, until 0.4
+_MOVED = ("fill", "row_background", "sky_background")
+
+
+def __getattr__(name: str):
+    if name in _MOVED:
+        warnings.warn(
+            f"growsim.pictures.scene.{name} moved to growsim.pictures.backdrop.{name}",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+        return getattr(backdrop, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 #: the long side, in pixels, the picture is reduced to for finding the scene
 COARSE = 384
