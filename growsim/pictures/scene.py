@@ -34,7 +34,6 @@ import numpy as np
 
 from growsim.errors import UserInputError
 from growsim.pictures import backdrop
-from growsim.pictures.backdrop import row_background
 
 __all__ = [
     "COARSE",
@@ -602,7 +601,7 @@ def trunk_feet(lab: np.ndarray, rows: slice, left: int, right: int, reach: int =
     >>> trunk_feet(rgb2lab(rgb), slice(51, 54), 15, 35)
     [(24, 26)]
     """
-    back = row_background(lab, left, right, rows, reach=reach)
+    back = backdrop.row_background(lab, left, right, rows, reach=reach)
     d = np.linalg.norm(lab[rows, left : right + 1] - back, axis=-1).mean(axis=0)
     found = [(left + a, left + b) for a, b in runs(np.flatnonzero(d > HANG_DE))]
     return sorted(found, key=lambda f: -float(d[f[0] - left : f[1] - left + 1].sum()))
