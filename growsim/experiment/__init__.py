@@ -19,7 +19,7 @@ The package holds one concept per module:
   one description of a run, which :func:`run` returns and :func:`load_run` reads;
   :func:`best_phenotype`;
 - :mod:`~growsim.experiment.executors`: serial, process-pool or Dask evaluation
-  (:class:`DaskPool`: a Dask client's executor, of the cluster's size);
+  (:class:`DaskPool`: a Dask client's :class:`DaskExecutor`, of the cluster's size);
 - :mod:`~growsim.experiment.sweep`: :func:`sweep`, a grid of variants x repeats;
 - :mod:`~growsim.experiment.species`: :func:`~growsim.experiment.species.evolve_species`;
 - :mod:`~growsim.experiment.docs`: ``docs/configs.md``.
@@ -45,7 +45,7 @@ Examples
 """
 
 from growsim.experiment.docs import config_docs
-from growsim.experiment.executors import DaskPool
+from growsim.experiment.executors import DaskExecutor, DaskPool
 from growsim.experiment.fitness import Fitness
 from growsim.experiment.load import build_fitness, load_config, load_plan, parse_overrides
 from growsim.experiment.plan import ExperimentPlan, ModelPlan, compile_plan
@@ -70,6 +70,7 @@ from growsim.experiment.sweep import parse_vary, sweep
 
 __all__ = [
     "Config",
+    "DaskExecutor",
     "DaskPool",
     "ExperimentConfig",
     "ExperimentPlan",

@@ -7,8 +7,10 @@ a :class:`DaskPool`, which holds the client and asks it for the cluster's thread
 
 from __future__ import annotations
 
+import concurrent.futures as cf
 import os
 import re
+import threading
 
 import numpy as np
 
@@ -18,6 +20,7 @@ from growsim.ga.evaluate import Pool
 __all__ = [
     "QUIET_CLUSTER",
     "SCHEDULER_ADDRESS",
+    "DaskExecutor",
     "DaskPool",
     "check_executor_args",
     "executor_workers",
@@ -103,12 +106,90 @@ def local_cluster(workers: int = 2):
         )
 
 
+def _follow(task, future: cf.Future) -> None:
+    """Give ``future`` the outcome of the Dask future ``task`` once Dask is done with it
+    (``task.result()``: a result lost with its worker is recomputed and waited for)."""
+    try:
+        result, error = task.result(), None
+    except BaseException as exc:  # the task's own error, or Dask's (a killed worker)
+        result, error = None, exc
+    if task.cancelled():
+        future.cancel()
+    try:
+        if not future.cancelled():
+            if error is None:
+                future.set_result(result)
+            else:
+                future.set_exception(error)
+            return
+    except cf.InvalidStateError:  # cancelled meanwhile
+        pass
+    future.set_running_or_notify_cancel()  # a cancelled future: wakes wait(), as_completed()
+
+
+class DaskExecutor(cf.Executor):
+    """A ``concurrent.futures`` executor running each task on a Dask ``client``
+    (``client.submit(fn, *args, pure=False)``), its future following Dask's own: done
+    when ``result()`` of Dask's future returns or raises. Unlike Dask's adapter
+    (``client.get_executor()``, distributed 2026.8), a result lost with its worker after
+    it finished is recomputed and delivered, not reported as the executor failing (that
+    adapter reads the task's status after fetching its result: "lost" there is taken for
+    an error). Cancelling the future cancels the task; ``shutdown`` leaves the client
+    open.
+
+    Examples
+    --------
+    >>> from dask.distributed import Client
+    >>> with local_cluster(1) as cluster, Client(cluster) as client:  # doctest: +SKIP
+    ...     DaskExecutor(client).submit(sum, [1, 2]).result()
+    3
+    """
+
+    def __init__(self, client):
+        #: the ``dask.distributed.Client``
+        self.client = client
+        self._tasks: dict = {}
+        self._lock = threading.Lock()
+        self._closed = False
+
+    def submit(self, fn, /, *args, **kwargs) -> cf.Future:
+        """``fn(*args, **kwargs)`` on the cluster."""
+        with self._lock:
+            if self._closed:
+                raise RuntimeError("cannot schedule new futures after shutdown")
+            task = self.client.submit(fn, *args, pure=False, **kwargs)
+            future: cf.Future = cf.Future()
+            self._tasks[future] = task
+        # cancelling the future cancels the task; done, it is no longer held
+        future.add_done_callback(self._settled)
+        task.add_done_callback(lambda t: _follow(t, future))
+        return future
+
+    def _settled(self, future: cf.Future) -> None:
+        with self._lock:
+            task = self._tasks.pop(future, None)
+        if task is not None and future.cancelled() and not task.done():
+            task.cancel()
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        """No more tasks; ``cancel_futures``: cancel those not done; ``wait``: wait for
+        the rest."""
+        with self._lock:
+            self._closed = True
+            futures = list(self._tasks)
+        if cancel_futures:
+            for future in futures:
+                future.cancel()
+        if wait:
+            cf.wait(futures)
+
+
 class DaskPool(Pool):
-    """The executor of a Dask ``client`` (``client.get_executor(pure=False)``) as a
-    :class:`growsim.ga.evaluate.Pool`: its :attr:`workers` are the cluster's worker
-    threads, asked of the client each time (None when the scheduler cannot say). Pass
-    one as ``executor=`` to :func:`growsim.experiment.run` (or ``GA.run``) so a
-    generation is split by the cluster's size. Shutting it down leaves the client open.
+    """A Dask ``client``'s :class:`DaskExecutor` as a :class:`growsim.ga.evaluate.Pool`:
+    its :attr:`workers` are the cluster's worker threads, asked of the client each time
+    (None when the scheduler cannot say). Pass one as ``executor=`` to
+    :func:`growsim.experiment.run` (or ``GA.run``) so a generation is split by the
+    cluster's size. Shutting it down leaves the client open.
 
     Examples
     --------
@@ -120,7 +201,7 @@ class DaskPool(Pool):
     """
 
     def __init__(self, client):
-        super().__init__(client.get_executor(pure=False))
+        super().__init__(DaskExecutor(client))
         #: the ``dask.distributed.Client``
         self.client = client
 

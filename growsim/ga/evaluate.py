@@ -343,7 +343,7 @@ class Evaluator:
     vectorized : bool
     executor : None (serial), int (a local process pool of that many workers, owned and
         shut down by :meth:`close`), a :class:`Pool` or any ``concurrent.futures.Executor``
-        (e.g. Dask's ``Client.get_executor(pure=False)``)
+        (on Dask: :class:`growsim.experiment.DaskPool`)
     batch_size : rows per task; default: the population split into 4 tasks per worker
         (:attr:`Pool.workers`; the local CPUs when the pool cannot say)
 
