@@ -226,6 +226,33 @@ def test_a_crown_of_its_own_colours_before_a_treeline_is_read_below_its_top():
         segment_photo(rgb)
 
 
+def _umbrella_tree():
+    """A flat-topped crown (an acacia's) spanning 90 % of the picture over a savanna, the
+    sky reaching the horizon only in the columns either side of it; its two trunks run
+    farther below the horizon than the crown is tall: ``(rgb, tree)``."""
+    rng = np.random.default_rng(5)
+    rgb, yy, xx = _scene(200, 300, [0.35, 0.55, 0.9], [0.6, 0.75, 0.95], 110, [0.8, 0.7, 0.4])
+    rgb[110:] *= rng.uniform(0.9, 1.1, (90, 300, 1))  # dry grass
+    top = 40 + 0.0025 * (xx - 150) ** 2
+    crown = (yy >= top) & (yy < 120 - 0.001 * (xx - 150) ** 2) & (xx >= 14) & (xx < 286)
+    trunks = (yy >= 80) & (yy < 170) & ((np.abs(xx - 135) < 5) | (np.abs(xx - 160) < 5))
+    leaves = np.kron(rng.uniform(0.5, 1.5, (50, 75, 1)), np.ones((4, 4, 1)))
+    rgb[crown] = ([0.3, 0.45, 0.15] * leaves)[crown]
+    rgb[trunks & ~crown] = [0.15, 0.12, 0.1]
+    return np.clip(rgb + rng.normal(0, 0.015, rgb.shape), 0, 1), crown | trunks
+
+
+def test_a_crown_wider_than_the_horizon_s_ends_stands_on_it():
+    """A flat crown's top covers most columns' skyline, so the horizon's line was laid on
+    it and nothing rose (block 9's acacia, block 5's guanacaste): refused. The horizon
+    is the line with no sky below it, where it shows on both sides of the crown; the
+    trunks are read below it, down to their feet."""
+    rgb, tree = _umbrella_tree()
+    seg = segment_photo(rgb)
+    assert _iou(seg.tree, tree) >= 0.9
+    assert seg.tree[160:170, 130:140].mean() > 0.8 and seg.tree[175:].sum() == 0
+
+
 def _tree_to_the_top(cut: bool):
     """A round crown on a meadow whose twig tips touch the top edge (block 4's baobab and
     campus tree), or with ``cut`` a crown whose top is cut off by the frame.

@@ -62,9 +62,11 @@ MAX_BACKGROUND_LIKE = 0.25
 MIN_PIXELS = 50
 #: the clouds seen away from the tree (:func:`cloud_colours`): the scene's floating pieces
 #: farther than this share of the tree's height (at least CLOUD_MIN_AWAY coarse pixels)
-#: from every standing object
+#: from every standing object, and not smaller than CLUMP of the tree's area within that
+#: reach of its convex hull (a clump of its leaves on twigs too thin to see)
 CLOUD_AWAY = 0.1
 CLOUD_MIN_AWAY = 3.0
+CLUMP = 0.1
 
 
 def _at_most(points: np.ndarray, rng) -> np.ndarray:
@@ -233,8 +235,9 @@ def cloud_colours(rgb, scene, obj, keep=None) -> np.ndarray:
     above the cut that are neither its sky (smooth) nor part of a standing object (a
     sunset's streaks, a cumulus's textured rims and shadows: what the scene leaves
     floating), farther than :data:`CLOUD_AWAY` of the tree's (``obj``'s) height from
-    every standing object (a leaf clump hanging apart from the crown on twigs too thin to
-    see is not a cloud), where ``keep`` (the working picture's mask, a hint's box: where
+    every standing object and, when smaller than :data:`CLUMP` of the tree, from its
+    convex hull (a leaf clump hanging apart from the crown on twigs too thin to see is
+    not a cloud), where ``keep`` (the working picture's mask, a hint's box: where
     the scene looked for objects; everywhere by default). The same clouds behind the
     crown, between its leaves and branches, have their colours
     (:func:`background_coloured`'s ``extra``).
@@ -259,6 +262,7 @@ def cloud_colours(rgb, scene, obj, keep=None) -> np.ndarray:
     """
     from scipy import ndimage
     from skimage.color import rgb2lab
+    from skimage.morphology import convex_hull_image
 
     h, w = scene.shape
     taken = np.zeros((h, w), dtype=bool)
@@ -268,6 +272,15 @@ def cloud_colours(rgb, scene, obj, keep=None) -> np.ndarray:
     far = ndimage.distance_transform_edt(~taken) > away if taken.any() else ~taken
     up = np.arange(h)[:, None] < scene.cut[None, :]
     clouds = up & ~scene.sky & far
+    # nor a clump of leaves hanging farther out, within the reach of the tree's outline
+    # (its convex hull), smaller than CLUMP of it (a cloud there is larger)
+    pieces, n = ndimage.label(clouds)
+    if n:
+        hull = ndimage.distance_transform_edt(~convex_hull_image(obj.mask)) <= away
+        index = np.arange(1, n + 1)
+        small = np.asarray(ndimage.sum(clouds, pieces, index)) < CLUMP * obj.area
+        inside = np.asarray(ndimage.maximum(hull, pieces, index)) > 0
+        clouds &= ~np.r_[False, small & inside][pieces]
     if not clouds.any():
         return np.zeros((0, 3))
     # each working pixel in the coarse pixel it falls in

@@ -464,11 +464,20 @@ def segment_photo(
             under = below & (rows > scene.ground_line / s)
         low, spill = below_cut(rgb, tree, under, sky, obj, s, keep)
         tree |= low
-        if treeline:
-            # read down to the ground: the trunk found to where the ground begins
-            filled = np.flatnonzero(tree.any(axis=1))
-            if scene.ground_line / s - filled[-1] > TREELINE_GROUND * (filled[-1] - filled[0] + 1):
-                raise UserInputError(before_wood)
+        filled = np.flatnonzero(tree.any(axis=1))
+        if (treeline or obj.lifted) and (
+            scene.ground_line / s - filled[-1] > TREELINE_GROUND * (filled[-1] - filled[0] + 1)
+        ):
+            # not read down to where the ground begins: the trunk missed; with a box, the
+            # tree is what the box holds apart from what lies around it (GrabCut)
+            if box is not None:
+                return replace(in_box(rgb, keep, None, hint, per_pixel, name, t_start),
+                               border=border)  # fmt: skip
+            raise UserInputError(
+                before_wood if treeline else
+                f"{name}: the tree's trunk cannot be told from what lies behind it under "
+                f"its wide crown: give {flags[0]} x0,y0,x1,y1 around the tree"
+            )  # fmt: skip
         if spill > MAX_SPILL and box is None:
             raise UserInputError(
                 f"{name}: the tree's lower part cannot be told from what stands behind it "

@@ -115,6 +115,11 @@ HANG_AREA, HANG_OVER, HANG_TALL, HANG_GAP = 0.005, 4.0, 1 / 3, 1.0
 HANG_FOOT, HANG_DE, HANG_REACH = 0.2, 10.0, 0.05
 #: ... or its trunk ending above the band (snow the sky's colour): :func:`_trunk_below`
 TRUNK_BELOW_GAP, TRUNK_BELOW_TALL = 3, 0.3
+#: a wide crown's top taken for the band (:func:`_under_bump`): the sky reaches below it in
+#: at least this share of the columns on each side of it, the horizon under it about level
+#: (rising at most BUMP_LEVEL rows a column)
+BUMP_SIDES = 0.02
+BUMP_LEVEL = 0.1
 #: more than this share of the columns without ground (the sky reaching the bottom edge):
 #: no ground, the tree is the largest object
 NO_GROUND = 0.7
@@ -131,7 +136,10 @@ class Standing:
     (:func:`~growsim.pictures.colours.split_touching`; ``None``: none), never its own;
     ``hanging``: a crown whose trunk the sky took (:func:`_hanging_crown`), standing on
     the foot found below it; ``foot``: the row its trunk ends at when the ground there is
-    the sky's (snow under a white sky), above the band: nothing below it is the tree."""
+    the sky's (snow under a white sky), above the band: nothing below it is the tree;
+    ``lifted``: standing on a horizon found under its crown, whose top was most columns'
+    skyline (:func:`_under_bump`): its trunk may reach farther below the band than the
+    crown rises above it."""
 
     mask: np.ndarray
     area: int
@@ -144,6 +152,7 @@ class Standing:
     apart: np.ndarray | None = None
     hanging: bool = False
     foot: int | None = None
+    lifted: bool = False
 
     def box(self, scale: float) -> tuple[int, int, int, int]:
         """``(x0, y0, x1, y1)`` in pixels of a picture ``1 / scale`` times larger."""
@@ -233,12 +242,20 @@ def fine_texture(rgb: np.ndarray, shape) -> np.ndarray:
     return _resize(np.sqrt(g)[..., None] / 8.0, shape)[..., 0]
 
 
-def band_line(skyline: np.ndarray, h: int) -> tuple[np.ndarray, float]:
+def band_line(
+    skyline: np.ndarray,
+    h: int,
+    *,
+    least: float = 1.0 - NO_GROUND,
+    curved: bool = True,
+    below_cost: float = BELOW_COST,
+) -> tuple[np.ndarray, float]:
     """The horizon's band under a skyline (rows per column; ``h``: no ground in that
     column): the line most columns' skylines lie on within :data:`BAND_TOL` of the height,
-    counting those far below it against it (:data:`BELOW_COST`), refined by a quadratic
-    fitted to the columns on it; returns the band per column and the spread of those
-    columns around it (rows). ``h`` everywhere when there is no ground.
+    counting those far below it against it (``below_cost`` each), refined by a quadratic
+    (a straight line unless ``curved``) fitted to the columns on it; returns the band per
+    column and the spread of those columns around it (rows). ``h`` everywhere when there
+    is no ground (ground in under ``least`` of the columns).
 
     Examples
     --------
@@ -250,7 +267,7 @@ def band_line(skyline: np.ndarray, h: int) -> tuple[np.ndarray, float]:
     w = len(skyline)
     y = np.asarray(skyline, dtype=np.float64)
     ok = y < h
-    if ok.sum() < (1.0 - NO_GROUND) * w:
+    if ok.sum() < max(least * w, 3):
         return np.full(w, float(h)), 0.0
     x = np.arange(w, dtype=np.float64)
     tol = max(BAND_TOL * h, 2.0)
@@ -264,7 +281,7 @@ def band_line(skyline: np.ndarray, h: int) -> tuple[np.ndarray, float]:
     y0 = np.concatenate([yi, y[sample]])
     lines = y0[:, None] + slope[:, None] * (x[None, :] - x0[:, None])
     res = y[None, ok] - lines[:, ok]
-    score = (np.abs(res) <= tol).sum(axis=1) - BELOW_COST * (res > tol).sum(axis=1)
+    score = (np.abs(res) <= tol).sum(axis=1) - below_cost * (res > tol).sum(axis=1)
     score = np.where(np.abs(slope) <= MAX_SLOPE, score, -np.inf)
     best = lines[int(np.argmax(score))]
     for _ in range(3):
@@ -272,7 +289,7 @@ def band_line(skyline: np.ndarray, h: int) -> tuple[np.ndarray, float]:
         if on.sum() < 3:
             break
         span = (x[on].max() - x[on].min()) / max(w - 1, 1)
-        deg = 2 if span > 0.5 else 1
+        deg = 2 if span > 0.5 and curved else 1
         coef = np.polyfit(x[on] / w, y[on], deg)
         best = np.polyval(coef, x / w)
     on = ok & (np.abs(y - best) <= tol)
@@ -314,7 +331,7 @@ def find_scene(
     (True, 1, ((22, 28),), True)
     """
     from skimage.color import rgb2lab
-    from skimage.measure import label, regionprops
+    from skimage.measure import label
 
     big_h, big_w = rgb.shape[:2]
     scale = min(1.0, COARSE / max(big_h, big_w))
@@ -323,7 +340,7 @@ def find_scene(
     small = np.clip(_resize(rgb, shape), 0.0, 1.0)
     lab = rgb2lab(small)
     tex = texture_of(lab)
-    h, w = shape
+    h = shape[0]
     top = tex[: max(2, h // 40)]
     smooth_below = float(np.clip(TEXTURE_K * np.median(top), *TEXTURE_RANGE))
     smooth = tex < smooth_below
@@ -348,6 +365,69 @@ def find_scene(
     lowest = np.where(sky, rows, -1).max(axis=0)
     skyline = (lowest + 1).astype(np.float64)
     band, spread = band_line(skyline, h)
+    standing = _standing(lab, smooth, sky, band, spread, keep)
+    if band.min() < h and not standing[2]:
+        # nothing rises from the band: it may be a wide crown's top, the horizon lower
+        # on both sides of it (a flat-topped acacia, an umbrella of a crown)
+        low = _under_bump(skyline, band, h)
+        if low is not None:
+            lifted = _standing(lab, smooth, sky, *low, keep)
+            if lifted[2]:
+                band, spread = low
+                standing = (*lifted[:2], [replace(o, lifted=True) for o in lifted[2]])
+    sky, cut, objects = standing
+    ground = bool(np.any(band < h))
+    foot = _ground_line(lab, band) if ground else float(h)
+    return Scene(scale, lab, tex, smooth_below, sky, skyline, band, cut, ground, objects, foot,
+                 spread)  # fmt: skip
+
+
+def _under_bump(skyline: np.ndarray, band: np.ndarray, h: int):
+    """The horizon under a wide crown whose top :func:`band_line` took for it, as
+    ``(band, spread)``, or ``None``: the straight line most columns' skylines lie on
+    with none below it (the sky never reaches below the horizon), when its columns make
+    at least :data:`BUMP_SIDES` of the picture's on each side of those on ``band`` (the
+    sky reaching down past the crown on both sides) and none between them (one crown, not
+    a row of trees), it is about level (its slope at most :data:`BUMP_LEVEL`: a camera
+    held level, not a hill's flank) and ``band`` lies above it there by more than
+    :data:`BAND_TOL`.
+
+    Examples
+    --------
+    >>> y = np.full(100, 80.0); y[8:92] = 20.0 + 0.001 * (np.arange(8, 92) - 50) ** 2
+    >>> top, _ = band_line(y, 100)                  # the crown's top taken for the band
+    >>> round(float(top[50]), 1)
+    20.0
+    >>> low, spread = _under_bump(y, top, 100)
+    >>> round(float(low[50]), 6), round(spread, 6)
+    (80.0, 0.0)
+    """
+    w = len(skyline)
+    y = np.asarray(skyline, dtype=np.float64)
+    tol = max(BAND_TOL * h, 2.0)
+    ok = y < h
+    on = np.flatnonzero(ok & (np.abs(y - band) <= tol))
+    if not len(on):
+        return None
+    low, spread = band_line(y, h, curved=False, below_cost=float(w))
+    near = ok & (np.abs(y - low) <= tol)
+    if low.min() >= h or min(near[: on.min()].sum(), near[on.max() + 1 :].sum()) < BUMP_SIDES * w:
+        return None
+    if abs(low[-1] - low[0]) > BUMP_LEVEL * w or near[on.min() : on.max() + 1].any():
+        return None  # a tilted line (a hill's flank), or sky down to it: several objects
+    if np.any(band[on] > low[on] - tol):
+        return None
+    return low, spread
+
+
+def _standing(lab, smooth, sky, band, spread, keep):
+    """``(sky, cut, objects)`` over the horizon's ``band`` (its columns' ``spread``): the
+    sky with its clouds' rims, the cut (the band less its roughness) and the objects
+    standing on the band, largest first (a crown hanging in the sky first of all)."""
+    from skimage.measure import label, regionprops
+
+    h, w = sky.shape
+    rows = np.arange(h)[:, None]
     ground = bool(np.any(band < h))
     rise = max(BAND_ROUGH * spread, RISE * h, 2.0) if ground else 0.0
     cut = band - rise
@@ -355,7 +435,7 @@ def find_scene(
     sky = sky | (up & _rims(lab, sky, up))
     above = ~sky & up
     if keep is not None:
-        above &= _resize(keep.astype(np.float64)[..., None], shape)[..., 0] > 0.5
+        above &= _resize(keep.astype(np.float64)[..., None], (h, w))[..., 0] > 0.5
     comps = label(above, connectivity=2)
     textured = label((above | ~smooth) & up, connectivity=2)
     objects = []
@@ -382,9 +462,7 @@ def find_scene(
     if crown is not None:
         sky = sky & ~crown.region
         objects.insert(0, crown)
-    foot = _ground_line(lab, band) if ground else float(h)
-    return Scene(scale, lab, tex, smooth_below, sky, skyline, band, cut, ground, objects, foot,
-                 spread)  # fmt: skip
+    return sky, cut, objects
 
 
 def _hanging_crown(lab, floating, objects, comps, cut, textured):

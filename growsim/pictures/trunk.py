@@ -20,7 +20,9 @@ __all__ = ["below_cut", "hanging_trunk"]
 #: either side (the ground's and clutter's colours), so many iterations
 BELOW_MARGIN = 0.15
 GRABCUT_ITERATIONS = 5
-#: ... down to this share of the tree's height below the cut's lowest row, on at most this
+#: ... down to this share of the tree's height (of its width, when wider, for a crown the
+#: horizon was found under: its trunk may reach farther below the horizon than half the
+#: crown's height) below the cut's lowest row, on at most this
 #: many pixels (a larger window is reduced for it)
 BELOW_DEPTH = 0.5
 GRABCUT_PIXELS = 30_000
@@ -86,7 +88,8 @@ def below_cut(rgb, tree, below, sky, obj, scale, keep):
     top = int(np.nonzero(below[:, cols].any(axis=1))[0].min()) if below[:, cols].any() else h
     y0 = max(0, top - max(8, int(0.15 * height)))
     lowest = int(np.ceil(np.max(np.argmax(below[:, cols], axis=0))))
-    y1 = min(h, lowest + int(BELOW_DEPTH * height) + 1)
+    reach = max(height, width) if obj.lifted else height
+    y1 = min(h, lowest + int(BELOW_DEPTH * reach) + 1)
     if y0 >= y1 - 1:
         return np.zeros((h, w), dtype=bool), 0.0
     win = (slice(y0, y1), slice(x0, x1))
