@@ -25,6 +25,10 @@ GRABCUT_ITERATIONS = 5
 #: crown's height) below the cut's lowest row, on at most this
 #: many pixels (a larger window is reduced for it)
 BELOW_DEPTH = 0.5
+#: ... and, for such a crown, whose feet span its width, its trunk is looked for under the
+#: middle of it: the feet less this share of its width on each side (its wings hang over
+#: the horizon)
+WINGS = 0.2
 GRABCUT_PIXELS = 30_000
 #: ... and differing from the row's colour beside the tree by more than this many times
 #: that colour's spread along the row (robust sigma), at least MIN_DE
@@ -98,7 +102,9 @@ def below_cut(rgb, tree, below, sky, obj, scale, keep):
     mask[sky[win]] = cv2.GC_BGD
     mask[~under & seed] = cv2.GC_FGD
     feet = np.zeros(w, dtype=bool)
+    wing = int(WINGS * (obj.right - obj.left + 1)) if obj.lifted else 0
     for a, b in obj.feet:
+        a, b = max(a, obj.left + wing), min(b, obj.right - wing)
         feet[int(a * k) : int(np.ceil((b + 1) * k))] = True
     mask[under & feet[None, x0:x1]] = cv2.GC_PR_FGD
     inside = np.zeros(w, dtype=bool)
