@@ -9,12 +9,14 @@ raises, calls ``os._exit`` or is ``SIGKILL``-ed."""
 
 from __future__ import annotations
 
+import os
 from concurrent.futures import Executor, Future
 from concurrent.futures.process import BrokenProcessPool
 
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import _restore_environ
 
 from growsim.experiment.executors import DaskExecutor
 from growsim.ga import GA, HISTORY_COLUMNS, EvaluationError, Genome, Real
@@ -158,10 +160,15 @@ def one_worker_cluster():
 
     from growsim.experiment.executors import local_cluster
 
+    before = dict(os.environ)
     with dask.config.set({"distributed.scheduler.allowed-failures": 1}):  # read at its start
         cluster = local_cluster(1)
     with cluster, Client(cluster) as client:
         yield client
+    # its Nanny writes its worker's variables into os.environ each time it starts one (a
+    # worker killed by the tests above is restarted, maybe after the last test's own
+    # check): put back, once the cluster is closed, before the next module's tests run
+    _restore_environ(before)
 
 
 @pytest.mark.timeout(90)
