@@ -330,7 +330,8 @@ def run_photos(src: Path, only, do_fit: bool, fit_all: bool, fit_out: Path) -> d
             continue
         m = sources.get(p.name, {})
         row = {"name": p.stem, "file": p.name}
-        for key in ("shows", "leafy", "sky", "ground", "licence", "repo"):
+        for key in ("shows", "leafy", "lone", "whole", "touching", "ordinary", "sky", "ground",
+                    "licence", "repo"):  # fmt: skip
             if key in m:
                 row[key] = m[key]
         r, tree = segment(p, p.name)
@@ -355,6 +356,9 @@ def run_photos(src: Path, only, do_fit: bool, fit_all: bool, fit_out: Path) -> d
         "mean_seconds": _mean([r["seconds"] for r in rows]),
         "max_seconds": max((r["seconds"] for r in rows), default=None),
     }
+    lone = lone_summary(rows)
+    if lone:
+        summary["lone"] = lone
     with_mask = [r for r in acc if "iou" in r]
     if with_mask:
         summary["with_mask"] = len(with_mask)
@@ -363,6 +367,42 @@ def run_photos(src: Path, only, do_fit: bool, fit_all: bool, fit_out: Path) -> d
     if fits:
         summary["fits"] = _fit_summary(fits)
     return {"dir": str(src), "summary": summary, "rows": rows}
+
+
+def lone_summary(rows) -> dict:
+    """The lone trees (``lone`` in ``sources.json``) accepted, in all and by how the
+    picture shows them when it says (``whole``: the tree inside the frame, no edge cutting
+    its crown or its foot; ``touching``: a wood, hedge, hill, building or another tree
+    behind or against its crown; ``ordinary``: a photograph, not a print, a drawing or
+    art): ``{"lone": [accepted, of], "whole": ..., "whole_clear": ...,
+    "whole_touching": ..., "cut": ..., "odd": ...}``; empty when no row says ``lone``.
+
+    Examples
+    --------
+    >>> rows = [{"lone": True, "whole": True, "touching": False, "ordinary": True,
+    ...          "accepted": True},
+    ...         {"lone": True, "whole": False, "touching": False, "ordinary": True,
+    ...          "accepted": False}]
+    >>> lone_summary(rows)["whole_clear"], lone_summary(rows)["cut"]
+    ([1, 1], [0, 1])
+    """
+    lone = [r for r in rows if r.get("lone")]
+    if not lone:
+        return {}
+
+    def count(sel):
+        return [sum(bool(r["accepted"]) for r in sel), len(sel)]
+
+    out = {"lone": count(lone)}
+    if all("whole" in r for r in lone):
+        usual = [r for r in lone if r.get("ordinary", True)]
+        whole = [r for r in usual if r["whole"]]
+        out["whole"] = count(whole)
+        out["whole_clear"] = count([r for r in whole if not r.get("touching")])
+        out["whole_touching"] = count([r for r in whole if r.get("touching")])
+        out["cut"] = count([r for r in usual if not r["whole"]])
+        out["odd"] = count([r for r in lone if not r.get("ordinary", True)])
+    return out
 
 
 # ------------------------------------------------------------------------------ sheet

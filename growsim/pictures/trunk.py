@@ -57,8 +57,9 @@ def below_cut(rgb, tree, below, sky, obj, scale, keep):
     (:func:`tree_cover`, as the crown against the sky); outside the feet's columns, the
     pieces of the clutter's colours, not the crown's, are dropped too
     (:func:`~growsim.pictures.colours.background_coloured`: a hedge's or treeline's top
-    beside the trunk, where the row beside it is half sky). Returns ``(tree, spill)``: what joins
-    the tree above (a trunk hidden by a hedge of its colour bridged over up to
+    beside the trunk, where the row beside it is half sky); and in each row, what runs on
+    from the window's side outside the object's columns (the clutter running on past it:
+    a treeline's top along the band). Returns ``(tree, spill)``: what joins the tree above (a trunk hidden by a hedge of its colour bridged over up to
     :data:`TRUNK_GAP` of the tree's height, :func:`_hidden_trunk`; a trunk's rows filled
     across), and the share of those rows where it reaches both sides of the object's
     columns (a wood behind it).
@@ -178,6 +179,7 @@ def below_cut(rgb, tree, below, sky, obj, scale, keep):
         if zb - za + 1 <= TRUNK_WIDTH * width:
             part = (slice(None), slice(za, zb + 1))
             joined[part] |= row_spans(joined[part]) & under[part]
+    joined = _not_running_past(joined, inside[x0:x1], seed)
     # the spill: the rows below the cut where what was taken reaches the object's sides
     span = inside[x0:x1]
     first, last = int(np.argmax(span)), len(span) - 1 - int(np.argmax(span[::-1]))
@@ -188,6 +190,35 @@ def below_cut(rgb, tree, below, sky, obj, scale, keep):
     out = np.zeros((h, w), dtype=bool)
     out[win] = joined
     return out, spill
+
+
+def _not_running_past(taken, inside, seed):
+    """``taken`` (below the cut, in a window) less, in each row, the run from the window's
+    left or right side outside the object's columns (``inside``, per column): the clutter
+    running on past the window (a treeline's top along the band, joined to the crown's low
+    side), and what no longer joins ``seed`` (the tree above the cut) then.
+
+    Examples
+    --------
+    >>> taken = np.zeros((6, 12), bool); taken[3, :] = True        # a strip to both sides
+    >>> taken[3:, 5:7] = True                                       # the trunk under it
+    >>> seed = np.zeros((6, 12), bool); seed[:3, 3:9] = True        # the crown above
+    >>> inside = np.zeros(12, bool); inside[3:9] = True
+    >>> out = _not_running_past(taken, inside, seed)
+    >>> out[3].astype(int).tolist(), bool(out[5, 5:7].all())
+    ([0, 0, 0, 1, 1, 1, 1, 1, 1, 0, 0, 0], True)
+    >>> low = np.zeros((6, 12), bool); low[3, 1:11] = True          # not reaching a side
+    >>> bool(_not_running_past(low, inside, seed)[3, 1])
+    True
+    """
+    from skimage.measure import label
+
+    edge = np.cumprod(taken, axis=1) | np.cumprod(taken[:, ::-1], axis=1)[:, ::-1]
+    past = edge.astype(bool) & ~inside[None, :]
+    if not past.any():
+        return taken
+    parts = label((taken & ~past) | seed, connectivity=2)
+    return taken & ~past & np.isin(parts, np.unique(parts[seed & (parts > 0)]))
 
 
 def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
