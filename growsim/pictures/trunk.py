@@ -59,10 +59,11 @@ def below_cut(rgb, tree, below, sky, obj, scale, keep):
     (:func:`~growsim.pictures.colours.background_coloured`: a hedge's or treeline's top
     beside the trunk, where the row beside it is half sky); and in each row, what runs on
     from the window's side outside the object's columns (the clutter running on past it:
-    a treeline's top along the band). Returns ``(tree, spill)``: what joins the tree above (a trunk hidden by a hedge of its colour bridged over up to
-    :data:`TRUNK_GAP` of the tree's height, :func:`_hidden_trunk`; a trunk's rows filled
-    across), and the share of those rows where it reaches both sides of the object's
-    columns (a wood behind it).
+    a treeline's top along the band: :func:`_not_running_past`). Returns ``(tree,
+    spill)``: what joins the tree above (a trunk hidden by a hedge of its colour bridged
+    over up to :data:`TRUNK_GAP` of the tree's height, :func:`_hidden_trunk`; a trunk's
+    rows filled across), and the share of those rows where it reaches both sides of the
+    object's columns (a wood behind it).
 
     Examples
     --------
