@@ -495,8 +495,8 @@ def test_hint_flags_are_parsed_with_clear_errors(flag, value, message, capsys):
 
 def test_fit_with_a_hint_writes_how_the_tree_was_found(tmp_path, capsys):
     """A refused picture fitted with --point: fit.json records the segmentation (method,
-    hint, horizon, contrast, confidence), the segmentation picture is written, and the
-    fit's state keeps the hint for --resume."""
+    hint, horizon, contrast, confidence, where the outline ends along the horizon), the
+    segmentation picture is written, and the fit's state keeps the hint for --resume."""
     rgb, _ = _beside_a_tree_cut_by_the_frame(at=230)  # two whole trees
     photo = tmp_path / "two_trees.png"
     Image.fromarray(np.round(255 * rgb).astype(np.uint8)).save(photo)
@@ -513,6 +513,8 @@ def test_fit_with_a_hint_writes_how_the_tree_was_found(tmp_path, capsys):
     found = fit["segmentation"]["front"]
     assert found["hint"] == {"point": [110.0, 60.0]} and found["horizon"] is not None
     assert found["contrast"] > 15 and 0 < found["confidence"] <= 1
+    # its trunk found down to the ground: not flagged as ending along the horizon
+    assert found["ends_at_horizon"] < 0.2 and "ends along the horizon" not in text
     assert "segmentation_front.png" in fit["files"]
     pic = np.asarray(Image.open(out / "segmentation_front.png"))
     assert pic.shape == (200, 2 * 320 + 8, 3)

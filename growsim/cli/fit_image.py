@@ -124,6 +124,7 @@ def _options(p) -> None:
 def _main(args) -> int:
     from growsim.fitting.fit import fit_image
     from growsim.fitting.options import FitOptions, flag
+    from growsim.pictures.record import ENDS_AT_HORIZON
 
     progress = not args.quiet
     forms = FitOptions.cli()
@@ -170,6 +171,10 @@ def _main(args) -> int:
         print(f"  {view} picture: the tree found by {found['method']}{hint}, {ground}, "
               f"contrast {found['contrast']:.0f} Delta E, confidence {found['confidence']:.2f} "
               f"(segmentation_{view}.png)")  # fmt: skip
+        if found.get("ends_at_horizon", 0.0) >= ENDS_AT_HORIZON:
+            print(f"  {view} picture: its outline ends along the horizon over "
+                  f"{100 * found['ends_at_horizon']:.0f} % of its width: the crown below the "
+                  f"horizon or the trunk may be missing (segmentation_{view}.png)")  # fmt: skip
     choices = summary["choices"]
     if "method" not in choices and result.method:  # a drawing's fit.json does not hold it
         choices = {"method": result.method, **choices}

@@ -14,6 +14,13 @@ __all__ = ["Segmentation", "segmentation_picture"]
 #: the confidence reported: the share of the tree's outline that differs from its
 #: background by more than this many times the threshold's floor
 CONFIDENT = 2.0
+#: a silhouette whose outline runs along the cut (the line above which the tree stands
+#: out of the horizon's band) over at least this share of its width is flagged: the
+#: crown below the horizon or the trunk may be missing (of 98 real lone trees judged by
+#: eye, 25 of the 28 so flagged were wrong; ``benchmarks/log/fitting.md``)
+ENDS_AT_HORIZON = 0.2
+#: ... ending there: not on this share of the tree's height below the cut
+HORIZON_DEPTH = 0.03
 
 
 @dataclass(frozen=True)
@@ -73,6 +80,36 @@ class Segmentation:
     border: tuple = (0, 0, 0, 0)
     grazes: int = 0
 
+    def ends_at_horizon(self) -> float:
+        """The share of the tree's width where its silhouette ends at the cut: the tree
+        is there just above the cut and not :data:`HORIZON_DEPTH` of its height below it
+        (0 without a horizon).
+
+        Examples
+        --------
+        >>> tree = np.zeros((60, 50), bool); tree[10:40, 10:40] = True  # cut off at 40
+        >>> seg = Segmentation(tree, np.zeros((60, 50), bool), 45, np.zeros((60, 50)), 10.0,
+        ...                    0.5, 40.0, band=np.full(50, 45.0), cut=np.full(50, 40.0))
+        >>> round(seg.ends_at_horizon(), 2)
+        1.0
+        >>> tree[40:55, 23:27] = True                                 # its trunk below
+        >>> round(seg.ends_at_horizon(), 2)
+        0.87
+        """
+        if self.cut is None or self.horizon is None or not self.tree.any():
+            return 0.0
+        h, w = self.tree.shape
+        rows, cols = np.nonzero(self.tree)
+        d = max(2, round(HORIZON_DEPTH * (rows.max() - rows.min() + 1)))
+        cut = np.round(np.asarray(self.cut)).astype(int)
+        x = np.arange(w)
+        ok = (cut >= 2) & (cut + d < h)
+        above = np.zeros(w, dtype=bool)
+        below = np.zeros(w, dtype=bool)
+        above[ok] = self.tree[cut[ok] - 2, x[ok]]
+        below[ok] = self.tree[cut[ok] + d, x[ok]]
+        return float((above & ~below).sum() / (cols.max() - cols.min() + 1))
+
     def describe(self) -> str:
         """One line: what was found (for messages and logs)."""
         ground = "no ground" if self.horizon is None else f"ground from row {self.horizon}"
@@ -82,6 +119,10 @@ class Segmentation:
             hint += f", a touching tree split off at {boxes}"
         if self.grazes:
             hint += f", grazing the top edge ({self.grazes} pixels)"
+        ends = self.ends_at_horizon()
+        if ends >= ENDS_AT_HORIZON:
+            hint += (f", its outline ending along the horizon over {100 * ends:.0f} % of its "
+                     "width (the crown below it or the trunk may be missing)")  # fmt: skip
         return (
             f"photo segmentation ({self.method}{hint}): {ground}, {len(self.objects)} "
             f"standing object(s), sky noise {self.sky_noise:.1f}, tree/background threshold "
@@ -114,6 +155,7 @@ class Segmentation:
             "contrast": round(self.contrast, 2),
             "outline_contrast": round(self.outline_contrast, 2),
             "confidence": round(self.confidence, 3),
+            "ends_at_horizon": round(self.ends_at_horizon(), 3),
             "seconds": round(self.seconds, 3),
         }
 
