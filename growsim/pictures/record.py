@@ -90,8 +90,8 @@ class Segmentation:
         >>> tree = np.zeros((60, 50), bool); tree[10:40, 10:40] = True  # cut off at 40
         >>> seg = Segmentation(tree, np.zeros((60, 50), bool), 45, np.zeros((60, 50)), 10.0,
         ...                    0.5, 40.0, band=np.full(50, 45.0), cut=np.full(50, 40.0))
-        >>> round(seg.ends_at_horizon(), 2)
-        1.0
+        >>> round(seg.ends_at_horizon(), 2), "the trunk may be missing" in seg.describe()
+        (1.0, True)
         >>> tree[40:55, 23:27] = True                                 # its trunk below
         >>> round(seg.ends_at_horizon(), 2)
         0.87
