@@ -54,6 +54,7 @@ def interrupts_deferred(replay: bool = True) -> Iterator[None]:
     Examples
     --------
     >>> import signal
+    >>> before = signal.signal(signal.SIGINT, signal.default_int_handler)  # Python's own
     >>> try:
     ...     with interrupts_deferred():
     ...         signal.raise_signal(signal.SIGINT)  # to this thread, as Ctrl-C would
@@ -62,6 +63,7 @@ def interrupts_deferred(replay: bool = True) -> Iterator[None]:
     ...     print("then the interrupt")
     the block ends
     then the interrupt
+    >>> _ = signal.signal(signal.SIGINT, before)
     """
     if threading.current_thread() is not threading.main_thread():
         yield
