@@ -62,6 +62,7 @@ from growsim.pictures.hints import (
     in_box,
     judge_edges,
 )
+from growsim.pictures.learned import learned_below
 from growsim.pictures.pieces import split_at_neck, trim_skirt
 from growsim.pictures.reading import check_silhouette, load_gray, load_rgb, working_scale
 from growsim.pictures.record import CONFIDENT, Segmentation, segmentation_picture
@@ -463,6 +464,8 @@ def segment_photo(
                 raise UserInputError(before_wood)
             under = below & (rows > scene.ground_line / s)
         low, spill = below_cut(rgb, tree, under, sky, obj, s, keep)
+        # a silhouette ending along the horizon: the tree below it learned from the picture
+        low = learned_below(rgb, tree, low, under, sky, obj, keep, cut, s)
         tree |= low
         filled = np.flatnonzero(tree.any(axis=1))
         if (treeline or obj.lifted) and (

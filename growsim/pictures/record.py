@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Segmentation", "segmentation_picture"]
+__all__ = ["Segmentation", "horizon_share", "segmentation_picture"]
 
 #: the confidence reported: the share of the tree's outline that differs from its
 #: background by more than this many times the threshold's floor
@@ -21,6 +21,32 @@ CONFIDENT = 2.0
 ENDS_AT_HORIZON = 0.2
 #: ... ending there: not on this share of the tree's height below the cut
 HORIZON_DEPTH = 0.03
+
+
+def horizon_share(tree: np.ndarray, cut) -> float:
+    """The share of the width of ``tree`` (``(H, W)`` bool) where it ends at the ``cut``
+    (rows per column): it is there 2 rows above the cut and not :data:`HORIZON_DEPTH` of
+    its height below it.
+
+    Examples
+    --------
+    >>> tree = np.zeros((60, 50), bool); tree[10:40, 10:40] = True  # cut off at 40
+    >>> horizon_share(tree, np.full(50, 40.0))
+    1.0
+    """
+    if not tree.any():
+        return 0.0
+    h, w = tree.shape
+    rows, cols = np.nonzero(tree)
+    d = max(2, round(HORIZON_DEPTH * (rows.max() - rows.min() + 1)))
+    cut = np.round(np.asarray(cut)).astype(int)
+    x = np.arange(w)
+    ok = (cut >= 2) & (cut + d < h)
+    above = np.zeros(w, dtype=bool)
+    below = np.zeros(w, dtype=bool)
+    above[ok] = tree[cut[ok] - 2, x[ok]]
+    below[ok] = tree[cut[ok] + d, x[ok]]
+    return float((above & ~below).sum() / (cols.max() - cols.min() + 1))
 
 
 @dataclass(frozen=True)
@@ -81,9 +107,8 @@ class Segmentation:
     grazes: int = 0
 
     def ends_at_horizon(self) -> float:
-        """The share of the tree's width where its silhouette ends at the cut: the tree
-        is there just above the cut and not :data:`HORIZON_DEPTH` of its height below it
-        (0 without a horizon).
+        """The share of the tree's width where its silhouette ends at the cut
+        (:func:`horizon_share`; 0 without a horizon).
 
         Examples
         --------
@@ -96,19 +121,9 @@ class Segmentation:
         >>> round(seg.ends_at_horizon(), 2)
         0.87
         """
-        if self.cut is None or self.horizon is None or not self.tree.any():
+        if self.cut is None or self.horizon is None:
             return 0.0
-        h, w = self.tree.shape
-        rows, cols = np.nonzero(self.tree)
-        d = max(2, round(HORIZON_DEPTH * (rows.max() - rows.min() + 1)))
-        cut = np.round(np.asarray(self.cut)).astype(int)
-        x = np.arange(w)
-        ok = (cut >= 2) & (cut + d < h)
-        above = np.zeros(w, dtype=bool)
-        below = np.zeros(w, dtype=bool)
-        above[ok] = self.tree[cut[ok] - 2, x[ok]]
-        below[ok] = self.tree[cut[ok] + d, x[ok]]
-        return float((above & ~below).sum() / (cols.max() - cols.min() + 1))
+        return horizon_share(self.tree, self.cut)
 
     def describe(self) -> str:
         """One line: what was found (for messages and logs)."""
