@@ -269,6 +269,14 @@ ROWS: list[Row] = [
         "`python benchmarks/mtree_fit.py --split held_out`",
     ),
     Row(
+        "photo-learned-below",
+        "a photo's segmentation where its silhouette ends along the horizon: the time the "
+        "tree below it learned from the photo adds (29 real photographs, with and without)",
+        "s",
+        "learned_below_time.json",
+        lambda d: span(d["added_min"], d["added_max"]),
+    ),
+    Row(
         "fit-photo-discovery",
         "the same on the 12 discovery photos (the ones the pipeline was tuned on)",
         "s",
