@@ -37,6 +37,11 @@ SHADE = (0.25, 0.8)
 P_TREE, NEAR_ROWS = 0.5, 15
 #: the envelope widens below the cut by so many pixels a row on each side
 WIDEN = 0.5
+#: a plain background below the cut (90 % of its pixels within this many Delta E of its
+#: median colour: a render's flat ground) is read exactly by the row's colour already:
+#: nothing is learned (on renders it only took the ground between sparse low twigs;
+#: photographs' grounds and treelines vary by 13 Delta E or more)
+PLAIN_DE = 6.0
 
 
 def envelope(above: np.ndarray) -> np.ndarray:
@@ -85,22 +90,27 @@ def learned_below(rgb, tree, low, under, sky, obj, keep, cut, scale):
     :func:`envelope`, not sky, in ``keep``) are kept where their colour is nearer the
     crown's than that of the pixels below the cut outside the envelope (a colour test,
     per pixel: a sparse crown's gaps are not filled), and where they join the tree.
+    Nothing is learned where that background is plain (:data:`PLAIN_DE`).
 
     Examples
     --------
     >>> from growsim.pictures.scene import Standing
     >>> rng = np.random.default_rng(1)
     >>> rgb = np.empty((80, 80, 3)); rgb[:] = [0.75, 0.85, 0.95]            # the sky
-    >>> rgb[40:] = [0.55, 0.5, 0.35] + 0.05 * rng.random((40, 80, 1))     # a dry hill
+    >>> rgb[40:] = [0.6, 0.5, 0.3] + 0.2 * rng.random((40, 80, 1))        # a stony hill
     >>> yy, xx = np.mgrid[:80, :80]
     >>> crown = (yy - 35) ** 2 + (xx - 40) ** 2 < 20 ** 2
     >>> rgb[crown] = [0.15, 0.35, 0.1] + 0.15 * rng.random((crown.sum(), 1))  # leaves
     >>> under = yy >= 40                                       # the cut along the horizon
     >>> obj = Standing(crown & ~under, 0, 15, 55, 20, 60, ((38, 42),))
-    >>> low = learned_below(rgb, crown & ~under, np.zeros_like(crown), under,
-    ...                     ~crown & ~under, obj, np.ones_like(crown), np.full(80, 40.0), 1.0)
-    >>> bool((low & crown).sum() > 0.9 * (crown & under).sum()), int((low & ~crown).sum())
+    >>> found = np.zeros_like(crown)                    # nothing found below the cut yet
+    >>> args = (under, ~crown & ~under, obj, np.ones_like(crown), np.full(80, 40.0), 1.0)
+    >>> low = learned_below(rgb, crown & ~under, found, *args)
+    >>> bool((low & crown).sum() > 0.8 * (crown & under).sum()), int((low & ~crown).sum())
     (True, 0)
+    >>> rgb[under & ~crown] = [0.55, 0.5, 0.35]                  # a render's flat ground
+    >>> learned_below(rgb, crown & ~under, found, *args) is found
+    True
     """
     from scipy import ndimage
     from scipy.spatial import cKDTree
@@ -133,6 +143,14 @@ def learned_below(rgb, tree, low, under, sky, obj, keep, cut, scale):
     def reduced(a, size=small):
         return resize(a.astype(float), size, order=1) if f < 1.0 else a
 
+    env = envelope(above)[win]
+    lab = rgb2lab(img)
+    outside = under[win] & ~ndimage.binary_dilation(env, iterations=3) & keep[win]
+    if outside.sum() > 50:
+        ground = lab[outside]
+        spread = np.linalg.norm(ground - np.median(ground, axis=0), axis=-1)
+        if np.percentile(spread, 90) < PLAIN_DE:
+            return low
     feats = multiscale_basic_features(reduced(img), channel_axis=-1, sigma_min=SIGMA_MIN,
                                       sigma_max=SIGMA_MAX)  # fmt: skip
     X = feats.reshape(-1, feats.shape[-1])
@@ -154,13 +172,10 @@ def learned_below(rgb, tree, low, under, sky, obj, keep, cut, scale):
     p = forest.predict_proba(X)[:, 1].reshape(small)
     if f < 1.0:
         p = resize(p, shape, order=1)
-    env = envelope(above)[win]
     near = ndimage.binary_dilation(under[win], np.ones((2 * NEAR_ROWS + 1, 1), dtype=bool))
     cand = (p > P_TREE) & near & ~sky[win] & keep[win] & env
     # each candidate nearer the crown's colours than the background's below the cut
-    lab = rgb2lab(img)
     crown = above[win]
-    outside = under[win] & ~ndimage.binary_dilation(env, iterations=3) & keep[win]
     if cand.any() and outside.sum() > 50 and crown.sum() > 50:
         ci = rng.choice(np.flatnonzero(crown), min(3000, int(crown.sum())), replace=False)
         oi = rng.choice(np.flatnonzero(outside), min(3000, int(outside.sum())), replace=False)
