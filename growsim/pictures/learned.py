@@ -62,8 +62,8 @@ def envelope(above: np.ndarray) -> np.ndarray:
     rows = np.flatnonzero(above.any(axis=1))
     if len(rows) < 10:
         return out
-    lefts = np.array([np.flatnonzero(above[r]).min() for r in rows])
-    rights = np.array([np.flatnonzero(above[r]).max() for r in rows])
+    lefts = np.argmax(above[rows], axis=1)
+    rights = w - 1 - np.argmax(above[rows, ::-1], axis=1)
     for r, a, b in zip(rows, np.minimum.accumulate(lefts), np.maximum.accumulate(rights)):
         out[r, a : b + 1] = True
     n = max(3, int(0.1 * len(rows)))
