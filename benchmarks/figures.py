@@ -270,14 +270,21 @@ ROWS: list[Row] = [
     ),
     Row(
         "photo-learned-below",
-        "a photo's segmentation ending at the horizon: the learned step's cost (29 photos)",
+        "a photo ending at the horizon: the learned step (29 photos)",
         "s",
         "learned_below_time.json",
         lambda d: span(d["added_min"], d["added_max"]),
     ),
     Row(
+        "photo-trunk-trace",
+        "a photo's trunk followed down (30 photos)",
+        "s",
+        "trunk_trace_time.json",
+        lambda d: span(d["inside_min"], d["inside_max"]),
+    ),
+    Row(
         "fit-photo-discovery",
-        "the same on the 12 discovery photos (the ones the pipeline was tuned on)",
+        "the same on the 12 discovery photos (tuned on)",
         "s",
         "mtree_fit_discovery.jsonl",
         *_photo("discovery"),
@@ -364,8 +371,7 @@ ROWS: list[Row] = [
     # Honda
     Row(
         "honda-mesh",
-        "Honda: grow one tree and mesh it (pyvista mesh), the eight presets and zelkova at "
-        "13 generations",
+        "Honda: grow one tree and mesh it, the eight presets and zelkova at 13 generations",
         "M vertices/s",
         "reproduction/endo_speed.json",
         lambda d: span(
@@ -554,8 +560,7 @@ ROWS: list[Row] = [
     ),
     Row(
         "hormone-3d-sweep",
-        "`hormone_3d.toml`'s sweep: 3 environments x 8 seeds, 19,200 evaluations a run, "
-        "`--workers 2`",
+        "`hormone_3d.toml`'s sweep: 3 environments x 8 seeds, `--workers 2`",
         "min",
         "timings/sweeps.json#hormone_3d",
         lambda d: span(*d["figures"]["sweep_min"], 0),
@@ -704,8 +709,7 @@ ROWS: list[Row] = [
     ),
     Row(
         "stand-periodic",
-        "hormone model in a periodic stand, 1 / 2 rings of copies, over alone (3D demo genome, "
-        "40 steps, CPU time)",
+        "hormone model in a periodic stand, 1 / 2 rings of copies, over alone (CPU time)",
         "x",
         "timings/stand.json#periodic",
         lambda d: f"{num(d['figures']['one_ring_x'], 2)} / {num(d['figures']['two_rings_x'], 2)}",
@@ -720,7 +724,7 @@ ROWS: list[Row] = [
     # Dask and the process pool
     Row(
         "pool-speedup",
-        "a process pool of 2 over serial evaluation, the hormone 3D workload (6,000 evaluations)",
+        "a process pool of 2 over serial, the hormone 3D workload (6,000 evaluations)",
         "x",
         "cluster_speedup_hormone_quiet.json",
         _cluster("speedup_pool_2_vs_serial"),

@@ -75,7 +75,7 @@ from growsim.pictures.sky import (
     smooth_sky,
     thin_lines,
 )
-from growsim.pictures.trunk import below_cut, hanging_trunk
+from growsim.pictures.trunk import below_cut, hanging_trunk, traced_trunk
 
 __all__ = [
     "Segmentation",
@@ -466,6 +466,8 @@ def segment_photo(
         low, spill = below_cut(rgb, tree, under, sky, obj, s, keep)
         # a silhouette ending along the horizon: the tree below it learned from the picture
         low = learned_below(rgb, tree, low, under, sky, obj, keep, cut, s)
+        # a trunk that stops short of its foot: carried on down along its two edges
+        low |= traced_trunk(rgb, tree | low, under, keep)
         tree |= low
         filled = np.flatnonzero(tree.any(axis=1))
         if (treeline or obj.lifted) and (

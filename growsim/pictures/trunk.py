@@ -1,12 +1,14 @@
 """The trunk below the cut: GrabCut in the standing object's columns, seeded by the crown
 above (:func:`below_cut`), the trunk's columns read against the row beside them, a trunk
-hidden behind the horizon's clutter bridged over.
+hidden behind the horizon's clutter bridged over, and a trunk that stops short carried
+on down along its two edges (:func:`traced_trunk`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from growsim.kernels.trunk import FORBIDDEN, edge_pair_scores, trace_path
 from growsim.pictures.backdrop import row_background
 from growsim.pictures.colours import background_coloured
 from growsim.pictures.coverage import MIN_DE, robust_sigma, tree_cover
@@ -14,7 +16,7 @@ from growsim.pictures.crown import row_spans
 from growsim.pictures.reading import SPECK
 from growsim.pictures.scene import runs, trunk_feet
 
-__all__ = ["below_cut", "hanging_trunk"]
+__all__ = ["below_cut", "hanging_trunk", "traced_trunk"]
 
 #: below the cut: GrabCut in the standing object's columns and this share of its width
 #: either side (the ground's and clutter's colours), so many iterations
@@ -44,6 +46,24 @@ FOOT_DE = 15.0
 TRUNK_GAP = 0.4
 #: ... when its foot above the gap is at most this share of the crown's width
 TRUNK_WIDTH = 0.3
+#: the trunk carried down (:func:`traced_trunk`): its foot, the silhouette's lowest rows
+#: up to this share of the tree's height, each a run overlapping the one below it and
+#: narrower than TRUNK_WIDTH of the tree's width, at least FOOT_MIN of its height of them
+FOOT_UP, FOOT_MIN = 0.12, 0.05
+#: ... followed down at most this share of the tree's height, in a corridor this many
+#: widths of the foot either side of it, widening by LEAN pixels a row (a leaning trunk)
+TRACE_DEPTH, TRACE_SIDE, LEAN = 0.7, 2.0, 0.4
+#: ... as a trunk 0.6-1.6 times the foot's width (its 30th percentile of widths: not a
+#: block of clutter joined to it), whose two edges are the colour change across a
+#: column (Sobel, Delta E) over the window's median, at least EDGE_FLOOR (a smooth ground's
+#: noise is no edge), at most EDGE_CAP; its inside's mean colour within GATE spreads of
+#: the foot's mean colour (the foot's median distance from it, at least 2 Delta E)
+TRACE_WIDTHS, EDGE_FLOOR, EDGE_CAP, GATE = (0.6, 1.6), 12.0, 4.0, 3.0
+#: ... each row's score the weaker edge twice less the colour distance (capped at
+#: D_CAP), less the TRACE_Q quantile of every state's score and TRACE_MARGIN: a path
+#: gains only where a trunk's two edges are clearly there; a step aside costs SHIFT a
+#: column and WIDEN a width; a path shorter than TRACE_MIN of the height is none
+D_CAP, TRACE_Q, TRACE_MARGIN, SHIFT, WIDEN, TRACE_MIN = 6.0, 0.8, 1.0, 1.5, 0.3, 0.03
 
 
 def below_cut(rgb, tree, below, sky, obj, scale, keep):
@@ -327,3 +347,106 @@ def hanging_trunk(rgb, tree, obj, cut, scale):
         return out
     out[over.max() + 1 : r, lo:hi] = True
     return out
+
+
+def _foot(tree, rows_up, widest):
+    """The trunk's foot: from the silhouette's lowest row up to ``rows_up`` rows, each
+    row's run overlapping the one below it (the widest in the lowest row), while narrower
+    than ``widest``. Returns ``(rows, centres, widths)``, lowest first."""
+    rows = np.flatnonzero(tree.any(axis=1))
+    out, prev = [], None
+    for y in range(rows.max(), max(rows.min(), rows.max() - rows_up) - 1, -1):
+        spans = runs(np.flatnonzero(tree[y]))
+        if prev is not None:
+            spans = [s for s in spans if min(s[1], prev[1]) >= max(s[0], prev[0])]
+        if not spans:
+            break
+        a, b = max(
+            spans,
+            key=lambda s: s[1] - s[0] if prev is None else min(s[1], prev[1]) - max(s[0], prev[0]),
+        )
+        if b - a + 1 > widest:
+            break
+        out.append((y, (a + b) / 2, b - a + 1))
+        prev = (a, b)
+    return [np.array(v) for v in zip(*out)] if out else [np.zeros(0)] * 3
+
+
+def traced_trunk(rgb, tree, under, keep):
+    """The trunk below the silhouette's lowest row, where it stops short of its foot: its
+    two edges followed down (:func:`growsim.kernels.trunk.trace_path`, a path of most
+    gain through the rows, each a trunk centred on a column with a width,
+    :func:`growsim.kernels.trunk.edge_pair_scores`), from the silhouette's foot (its
+    lowest narrow rows: a trunk, :data:`FOOT_UP`), in a corridor widening below it; a row
+    gains where both edges are clear and the inside is of the foot's colours
+    (:data:`GATE`); the path ends where it gains most. Only pixels below the cut
+    (``under``), allowed (``keep``) and not already ``tree`` are returned; nothing when
+    the silhouette has no foot (its lowest rows as wide as a crown).
+
+    Examples
+    --------
+    >>> rgb = np.ones((60, 40, 3)) * [0.55, 0.75, 0.35]; rgb[:30] = [0.7, 0.8, 0.95]
+    >>> rgb[5:20, 8:32] = [0.2, 0.4, 0.15]; rgb[20:50, 18:23] = [0.35, 0.25, 0.2]
+    >>> tree = np.zeros((60, 40), bool); tree[5:20, 8:32] = True    # the crown found,
+    >>> tree[20:34, 18:23] = True                                   # the trunk to row 33
+    >>> under = np.zeros((60, 40), bool); under[30:] = True         # below the cut
+    >>> out = traced_trunk(rgb, tree, under, np.ones((60, 40), bool))
+    >>> bool(out[34:50, 18:23].all()), int(out.sum()) == 16 * 5    # on down to its foot
+    (True, True)
+    """
+    from scipy import ndimage
+    from skimage.color import rgb2lab
+
+    h, w = tree.shape
+    none = np.zeros((h, w), dtype=bool)
+    if not (tree & ~under).any():
+        return none
+    rows, cols = np.flatnonzero(tree.any(axis=1)), np.flatnonzero(tree.any(axis=0))
+    height, width = rows.max() - rows.min() + 1, cols.max() - cols.min() + 1
+    ys, xs, ws = _foot(tree, max(8, int(FOOT_UP * height)), TRUNK_WIDTH * width)
+    n_foot = max(4, int(FOOT_MIN * height))
+    if len(ys) < n_foot:
+        return none
+    tw, c0 = float(np.percentile(ws, 30)), float(np.median(xs[:n_foot]))
+    y0, y1 = int(rows.max()) + 1, min(h, int(rows.max()) + 1 + int(TRACE_DEPTH * height))
+    if tw < 3 or y1 - y0 < 4:
+        return none
+    reach = TRACE_SIDE * tw + LEAN * (y1 - y0) + 2 * tw
+    x0, x1 = int(max(0, c0 - reach)), int(min(w, c0 + reach + 1))
+    lab = rgb2lab(rgb[max(0, y0 - 2) : y1, x0:x1])
+    # the trunk's colour: its foot, a pixel in from each side
+    foot = np.concatenate([rgb[y, round(x - d / 2) + 1 : round(x + d / 2) - 1]
+                           for y, x, d in zip(ys, xs, ws)])  # fmt: skip
+    if len(foot) < 4:
+        return none
+    foot = rgb2lab(foot[None])[0]
+    mean = foot.mean(axis=0)
+    spread = max(float(np.median(np.linalg.norm(foot - mean, axis=1))), 2.0)
+    edge = np.sqrt(sum(ndimage.sobel(lab[..., i], axis=1) ** 2 for i in range(3)))
+    edge = ndimage.uniform_filter1d(edge[y0 - max(0, y0 - 2) :], 3, axis=0)
+    lab = lab[y0 - max(0, y0 - 2) :]
+    edge /= max(float(np.median(edge)), EDGE_FLOOR)
+    wmin = max(2, round(TRACE_WIDTHS[0] * tw))
+    nk = max(3, round(TRACE_WIDTHS[1] * tw)) - wmin + 1
+    cum = np.zeros((lab.shape[0], lab.shape[1] + 1, 3))
+    cum[:, 1:] = np.cumsum(lab, axis=1)
+    score = edge_pair_scores(np.ascontiguousarray(edge), cum, np.append(mean, spread),
+                             (wmin, nk), (EDGE_CAP, 1.0, D_CAP, GATE))  # fmt: skip
+    # the corridor, and the rows below the cut that may be tree
+    dx = np.abs(np.arange(x0, x1)[None, :] - c0)
+    shut = dx > TRACE_SIDE * tw + LEAN * np.arange(y1 - y0)[:, None]
+    shut |= ~(under & keep)[y0:y1, x0:x1]
+    score[shut] = FORBIDDEN
+    open_ = score > FORBIDDEN / 10
+    if not open_.any():
+        return none
+    score -= min(float(np.quantile(score[open_], TRACE_Q)), EDGE_CAP) + TRACE_MARGIN
+    start = (round(c0) - x0, int(np.clip(round(tw), wmin, wmin + nk - 1)) - wmin)
+    end, cs, ks, _ = trace_path(score, start, (SHIFT, WIDEN))
+    out = none.copy()
+    if end + 1 < max(4, TRACE_MIN * height):
+        return out
+    for i in range(end + 1):
+        a = x0 + cs[i] - (wmin + ks[i]) // 2
+        out[y0 + i, a : a + wmin + ks[i]] = True
+    return out & under & keep & ~tree

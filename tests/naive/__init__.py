@@ -19,6 +19,7 @@ named after the kernel it is the oracle of (``naive.views.render_thin`` mirrors
 - :mod:`naive.ochoa`: the Ochoa tree's shadow bins, pruning and junctions;
 - :mod:`naive.raster`: the segment rasteriser;
 - :mod:`naive.shadow_gl`: the OpenGL backend's CPU side (vertices, texels, depth test);
+- :mod:`naive.trunk`: the traced trunk's scores (edges, inside colour) and path;
 - :mod:`naive.views`: framing, thin and anti-aliased views, blur, NCC;
 - :mod:`naive.water`: the water's sub-tree demand and distribution.
 

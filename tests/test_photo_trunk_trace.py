@@ -1,0 +1,133 @@
+"""The trunk carried down below the cut along its two edges (issue 41): a trunk found to
+part of its length, standing on a ground of other colours, is followed to its foot; a
+whole trunk, a silhouette with no trunk at its foot, and stripes of the ground (crop rows)
+gain nothing. The kernels match their oracles (``tests/naive/trunk.py``)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from naive import trunk as naive
+
+import growsim.pictures.photo as photo
+from growsim.kernels.trunk import edge_pair_scores, trace_path
+from growsim.pictures.trunk import traced_trunk
+
+CUT = 120
+
+
+def _tree_on_ground(seed=0, lean=0.3, stripes=False, h=260, w=220):
+    """A sky over a grassy ground (noisy) from row CUT; a crown, and its trunk leaning by
+    ``lean`` pixels a row from row 90 to row 230, where it stands. Returns the picture, the
+    silhouette found to row 150 (the trunk stops short) and the whole trunk."""
+    rng = np.random.default_rng(seed)
+    yy, xx = np.mgrid[:h, :w]
+    rgb = np.empty((h, w, 3))
+    rgb[:] = [0.6, 0.75, 0.95]
+    ground = yy >= CUT
+    rgb[ground] = (np.array([0.35, 0.55, 0.2]) + 0.04 * rng.standard_normal((h, w, 1)))[ground]
+    if stripes:  # dark rows of crops, leaning like a trunk would not
+        rgb[ground & ((xx + (yy - CUT)) % 24 < 7)] = [0.2, 0.3, 0.12]
+    crown = (yy - 55) ** 2 / 40**2 + (xx - 110) ** 2 / 70**2 < 1
+    centre = 110 + lean * np.clip(yy - 90, 0, None)
+    trunk = (np.abs(xx - centre) <= 6) & (yy >= 90) & (yy < 230)
+    rgb[trunk] = (np.array([0.42, 0.32, 0.24]) + 0.03 * rng.standard_normal((h, w, 1)))[trunk]
+    rgb[crown] = [0.15, 0.35, 0.1]
+    return np.clip(rgb, 0, 1), crown | (trunk & (yy < 150)), trunk
+
+
+@pytest.fixture
+def under():
+    return np.arange(260)[:, None] >= CUT + np.zeros((1, 220), dtype=int)
+
+
+def test_a_trunk_stopping_short_is_followed_to_its_foot(under):
+    rgb, found, trunk = _tree_on_ground()
+    out = traced_trunk(rgb, found, under, np.ones_like(found))
+    missing = trunk & ~found
+    assert (out & missing).sum() >= 0.85 * missing.sum()
+    assert (out & ~trunk).sum() <= 0.1 * missing.sum()  # its edges, a pixel off here and there
+    assert np.flatnonzero(out.any(axis=1)).max() in range(226, 232)  # ends at its foot
+    assert not (out & found).any()
+
+
+def test_a_whole_trunk_gains_nothing(under):
+    rgb, _, trunk = _tree_on_ground(seed=1)
+    crown = (np.mgrid[:260, :220][0] < 100) & ~under
+    whole = trunk | (_tree_on_ground(seed=1)[1] & crown)
+    assert traced_trunk(rgb, whole, under, np.ones_like(whole)).sum() <= 3 * 13
+
+
+def test_stripes_of_the_ground_are_no_trunk(under):
+    """Crop rows leaning at 45 degrees, darker than the grass and unlike the bark: the
+    silhouette already reaches the trunk's foot, nothing is added along a stripe."""
+    rgb, _, trunk = _tree_on_ground(seed=2, lean=0.0, stripes=True)
+    whole = trunk | _tree_on_ground(seed=2, lean=0.0)[1]
+    assert traced_trunk(rgb, whole, under, np.ones_like(whole)).sum() <= 3 * 13
+
+
+def test_a_crown_down_to_the_cut_has_no_foot_to_follow(under):
+    rgb, found, _ = _tree_on_ground(seed=3)
+    crown_only = found & (np.arange(260)[:, None] < 95)
+    assert not traced_trunk(rgb, crown_only, under, np.ones_like(found)).any()
+    assert not traced_trunk(rgb, np.zeros_like(found), under, np.ones_like(found)).any()
+
+
+def test_the_trunk_is_not_traced_where_it_may_not_be(under):
+    rgb, found, _ = _tree_on_ground(seed=4)
+    keep = np.ones_like(found)
+    keep[180:] = False  # e.g. the picture's own border
+    out = traced_trunk(rgb, found, under, keep)
+    assert out.any() and not out[180:].any()
+
+
+def test_segment_photo_carries_the_trunk_down(monkeypatch):
+    """The step runs after the tree below the cut is read (its result joins the tree)."""
+    calls = []
+
+    def spy(rgb, tree, under, keep):
+        calls.append(tree.sum())
+        out = np.zeros_like(tree)
+        return out
+
+    monkeypatch.setattr(photo, "traced_trunk", spy)
+    rgb, _, _ = _tree_on_ground(seed=5)
+    photo.segment_photo(rgb)
+    assert len(calls) == 1 and calls[0] > 0
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_edge_pair_scores_match_the_oracle(seed):
+    rng = np.random.default_rng(seed)
+    n, ncol = 7, 19
+    edge = rng.random((n, ncol)) * 5
+    lab = rng.normal(40, 10, (n, ncol, 3))
+    cum = np.zeros((n, ncol + 1, 3))
+    cum[:, 1:] = np.cumsum(lab, axis=1)
+    colour = np.r_[lab.mean(axis=(0, 1)), 6.0]
+    for widths in ((2, 3), (3, 4)):
+        weights = (4.0, 1.0, 6.0, 2.5)
+        got = edge_pair_scores(edge, cum, colour, widths, weights)
+        np.testing.assert_allclose(got, naive.edge_pair_scores(edge, lab, colour, widths, weights),
+                                   rtol=0, atol=1e-9)  # fmt: skip
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_trace_path_matches_the_oracle(seed):
+    rng = np.random.default_rng(seed)
+    score = rng.normal(0.2, 1.0, (12, 9, 4))
+    score[rng.random(score.shape) < 0.1] = -1.0e3
+    start, costs = (int(rng.integers(9)), int(rng.integers(4))), (0.7, 0.3)
+    end, cs, ks, gain = trace_path(score, start, costs)
+    e2, c2, k2, g2 = naive.trace_path(score, start, costs)
+    assert end == e2 and np.array_equal(cs, c2) and np.array_equal(ks, k2)
+    assert gain == pytest.approx(g2, abs=1e-9)
+    if end >= 0:  # the path's own gain
+        steps = np.abs(np.diff(np.r_[start[0], cs])), np.abs(np.diff(np.r_[start[1], ks]))
+        assert max(steps[0].max(), steps[1].max()) <= 1
+        total = (
+            score[np.arange(end + 1), cs, ks].sum()
+            - costs[0] * steps[0].sum()
+            - costs[1] * steps[1].sum()
+        )
+        assert gain == pytest.approx(total)
