@@ -51,6 +51,20 @@ def test_a_trunk_stopping_short_is_followed_to_its_foot(under):
     assert not (out & found).any()
 
 
+def test_a_wide_trunk_is_read_by_a_step_of_widths(under, monkeypatch):
+    """Over the state budget the widths go by a step: the same trunk, to its foot."""
+    import growsim.pictures.trunk as trunk
+
+    rgb, found, trunk_mask = _tree_on_ground()
+    full = traced_trunk(rgb, found, under, np.ones_like(found))
+    monkeypatch.setattr(trunk, "TRACE_STATES", 20_000)
+    out = traced_trunk(rgb, found, under, np.ones_like(found))
+    missing = trunk_mask & ~found
+    assert (out & missing).sum() >= 0.8 * missing.sum()
+    ends = np.flatnonzero(out.any(axis=1)).max(), np.flatnonzero(full.any(axis=1)).max()
+    assert abs(ends[0] - ends[1]) <= 3
+
+
 def test_a_whole_trunk_gains_nothing(under):
     rgb, _, trunk = _tree_on_ground(seed=1)
     crown = (np.mgrid[:260, :220][0] < 100) & ~under
@@ -105,7 +119,7 @@ def test_edge_pair_scores_match_the_oracle(seed):
     cum = np.zeros((n, ncol + 1, 3))
     cum[:, 1:] = np.cumsum(lab, axis=1)
     colour = np.r_[lab.mean(axis=(0, 1)), 6.0]
-    for widths in ((2, 3), (3, 4)):
+    for widths in ((2, 3, 1), (3, 4, 1), (2, 3, 2)):
         weights = (4.0, 1.0, 6.0, 2.5)
         got = edge_pair_scores(edge, cum, colour, widths, weights)
         np.testing.assert_allclose(got, naive.edge_pair_scores(edge, lab, colour, widths, weights),

@@ -7,9 +7,9 @@ a trunk's two edges followed down, row by row, as a path of most gain (Viterbi).
 - :func:`trace_path`: from a start state, the path of most gain down the rows, moving by
   at most one column and one width a row (each move paid for), ending where it gains most.
 
-Grids are ``(rows, columns)``; widths are ``wmin + k`` for ``k`` in ``0 .. nk - 1``; a
-trunk of width ``w`` centred on column ``c`` holds columns ``c - w // 2`` to
-``c - w // 2 + w - 1``, its edges the columns just outside.
+Grids are ``(rows, columns)``; widths are ``wmin + k * step`` for ``k`` in
+``0 .. nk - 1``; a trunk of width ``w`` centred on column ``c`` holds columns
+``c - w // 2`` to ``c - w // 2 + w - 1``, its edges the columns just outside.
 """
 
 from __future__ import annotations
@@ -26,30 +26,30 @@ FORBIDDEN = -1.0e3
 
 @njit
 def edge_pair_scores(edge, cum, colour, widths, weights):
-    """``score[row, c, k]`` of a trunk of width ``widths[0] + k`` centred on column ``c``:
+    """``score[row, c, k]`` of a trunk of width ``wmin + k * step`` centred on column ``c``:
     ``2 * min(left edge, right edge, cap) - alpha * min(d, d_cap)``, where the edges are
     ``edge`` (``(rows, columns)``) just outside it and ``d`` the distance of its inside's
     mean colour (from ``cum``, each row's running sum of the three colour channels,
     ``(rows, columns + 1, 3)``) from ``colour[:3]`` in units of ``colour[3]``;
     :data:`FORBIDDEN` where ``d > gate`` or the trunk and its edges do not fit in the
-    row. ``widths`` ``(wmin, nk)``; ``weights`` ``(cap, alpha, d_cap, gate)``.
+    row. ``widths`` ``(wmin, nk, step)``; ``weights`` ``(cap, alpha, d_cap, gate)``.
 
     Examples
     --------
     >>> edge = np.zeros((1, 8)); edge[0, 2] = edge[0, 5] = 3.0      # edges at 2 and 5
     >>> lab = np.zeros((1, 8, 3)); lab[0, 3:5, 0] = 50.0             # the trunk: 3, 4
     >>> cum = np.zeros((1, 9, 3)); cum[:, 1:] = np.cumsum(lab, axis=1)
-    >>> s = edge_pair_scores(edge, cum, np.array([50.0, 0, 0, 5.0]), (2, 1),
+    >>> s = edge_pair_scores(edge, cum, np.array([50.0, 0, 0, 5.0]), (2, 1, 1),
     ...                      (4.0, 1.0, 6.0, 3.0))
     >>> float(s[0, 4, 0]), float(s[0, 5, 0])                        # on it, one off
     (6.0, -1000.0)
     """
     cap, alpha, d_cap, gate = weights
-    wmin, nk = widths
+    wmin, nk, step = widths
     n, ncol = edge.shape
     out = np.full((n, ncol, nk), FORBIDDEN)
     for k in range(nk):
-        w = wmin + k
+        w = wmin + k * step
         for c in range(ncol):
             a = c - w // 2
             b = a + w
@@ -87,13 +87,13 @@ def trace_path(score, start, costs):
     low = -1.0e18
     acc = np.full((nc, nk), low)
     acc[start[0], start[1]] = 0.0
-    back = np.zeros((n, nc, nk, 2), dtype=np.int64)
+    back = np.zeros((n, nc, nk), dtype=np.int8)  # the move from the row above: 3 dc + dk
     best, best_r, best_c, best_k = 0.0, -1, start[0], start[1]
     new = np.empty((nc, nk))
     for r in range(n):
         for c in range(nc):
             for k in range(nk):
-                v, bc, bk = low, 0, 0
+                v, move = low, 0
                 for dc in range(-1, 2):
                     cc = c + dc
                     if cc < 0 or cc >= nc:
@@ -104,13 +104,12 @@ def trace_path(score, start, costs):
                             continue
                         u = acc[cc, kk] - costs[0] * abs(dc) - costs[1] * abs(dk)
                         if u > v:
-                            v, bc, bk = u, cc, kk
+                            v, move = u, 3 * (dc + 1) + dk + 1
                 if v <= low:
                     new[c, k] = low
                     continue
                 new[c, k] = v + score[r, c, k]
-                back[r, c, k, 0] = bc
-                back[r, c, k, 1] = bk
+                back[r, c, k] = move
                 if new[c, k] > best:
                     best, best_r, best_c, best_k = new[c, k], r, c, k
         acc[:, :] = new
@@ -120,5 +119,6 @@ def trace_path(score, start, costs):
     for r in range(best_r, -1, -1):
         cs[r] = c
         ks[r] = k
-        c, k = back[r, c, k, 0], back[r, c, k, 1]
+        move = back[r, c, k]
+        c, k = c + move // 3 - 1, k + move % 3 - 1
     return best_r, cs, ks, best

@@ -64,6 +64,8 @@ TRACE_WIDTHS, EDGE_FLOOR, EDGE_CAP, GATE = (0.6, 1.6), 12.0, 4.0, 3.0
 #: gains only where a trunk's two edges are clearly there; a step aside costs SHIFT a
 #: column and WIDEN a width; a path shorter than TRACE_MIN of the height is none
 D_CAP, TRACE_Q, TRACE_MARGIN, SHIFT, WIDEN, TRACE_MIN = 6.0, 0.8, 1.0, 1.5, 0.3, 0.03
+#: ... over at most this many states (rows x columns x widths: 9 bytes each)
+TRACE_STATES = 12_000_000
 
 
 def below_cut(rgb, tree, below, sky, obj, scale, keep):
@@ -427,11 +429,16 @@ def traced_trunk(rgb, tree, under, keep):
     lab = lab[y0 - max(0, y0 - 2) :]
     edge /= max(float(np.median(edge)), EDGE_FLOOR)
     wmin = max(2, round(TRACE_WIDTHS[0] * tw))
-    nk = max(3, round(TRACE_WIDTHS[1] * tw)) - wmin + 1
+    wide = max(3, round(TRACE_WIDTHS[1] * tw)) - wmin  # widths wmin .. wmin + wide
+    # a wide trunk's widths by a step, so that the states stay within TRACE_STATES (three
+    # widths at least: the narrowest, the middle, the widest)
+    step = max(1, -(-(wide + 1) * lab.shape[0] * lab.shape[1] // TRACE_STATES))
+    step = min(step, max(1, wide // 2))
+    nk = wide // step + 1
     cum = np.zeros((lab.shape[0], lab.shape[1] + 1, 3))
     cum[:, 1:] = np.cumsum(lab, axis=1)
     score = edge_pair_scores(np.ascontiguousarray(edge), cum, np.append(mean, spread),
-                             (wmin, nk), (EDGE_CAP, 1.0, D_CAP, GATE))  # fmt: skip
+                             (wmin, nk, step), (EDGE_CAP, 1.0, D_CAP, GATE))  # fmt: skip
     # the corridor, and the rows below the cut that may be tree
     dx = np.abs(np.arange(x0, x1)[None, :] - c0)
     shut = dx > TRACE_SIDE * tw + LEAN * np.arange(y1 - y0)[:, None]
@@ -441,12 +448,12 @@ def traced_trunk(rgb, tree, under, keep):
     if not open_.any():
         return none
     score -= min(float(np.quantile(score[open_], TRACE_Q)), EDGE_CAP) + TRACE_MARGIN
-    start = (round(c0) - x0, int(np.clip(round(tw), wmin, wmin + nk - 1)) - wmin)
+    start = (round(c0) - x0, int(np.clip(round((round(tw) - wmin) / step), 0, nk - 1)))
     end, cs, ks, _ = trace_path(score, start, (SHIFT, WIDEN))
     out = none.copy()
     if end + 1 < max(4, TRACE_MIN * height):
         return out
     for i in range(end + 1):
-        a = x0 + cs[i] - (wmin + ks[i]) // 2
-        out[y0 + i, a : a + wmin + ks[i]] = True
+        d = wmin + ks[i] * step
+        out[y0 + i, x0 + cs[i] - d // 2 : x0 + cs[i] - d // 2 + d] = True
     return out & under & keep & ~tree

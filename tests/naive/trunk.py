@@ -18,17 +18,17 @@ def edge_pair_scores(edge, lab, colour, widths, weights):
     --------
     >>> edge = np.zeros((1, 8)); edge[0, 2] = edge[0, 5] = 3.0
     >>> lab = np.zeros((1, 8, 3)); lab[0, 3:5, 0] = 50.0
-    >>> s = edge_pair_scores(edge, lab, np.array([50.0, 0, 0, 5.0]), (2, 1),
+    >>> s = edge_pair_scores(edge, lab, np.array([50.0, 0, 0, 5.0]), (2, 1, 1),
     ...                      (4.0, 1.0, 6.0, 3.0))
     >>> float(s[0, 4, 0])
     6.0
     """
     cap, alpha, d_cap, gate = weights
-    wmin, nk = widths
+    wmin, nk, step = widths
     n, ncol = edge.shape
     out = np.full((n, ncol, nk), FORBIDDEN)
     for k in range(nk):
-        w = wmin + k
+        w = wmin + k * step
         for c in range(ncol):
             a = c - w // 2
             b = a + w
