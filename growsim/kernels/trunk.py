@@ -87,7 +87,7 @@ def trace_path(score, start, costs):
     low = -1.0e18
     acc = np.full((nc, nk), low)
     acc[start[0], start[1]] = 0.0
-    back = np.zeros((n, nc, nk), dtype=np.int8)  # the move from the row above: 3 dc + dk
+    back = np.zeros((n, nc, nk), dtype=np.int8)  # the move from above: 3 (dc + 1) + dk + 1
     best, best_r, best_c, best_k = 0.0, -1, start[0], start[1]
     new = np.empty((nc, nk))
     for r in range(n):
