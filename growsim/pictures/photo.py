@@ -448,6 +448,7 @@ def segment_photo(
     distance[crop] = np.where(crown_c, dist, 0.0)
     cover = np.zeros((h, w))
     cover[crop] = np.where(crown_c, coverage, 0.0)
+    steps = ()  # what the steps below the cut added (pixels)
     if scene.ground and tree.any():
         # a crown hanging in the sky: its trunk, the sky's colour, between it and the cut
         tree |= hanging_trunk(rgb, tree, obj, cut, s)
@@ -465,10 +466,12 @@ def segment_photo(
             under = below & (rows > scene.ground_line / s)
         low, spill = below_cut(rgb, tree, under, sky, obj, s, keep)
         # a silhouette ending along the horizon: the tree below it learned from the picture
+        first = int(low.sum())
         low = learned_below(rgb, tree, low, under, sky, obj, keep, cut, s)
         # a trunk that stops short of its foot: carried on down along its two edges
-        low |= traced_trunk(rgb, tree | low, under, keep)
-        tree |= low
+        traced = traced_trunk(rgb, tree | low, under, keep)
+        steps = (("learned_below", int(low.sum()) - first), ("traced_trunk", int(traced.sum())))
+        tree |= low | traced
         filled = np.flatnonzero(tree.any(axis=1))
         if (treeline or obj.lifted) and (
             scene.ground_line / s - filled[-1] > TREELINE_GROUND * (filled[-1] - filled[0] + 1)
@@ -519,7 +522,7 @@ def segment_photo(
         objects=tuple(tuple(round(v) for v in o) for o in objects), hint=hint or None,
         method="sky and skyline", outline_contrast=outline_contrast, confidence=confidence,
         seconds=time.perf_counter() - t_start, hint_scale=per_pixel, split=split,
-        border=border,
+        border=border, steps=steps,
     )  # fmt: skip
     if contrast < MIN_CONTRAST:
         raise UserInputError(

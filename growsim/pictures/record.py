@@ -73,7 +73,10 @@ class Segmentation:
     ``border`` (the lines of a frame around the photograph painted over, top, bottom,
     left, right: :func:`~growsim.pictures.border.paint_over_border`), ``grazes`` (the
     pixels of the top edge the tree touches, whole by the box:
-    :func:`~growsim.pictures.hints.grazing`).
+    :func:`~growsim.pictures.hints.grazing`), ``steps`` (``(name, pixels)``: what the steps
+    below the cut added, the tree learned below the horizon,
+    :func:`~growsim.pictures.learned.learned_below`, and the trunk followed down,
+    :func:`~growsim.pictures.trunk.traced_trunk`).
 
     Examples
     --------
@@ -105,6 +108,7 @@ class Segmentation:
     split: tuple = ()
     border: tuple = (0, 0, 0, 0)
     grazes: int = 0
+    steps: tuple = ()
 
     def ends_at_horizon(self) -> float:
         """The share of the tree's width where its silhouette ends at the cut
@@ -171,6 +175,7 @@ class Segmentation:
             "outline_contrast": round(self.outline_contrast, 2),
             "confidence": round(self.confidence, 3),
             "ends_at_horizon": round(self.ends_at_horizon(), 3),
+            "steps": {name: int(n) for name, n in self.steps},
             "seconds": round(self.seconds, 3),
         }
 
