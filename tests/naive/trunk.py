@@ -26,18 +26,19 @@ def edge_pair_scores(edge, lab, colour, widths, weights):
     cap, alpha, d_cap, gate = weights
     wmin, nk, step = widths
     n, ncol = edge.shape
-    out = np.full((n, ncol, nk), FORBIDDEN)
-    for k in range(nk):
-        w = wmin + k * step
-        for c in range(ncol):
-            a = c - w // 2
-            b = a + w
-            if a < 1 or b > ncol - 1:
-                continue
-            d = np.linalg.norm(lab[:, a:b].mean(axis=1) - colour[:3], axis=1) / colour[3]
-            e = np.minimum(np.minimum(edge[:, a - 1], edge[:, b]), cap)
-            out[:, c, k] = np.where(d > gate, FORBIDDEN, 2.0 * e - alpha * np.minimum(d, d_cap))
-    return out
+    centre = np.arange(ncol)
+    planes = []
+    for width in wmin + step * np.arange(nk):
+        first = centre - width // 2  # each trunk's first column inside
+        fits = (first >= 1) & (first + width <= ncol - 1)
+        plane = np.full((n, ncol), FORBIDDEN)
+        if fits.any():
+            inside = np.stack([lab[:, x : x + width].mean(axis=1) for x in first[fits]], axis=1)
+            d = np.linalg.norm(inside - colour[:3], axis=-1) / colour[3]
+            e = np.minimum(np.minimum(edge[:, first[fits] - 1], edge[:, first[fits] + width]), cap)
+            plane[:, fits] = np.where(d > gate, FORBIDDEN, 2.0 * e - alpha * np.minimum(d, d_cap))
+        planes.append(plane)
+    return np.stack(planes, axis=-1)
 
 
 def trace_path(score, start, costs):
