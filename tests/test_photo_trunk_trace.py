@@ -16,7 +16,7 @@ from growsim.pictures.trunk import traced_trunk
 CUT = 120
 
 
-def _tree_on_ground(seed=0, lean=0.3, stripes=False, h=260, w=220):
+def _tree_on_ground(seed=0, lean=0.3, stripes=False, h=260, w=220, bark=True, foot=230):
     """A sky over a grassy ground (noisy) from row CUT; a crown, and its trunk leaning by
     ``lean`` pixels a row from row 90 to row 230, where it stands. Returns the picture, the
     silhouette found to row 150 (the trunk stops short) and the whole trunk."""
@@ -30,8 +30,9 @@ def _tree_on_ground(seed=0, lean=0.3, stripes=False, h=260, w=220):
         rgb[ground & ((xx + (yy - CUT)) % 24 < 7)] = [0.2, 0.3, 0.12]
     crown = (yy - 55) ** 2 / 40**2 + (xx - 110) ** 2 / 70**2 < 1
     centre = 110 + lean * np.clip(yy - 90, 0, None)
-    trunk = (np.abs(xx - centre) <= 6) & (yy >= 90) & (yy < 230)
-    rgb[trunk] = (np.array([0.42, 0.32, 0.24]) + 0.03 * rng.standard_normal((h, w, 1)))[trunk]
+    trunk = (np.abs(xx - centre) <= 6) & (yy >= 90) & (yy < foot)
+    if bark:
+        rgb[trunk] = (np.array([0.42, 0.32, 0.24]) + 0.03 * rng.standard_normal((h, w, 1)))[trunk]
     rgb[crown] = [0.15, 0.35, 0.1]
     return np.clip(rgb, 0, 1), crown | (trunk & (yy < 150)), trunk
 
@@ -85,6 +86,41 @@ def test_a_crown_down_to_the_cut_has_no_foot_to_follow(under):
     crown_only = found & (np.arange(260)[:, None] < 95)
     assert not traced_trunk(rgb, crown_only, under, np.ones_like(found)).any()
     assert not traced_trunk(rgb, np.zeros_like(found), under, np.ones_like(found)).any()
+
+
+def test_a_trunk_hidden_under_the_crown_is_found_below_it():
+    """The crown hangs below the cut (row 80) and the silhouette ends in it: the trunk
+    coming out from under it is found and followed to its foot (row 189)."""
+    rgb, found, trunk = _tree_on_ground(seed=5, lean=0.2, foot=190)
+    crown = found & (np.arange(260)[:, None] < 95)
+    under = np.arange(260)[:, None] >= 80 + np.zeros((1, 220), dtype=int)
+    out = traced_trunk(rgb, crown, under, np.ones_like(crown))
+    missing = trunk & ~crown
+    assert (out & missing).sum() >= 0.8 * missing.sum()
+    assert (out & ~trunk).sum() <= 0.1 * missing.sum()
+    assert np.flatnonzero(out.any(axis=1)).max() in range(186, 194)
+
+
+@pytest.mark.parametrize("stripes", [False, True])
+def test_no_trunk_under_the_crown_is_none(stripes):
+    """Over a noisy lawn, or crop rows (edges in pairs, but no trunk's colour apart from
+    both sides), no trunk is made up under a crown whose trunk is not in the picture."""
+    rgb, found, _ = _tree_on_ground(seed=6, lean=0.0, stripes=stripes, bark=False)
+    crown = found & (np.arange(260)[:, None] < 95)
+    under = np.arange(260)[:, None] >= 80 + np.zeros((1, 220), dtype=int)
+    assert traced_trunk(rgb, crown, under, np.ones_like(crown)).sum() <= 3 * 13
+
+
+def test_no_trunk_is_made_beside_the_one_the_silhouette_has():
+    """The silhouette holds the crown and its whole trunk, and a strip of the horizon
+    lower still (so its lowest rows are no trunk): nothing is added beside the trunk."""
+    rgb, _, trunk = _tree_on_ground(seed=7, lean=0.0)
+    crown = _tree_on_ground(seed=7, lean=0.0)[1] & (np.arange(260)[:, None] < 95)
+    strip = np.zeros_like(trunk)
+    strip[230:236, 20:200] = True
+    under = np.arange(260)[:, None] >= 80 + np.zeros((1, 220), dtype=int)
+    out = traced_trunk(rgb, crown | trunk | strip, under, np.ones_like(trunk))
+    assert out.sum() <= 3 * 13
 
 
 def test_the_trunk_is_not_traced_where_it_may_not_be(under):

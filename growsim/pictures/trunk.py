@@ -1,7 +1,7 @@
 """The trunk below the cut: GrabCut in the standing object's columns, seeded by the crown
 above (:func:`below_cut`), the trunk's columns read against the row beside them, a trunk
-hidden behind the horizon's clutter bridged over, and a trunk that stops short carried
-on down along its two edges (:func:`traced_trunk`).
+hidden behind the horizon's clutter bridged over, and a trunk that stops short (or is
+seen only below the crown) carried on down along its two edges (:func:`traced_trunk`).
 """
 
 from __future__ import annotations
@@ -66,6 +66,12 @@ TRACE_WIDTHS, EDGE_FLOOR, EDGE_CAP, GATE = (0.6, 1.6), 12.0, 4.0, 3.0
 D_CAP, TRACE_Q, TRACE_MARGIN, SHIFT, WIDEN, TRACE_MIN = 6.0, 0.8, 1.0, 1.5, 0.3, 0.03
 #: ... over at most this many states (rows x columns x widths: 9 bytes each)
 TRACE_STATES = 12_000_000
+#: a trunk hidden under the lower crown (the silhouette ends in no trunk,
+#: :func:`_hidden_foot`): looked for under the crown's columns between these percentiles
+#: of its pixels', this share of the tree's width wide, its weaker edge averaging at least
+#: HIDDEN_EDGE (twice its edge over the window's median, capped at EDGE_CAP) over its first
+#: FOOT_MIN of the tree's height
+HIDDEN_SPAN, HIDDEN_WIDTHS, HIDDEN_EDGE, HIDDEN_TRIES = (15, 85), (0.02, 0.15), 4.0, 100
 
 
 def below_cut(rgb, tree, below, sky, obj, scale, keep):
@@ -374,6 +380,125 @@ def _foot(tree, rows_up, widest):
     return [np.array(v) for v in zip(*out)] if out else [np.zeros(0)] * 3
 
 
+def _seen_foot(rgb, tree):
+    """Where the trace starts when the silhouette ends in a trunk (:func:`_foot`): ``(row
+    below it, centre column, width, mean colour, spread)``, or None."""
+    from skimage.color import rgb2lab
+
+    rows, cols = np.flatnonzero(tree.any(axis=1)), np.flatnonzero(tree.any(axis=0))
+    height, width = rows.max() - rows.min() + 1, cols.max() - cols.min() + 1
+    ys, xs, ws = _foot(tree, max(8, int(FOOT_UP * height)), TRUNK_WIDTH * width)
+    n_foot = max(4, int(FOOT_MIN * height))
+    if len(ys) < n_foot:
+        return None
+    # the trunk's colour: its foot, a pixel in from each side
+    foot = np.concatenate([rgb[y, round(x - d / 2) + 1 : round(x + d / 2) - 1]
+                           for y, x, d in zip(ys, xs, ws)])  # fmt: skip
+    if len(foot) < 4:
+        return None
+    foot = rgb2lab(foot[None])[0]
+    mean = foot.mean(axis=0)
+    spread = max(float(np.median(np.linalg.norm(foot - mean, axis=1))), 2.0)
+    centre, wide = float(np.median(xs[:n_foot])), float(np.percentile(ws, 30))
+    return int(rows.max()) + 1, centre, wide, mean, spread
+
+
+def _hidden_foot(rgb, tree, open_):
+    """Where the trace starts when the silhouette ends in a crown (no :func:`_foot`): a
+    trunk coming out from under the crown's middle (the columns between the
+    :data:`HIDDEN_SPAN` percentiles of its pixels'), :data:`HIDDEN_WIDTHS` of its width
+    wide, straight down :data:`FOOT_MIN` of its height from the crown's lowest pixel over
+    it, through pixels ``open_`` (below the cut, allowed): the one whose two edges are
+    clearest, when its weaker edge averages :data:`HIDDEN_EDGE` at least. Returns
+    ``(first row, centre column, width, mean colour, spread)``, or None."""
+    from skimage.color import rgb2lab
+
+    h, w = tree.shape
+    rows, cols = np.nonzero(tree)
+    height, width = rows.max() - rows.min() + 1, cols.max() - cols.min() + 1
+    lo, hi = (int(v) for v in np.percentile(cols, HIDDEN_SPAN))
+    dmin = max(3, round(HIDDEN_WIDTHS[0] * width))
+    dmax = max(dmin + 2, round(HIDDEN_WIDTHS[1] * width))
+    n = max(4, int(FOOT_MIN * height))
+    has = tree.any(axis=0)
+    bottom = np.where(has, h - 1 - np.argmax(tree[::-1], axis=0), -1)
+    mid = bottom[lo : hi + 1]
+    if not (mid >= 0).any():
+        return None
+    x0, x1 = max(0, lo - dmax), min(w, hi + dmax + 1)
+    y0, y1 = int(mid[mid >= 0].min()) + 1, min(h, int(mid.max()) + 2 + n)
+    if y1 - y0 < n:
+        return None
+    lab = rgb2lab(rgb[max(0, y0 - 2) : y1, x0:x1])
+    edge = _edges(lab, y0 - max(0, y0 - 2))
+    lab = lab[y0 - max(0, y0 - 2) :]
+    step = max(1, -(-(dmax - dmin + 1) * lab.shape[0] * lab.shape[1] // TRACE_STATES))
+    nk = (dmax - dmin) // step + 1
+    cum = np.zeros((lab.shape[0], lab.shape[1] + 1, 3))
+    cum[:, 1:] = np.cumsum(lab, axis=1)
+    score = edge_pair_scores(np.ascontiguousarray(edge), cum, np.array([0.0, 0.0, 0.0, 1.0]),
+                             (dmin, nk, step), (EDGE_CAP, 0.0, D_CAP, np.inf))  # fmt: skip
+    score[~open_[y0:y1, x0:x1]] = FORBIDDEN
+    sums = np.cumsum(score, axis=0, out=score)  # each state's score summed down to it
+    low = bottom[x0:x1]
+    found = []
+    for k in range(nk):
+        d = dmin + k * step
+        # each centre's trunk: its columns' crown's lowest pixel, the first row below it
+        padded = np.pad(low, (d // 2, d), constant_values=-1)
+        span = np.lib.stride_tricks.sliding_window_view(padded, d)
+        first = span.max(axis=1)[: len(low)] + 1 - y0
+        inside = (span.min(axis=1)[: len(low)] >= 0) & (np.arange(len(low)) >= lo - x0)
+        inside &= (np.arange(len(low)) <= hi - x0) & (first >= 0) & (first + n <= score.shape[0])
+        cs = np.flatnonzero(inside)
+        above = np.where(first[cs] > 0, sums[np.maximum(first[cs] - 1, 0), cs, k], 0.0)
+        gain = (sums[first[cs] + n - 1, cs, k] - above) / n
+        found += [(g, first[c], c, d) for g, c in zip(gain, cs) if g >= HIDDEN_EDGE]
+    # the clearest (the widest of equals: a trunk's edges, just outside it, are also
+    # inside a narrower one's) whose sides hold none of the silhouette (not a piece of ground beside
+    # a trunk the silhouette has) and whose inside stands out from each side (by more than
+    # that side's spread: not a stretch of a textured ground between two of its edges)
+    for _, r, c, d in sorted(found, key=lambda f: (-f[0], -f[3]))[:HIDDEN_TRIES]:
+        a = c - d // 2
+        if tree[y0 + r + n // 2 : y0 + r + n, max(0, x0 + a - 2 * d) : x0 + a + 3 * d].any():
+            continue
+        # ... and over it a crown, not the foot of a trunk the silhouette has
+        over = tree[max(0, y0 + r - 2 * n) : y0 + r].any(axis=0)
+        if not any(e - f + 1 > TRUNK_WIDTH * width and f <= x0 + c <= e
+                   for f, e in runs(np.flatnonzero(over))):  # fmt: skip
+            continue
+        inner = lab[r : r + n, a + 1 : a + d - 1].reshape(-1, 3)
+        mean = inner.mean(axis=0)
+        sides = [lab[r : r + n, max(0, a - d) : a - 1], lab[r : r + n, a + d + 1 : a + 2 * d]]
+        if all(_stands_out(mean, side.reshape(-1, 3)) for side in sides):
+            break
+    else:
+        return None
+    spread = max(float(np.median(np.linalg.norm(inner - mean, axis=1))), 2.0)
+    return y0 + int(r), float(x0 + c), float(d), mean, spread
+
+
+def _stands_out(mean, side):
+    """Whether colour ``mean`` lies farther from the mean of ``side`` (pixels' colours)
+    than they do (their median distance from it), and at least :data:`MIN_DE`."""
+    if len(side) < 2:
+        return False
+    centre = side.mean(axis=0)
+    spread = float(np.median(np.linalg.norm(side - centre, axis=1)))
+    return float(np.linalg.norm(mean - centre)) > max(spread, MIN_DE)
+
+
+def _edges(lab, skip):
+    """The colour change across each column of ``lab`` (Sobel, Delta E), its first
+    ``skip`` rows dropped, averaged over three rows, over the window's median (at least
+    :data:`EDGE_FLOOR`)."""
+    from scipy import ndimage
+
+    edge = np.sqrt(sum(ndimage.sobel(lab[..., i], axis=1) ** 2 for i in range(3)))
+    edge = ndimage.uniform_filter1d(edge[skip:], 3, axis=0)
+    return edge / max(float(np.median(edge)), EDGE_FLOOR)
+
+
 def traced_trunk(rgb, tree, under, keep):
     """The trunk below the silhouette's lowest row, where it stops short of its foot: its
     two edges followed down (:func:`growsim.kernels.trunk.trace_path`, a path of most
@@ -382,8 +507,10 @@ def traced_trunk(rgb, tree, under, keep):
     lowest narrow rows: a trunk, :data:`FOOT_UP`), in a corridor widening below it; a row
     gains where both edges are clear and the inside is of the foot's colours
     (:data:`GATE`); the path ends where it gains most. Only pixels below the cut
-    (``under``), allowed (``keep``) and not already ``tree`` are returned; nothing when
-    the silhouette has no foot (its lowest rows as wide as a crown).
+    (``under``), allowed (``keep``) and not already ``tree`` are returned. When the
+    silhouette has no foot (its lowest rows as wide as a crown), the trace starts from a
+    trunk seen coming out under the crown (:func:`_hidden_foot`); nothing when there is
+    none.
 
     Examples
     --------
@@ -395,39 +522,39 @@ def traced_trunk(rgb, tree, under, keep):
     >>> out = traced_trunk(rgb, tree, under, np.ones((60, 40), bool))
     >>> bool(out[34:50, 18:23].all()), int(out.sum()) == 16 * 5    # on down to its foot
     (True, True)
+    >>> rgb[36:50, 18:23] = [0.55, 0.75, 0.35]     # a shorter trunk, rows 20 to 35, under
+    >>> crown = tree & (np.arange(60)[:, None] < 20)   # the crown found, hanging below the
+    >>> under[15:30] = True                            # cut: no foot; the trunk seen under it
+    >>> out = traced_trunk(rgb, crown, under, np.ones((60, 40), bool))
+    >>> bool(out[20:36, 18:23].all()), int(out.sum()) == 16 * 5
+    (True, True)
     """
-    from scipy import ndimage
     from skimage.color import rgb2lab
 
     h, w = tree.shape
     none = np.zeros((h, w), dtype=bool)
     if not (tree & ~under).any():
         return none
-    rows, cols = np.flatnonzero(tree.any(axis=1)), np.flatnonzero(tree.any(axis=0))
-    height, width = rows.max() - rows.min() + 1, cols.max() - cols.min() + 1
-    ys, xs, ws = _foot(tree, max(8, int(FOOT_UP * height)), TRUNK_WIDTH * width)
-    n_foot = max(4, int(FOOT_MIN * height))
-    if len(ys) < n_foot:
+    rows = np.flatnonzero(tree.any(axis=1))
+    height = rows.max() - rows.min() + 1
+    start, depth, least = _seen_foot(rgb, tree), height, max(4, TRACE_MIN * height)
+    if start is None:
+        # the silhouette ends in its crown: a trunk seen coming out under it, followed at
+        # least as far as it was seen, as far down as the crown is tall or wide
+        width = np.ptp(np.flatnonzero(tree.any(axis=0))) + 1
+        start, depth = _hidden_foot(rgb, tree, under & keep), max(height, width)
+        least = max(least, FOOT_MIN * height)
+    if start is None:
         return none
-    tw, c0 = float(np.percentile(ws, 30)), float(np.median(xs[:n_foot]))
-    y0, y1 = int(rows.max()) + 1, min(h, int(rows.max()) + 1 + int(TRACE_DEPTH * height))
+    y0, c0, tw, mean, spread = start
+    y1 = min(h, y0 + int(TRACE_DEPTH * depth))
     if tw < 3 or y1 - y0 < 4:
         return none
     reach = TRACE_SIDE * tw + LEAN * (y1 - y0) + 2 * tw
     x0, x1 = int(max(0, c0 - reach)), int(min(w, c0 + reach + 1))
     lab = rgb2lab(rgb[max(0, y0 - 2) : y1, x0:x1])
-    # the trunk's colour: its foot, a pixel in from each side
-    foot = np.concatenate([rgb[y, round(x - d / 2) + 1 : round(x + d / 2) - 1]
-                           for y, x, d in zip(ys, xs, ws)])  # fmt: skip
-    if len(foot) < 4:
-        return none
-    foot = rgb2lab(foot[None])[0]
-    mean = foot.mean(axis=0)
-    spread = max(float(np.median(np.linalg.norm(foot - mean, axis=1))), 2.0)
-    edge = np.sqrt(sum(ndimage.sobel(lab[..., i], axis=1) ** 2 for i in range(3)))
-    edge = ndimage.uniform_filter1d(edge[y0 - max(0, y0 - 2) :], 3, axis=0)
+    edge = _edges(lab, y0 - max(0, y0 - 2))
     lab = lab[y0 - max(0, y0 - 2) :]
-    edge /= max(float(np.median(edge)), EDGE_FLOOR)
     wmin = max(2, round(TRACE_WIDTHS[0] * tw))
     wide = max(3, round(TRACE_WIDTHS[1] * tw)) - wmin  # widths wmin .. wmin + wide
     # a wide trunk's widths by a step, so that the states stay within TRACE_STATES (three
@@ -451,7 +578,7 @@ def traced_trunk(rgb, tree, under, keep):
     start = (round(c0) - x0, int(np.clip(round((round(tw) - wmin) / step), 0, nk - 1)))
     end, cs, ks, _ = trace_path(score, start, (SHIFT, WIDEN))
     out = none.copy()
-    if end + 1 < max(4, TRACE_MIN * height):
+    if end + 1 < least:
         return out
     for i in range(end + 1):
         d = wmin + ks[i] * step
