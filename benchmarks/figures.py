@@ -277,7 +277,7 @@ ROWS: list[Row] = [
     ),
     Row(
         "photo-trunk-trace",
-        "a photo's trunk followed down (30 photos)",
+        "a photo's trunk followed down (56 photos)",
         "s",
         "trunk_trace_time.json",
         lambda d: span(d["inside_min"], d["inside_max"]),

@@ -132,6 +132,30 @@ def test_a_box_starts_from_the_rows_background():
     assert (seg.tree & ~truth).sum() <= 0.5 * truth.sum()
 
 
+def test_a_box_whose_colours_all_stand_beside_it_still_finds_the_tree():
+    """Three like trees in a row and a box around the middle one: every colour in the box
+    is found beside it in its rows, so no pixel starts as probably tree (OpenCV's GrabCut
+    stopped with an assertion error, a traceback for the user): it starts from the box
+    alone and finds the tree; a box holding only sky is refused in one line."""
+    from growsim.pictures.hints import in_box
+
+    rgb = np.ones((60, 90, 3)) * [0.8, 0.9, 1.0]
+    yy, xx = np.mgrid[0:60, 0:90]
+    for cx in (15, 45, 75):
+        rgb[(yy - 25) ** 2 + (xx - cx) ** 2 < 80] = [0.2, 0.4, 0.1]
+        rgb[30:50, cx - 1 : cx + 2] = [0.4, 0.3, 0.2]
+    keep = np.zeros((60, 90), dtype=bool)
+    keep[10:55, 32:58] = True
+    seg = in_box(rgb, keep, None, {"box": [32, 10, 58, 55]}, 1.0, "trees.jpg", 0.0)
+    assert seg.tree[25, 45] and seg.tree[45, 45] and not seg.tree[:, :32].any()
+    sky = np.zeros((60, 90), dtype=bool)
+    sky[:8] = True
+    keep = np.zeros((60, 90), dtype=bool)
+    keep[:8, 30:60] = True
+    with pytest.raises(UserInputError, match=r"^sky.jpg: .*box"):
+        in_box(rgb, keep, sky, {"box": [30, 0, 60, 8]}, 1.0, "sky.jpg", 0.0)
+
+
 def _scene(h, w, zenith, horizon, ground_row, ground):
     """A sky graded from ``zenith`` to ``horizon`` over a ground of colour ``ground`` from
     row ``ground_row``: ``(rgb, yy, xx)``."""

@@ -296,6 +296,12 @@ def in_box(rgb, keep, sky, hint, per_pixel, name, t_start) -> Segmentation:
     if not (mask == cv2.GC_BGD).any():
         mask[[0, -1], :] = cv2.GC_BGD
         mask[:, [0, -1]] = cv2.GC_BGD
+    if not (mask == cv2.GC_PR_FGD).any():  # every pixel in the box is like its row beside
+        mask[box & (mask == cv2.GC_PR_BGD)] = cv2.GC_PR_FGD  # it: GrabCut from the box alone
+    if not (mask == cv2.GC_PR_FGD).any():
+        raise UserInputError(
+            f"{name}: the box holds nothing but the sky: give the box around the tree"
+        )
     img = np.ascontiguousarray(np.round(255 * np.clip(small, 0, 1)[..., ::-1]).astype(np.uint8))
     bgd, fgd = np.zeros((1, 65)), np.zeros((1, 65))
     cv2.setRNGSeed(0)
