@@ -150,6 +150,8 @@ def below_cut(rgb, tree, below, sky, obj, scale, keep):
         small = (max(2, round(size[0] * f)), max(2, round(size[1] * f)))
         img = cv2.resize(img, small, interpolation=cv2.INTER_AREA)
         mask = cv2.resize(mask, small, interpolation=cv2.INTER_NEAREST)
+        if not np.isin(mask, (cv2.GC_FGD, cv2.GC_PR_FGD)).any():  # a seed too small for it
+            return np.zeros((h, w), dtype=bool), 0.0
     bgd, fgd = np.zeros((1, 65)), np.zeros((1, 65))
     cv2.setRNGSeed(0)
     cv2.grabCut(img, mask, None, bgd, fgd, GRABCUT_ITERATIONS, cv2.GC_INIT_WITH_MASK)
