@@ -18,8 +18,9 @@ CUT = 120
 
 def _tree_on_ground(seed=0, lean=0.3, stripes=False, h=260, w=220, bark=True, foot=230):
     """A sky over a grassy ground (noisy) from row CUT; a crown, and its trunk leaning by
-    ``lean`` pixels a row from row 90 to row 230, where it stands. Returns the picture, the
-    silhouette found to row 150 (the trunk stops short) and the whole trunk."""
+    ``lean`` pixels a row from row 90 to row ``foot``, where it stands (of bark, or, with
+    no ``bark``, not in the picture). Returns the picture, the silhouette found to row 150
+    (the trunk stops short) and the whole trunk."""
     rng = np.random.default_rng(seed)
     yy, xx = np.mgrid[:h, :w]
     rgb = np.empty((h, w, 3))

@@ -457,9 +457,10 @@ def _hidden_foot(rgb, tree, open_):
         gain = (sums[first[cs] + n - 1, cs, k] - above) / n
         found += [(g, first[c], c, d) for g, c in zip(gain, cs) if g >= HIDDEN_EDGE]
     # the clearest (the widest of equals: a trunk's edges, just outside it, are also
-    # inside a narrower one's) whose sides hold none of the silhouette (not a piece of ground beside
-    # a trunk the silhouette has) and whose inside stands out from each side (by more than
-    # that side's spread: not a stretch of a textured ground between two of its edges)
+    # inside a narrower one's) whose sides hold none of the silhouette (not a piece of
+    # ground beside a trunk the silhouette has) and whose inside stands out from each side
+    # (by more than that side's spread: not a stretch of a textured ground between two of
+    # its edges)
     for _, r, c, d in sorted(found, key=lambda f: (-f[0], -f[3]))[:HIDDEN_TRIES]:
         a = c - d // 2
         if tree[y0 + r + n // 2 : y0 + r + n, max(0, x0 + a - 2 * d) : x0 + a + 3 * d].any():
