@@ -398,9 +398,7 @@ def _seen_foot(rgb, tree):
                            for y, x, d in zip(ys, xs, ws)])  # fmt: skip
     if len(foot) < 4:
         return None
-    foot = rgb2lab(foot[None])[0]
-    mean = foot.mean(axis=0)
-    spread = max(float(np.median(np.linalg.norm(foot - mean, axis=1))), 2.0)
+    mean, spread = _colour(rgb2lab(foot[None])[0])
     centre, wide = float(np.median(xs[:n_foot])), float(np.percentile(ws, 30))
     return int(rows.max()) + 1, centre, wide, mean, spread
 
@@ -470,15 +468,20 @@ def _hidden_foot(rgb, tree, open_):
         if not any(e - f + 1 > TRUNK_WIDTH * width and f <= x0 + c <= e
                    for f, e in runs(np.flatnonzero(over))):  # fmt: skip
             continue
-        inner = lab[r : r + n, a + 1 : a + d - 1].reshape(-1, 3)
-        mean = inner.mean(axis=0)
+        mean, spread = _colour(lab[r : r + n, a + 1 : a + d - 1].reshape(-1, 3))
         sides = [lab[r : r + n, max(0, a - d) : a - 1], lab[r : r + n, a + d + 1 : a + 2 * d]]
         if all(_stands_out(mean, side.reshape(-1, 3)) for side in sides):
             break
     else:
         return None
-    spread = max(float(np.median(np.linalg.norm(inner - mean, axis=1))), 2.0)
     return y0 + int(r), float(x0 + c), float(d), mean, spread
+
+
+def _colour(pixels):
+    """A trunk's colour from its ``pixels`` (``(n, 3)``, Lab): their mean, and their
+    spread (the median distance from it, at least 2 Delta E)."""
+    mean = pixels.mean(axis=0)
+    return mean, max(float(np.median(np.linalg.norm(pixels - mean, axis=1))), 2.0)
 
 
 def _stands_out(mean, side):
