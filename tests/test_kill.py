@@ -23,9 +23,11 @@ import pytest
 from conftest import ROOT, growsim
 
 QUICK = str(ROOT / "experiments" / "quickstart.toml")
-#: a quickstart run long enough to be killed three times, with a polish to be killed in
+#: a quickstart run long enough to be killed three times, with a polish to be killed in:
+#: 200 steps of about 13 ms, so the polish outlasts the kill's polling whatever the
+#: machine (with 12 steps, 0.16 s, a fast machine ended the run between two polls)
 RUN = ["--set", "ga.population=16", "--set", "ga.generations=12",
-       "--set", "ga.polish={evaluations = 96, batch = 8}", "--set", "output.screenshots=[]",
+       "--set", "ga.polish={evaluations = 1600, batch = 8}", "--set", "output.screenshots=[]",
        "--set", "output.mesh=[]", "--set", "output.plot=false",
        "--set", "objective[0].resolution=512"]  # fmt: skip
 #: how long the processes of a killed run may outlive it
