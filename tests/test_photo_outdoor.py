@@ -250,6 +250,64 @@ def test_a_crown_of_its_own_colours_before_a_treeline_is_read_below_its_top():
         segment_photo(rgb)
 
 
+def test_before_a_treeline_nothing_is_learned_below_the_ground(monkeypatch):
+    """Before a treeline the crown is read down to where the ground begins; below it
+    only the trunk stands, never a band of lawn learned as the crown's green (block 9's
+    park pine): the learned step does not run there."""
+    import growsim.pictures.photo as photo
+
+    calls = []
+    monkeypatch.setattr(photo, "learned_below", lambda rgb, tree, low, *a: calls.append(1) or low)
+    rgb, tree = _tree_before_a_treeline([0.75, 0.22, 0.1])
+    assert _iou(segment_photo(rgb).tree, tree) >= 0.9 and not calls
+
+
+def test_a_crown_is_told_from_a_hazy_treeline_of_its_colour_by_its_texture(monkeypatch):
+    """A crown of leaf clumps before a hazy treeline of the same mean colour: the
+    lightness's local spread tells them apart where the colour alone does not."""
+    from scipy import ndimage
+    from skimage.color import rgb2lab
+
+    import growsim.pictures.colours as colours
+
+    rng = np.random.default_rng(2)
+    yy, xx = np.mgrid[:80, :120]
+    green = np.array([0.2, 0.38, 0.15])
+    clumps = np.kron(rng.uniform(0.55, 1.45, (20, 30, 1)), np.ones((4, 4, 1)))
+    rgb = green * (1 + 0.5 * ndimage.gaussian_filter(rng.standard_normal((80, 120)), 4))[..., None]
+    tree = ((yy - 40) / 36.0) ** 2 + ((xx - 60) / 30.0) ** 2 <= 1
+    rgb[tree] = (green * clumps)[tree]
+    lab = rgb2lab(np.clip(rgb + rng.normal(0, 0.01, rgb.shape), 0, 1))
+    crown = ndimage.binary_erosion(tree & (yy < 30))  # the crown above the treeline's top
+    clutter = (yy >= 30) & ((xx < 20) | (xx >= 100))  # the treeline beside it
+    zone = (yy >= 30) & (xx >= 20) & (xx < 100)
+    low = colours.crown_coloured(lab, crown, clutter, zone)
+    assert (low & tree & zone).sum() >= 0.95 * (tree & zone).sum()
+    assert (low & ~ndimage.binary_dilation(tree, iterations=3)).sum() <= 0.01 * (zone & ~tree).sum()
+    monkeypatch.setattr(colours, "CROWN_TEXTURE", 0.0)
+    assert colours.crown_coloured(lab, crown, clutter, zone) is None
+
+
+def test_a_narrow_strip_of_treeline_beside_a_wide_crown_is_not_outvoted():
+    """A wide crown, the treeline beside it a strip of a few columns (the northern
+    catalpa's): each class's votes count per sample, so its few samples are not outvoted
+    by the crown's many (counted plainly, the two were not told apart)."""
+    from skimage.color import rgb2lab
+
+    from growsim.pictures.colours import crown_coloured
+
+    rng = np.random.default_rng(4)
+    yy, xx = np.mgrid[:80, :200]
+    rgb = np.array([0.3, 0.45, 0.2]) * rng.uniform(0.5, 1.5, (80, 200, 1))  # lit and shaded
+    strip = xx >= 194
+    rgb[strip] = (np.array([0.12, 0.22, 0.1]) * rng.uniform(0.7, 1.3, (80, 200, 1)))[strip]
+    lab = rgb2lab(np.clip(rgb, 0, 1))
+    zone = (yy >= 30) & (xx >= 150)
+    low = crown_coloured(lab, (yy < 30) & (xx < 190), (yy >= 30) & strip, zone)
+    assert (low & zone & (xx < 190)).mean() / (zone & (xx < 190)).mean() >= 0.99
+    assert not (low & strip).any()
+
+
 def _umbrella_tree():
     """A flat-topped crown (an acacia's) spanning 90 % of the picture over a savanna, the
     sky reaching the horizon only in the columns either side of it; its two trunks run

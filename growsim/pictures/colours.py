@@ -156,11 +156,16 @@ def background_coloured(lab, fg, background, region, sure=None, extra=None) -> n
 
 #: the crown before a treeline (:func:`crown_coloured`): each pixel is the class of most of
 #: its CROWN_K nearest colours among the crown's and the clutter's samples (CIELAB, the
-#: lightness weighted CROWN_L: a crown's lit and shaded sides differ most in it); trusted
-#: when, each sample left out in turn, at least CROWN_APART of the crown's samples and
-#: CLUTTER_APART of the clutter's are told right
+#: lightness weighted CROWN_L: a crown's lit and shaded sides differ most in it; each
+#: class's votes weighted by one over its samples, so that a narrow strip of treeline
+#: beside a wide crown is not outvoted), with the spread of the lightness over
+#: CROWN_TEXTURE_WINDOW pixels weighted CROWN_TEXTURE (a near crown's leaves and gaps
+#: against a far treeline's haze); trusted when, each sample left out in turn, at least
+#: CROWN_APART of the crown's samples and CLUTTER_APART of the clutter's are told right
 CROWN_K = 7
 CROWN_L = 0.5
+CROWN_TEXTURE = 1.0
+CROWN_TEXTURE_WINDOW = 5
 CROWN_APART = 0.85
 CLUTTER_APART = 0.75
 #: ... a pixel farther from every clutter sample than this share of the clutter's samples
@@ -174,11 +179,13 @@ def crown_coloured(lab, crown, clutter, zone):
     green ones, a pine before bare woods). ``lab``: CIELAB ``(H, W, 3)``; ``crown``: the
     crown's sure pixels (found against the sky); ``clutter``: the treeline's pixels
     beside the tree, in the zone's rows. Each zone pixel takes the class of most of its
-    :data:`CROWN_K` nearest sample colours (:data:`SAMPLES` of each, lightness weighted
-    :data:`CROWN_L`), or is the tree's when no colour of the clutter's is near it
-    (:data:`CLUTTER_NOVEL`: a pale trunk), a majority over its 3 x 3 after. ``None`` when
-    the colours do not tell the two apart (:data:`CROWN_APART`, :data:`CLUTTER_APART`,
-    each sample judged by the others) or either has fewer than :data:`MIN_PIXELS`.
+    :data:`CROWN_K` nearest samples (:data:`SAMPLES` of each, each class's votes weighted
+    by one over its samples; on the colour, lightness weighted :data:`CROWN_L`, and the
+    lightness's local spread, :data:`CROWN_TEXTURE`), or is the tree's when nothing of
+    the clutter's is near it (:data:`CLUTTER_NOVEL`: a pale trunk), a majority over its
+    3 x 3 after. ``None`` when the two are not told apart (:data:`CROWN_APART`,
+    :data:`CLUTTER_APART`, each sample judged by the others) or either has fewer than
+    :data:`MIN_PIXELS`.
 
     Examples
     --------
@@ -203,28 +210,39 @@ def crown_coloured(lab, crown, clutter, zone):
     if crown.sum() < MIN_PIXELS or clutter.sum() < MIN_PIXELS:
         return None
     rng = np.random.default_rng(0)
-    weight = np.array([CROWN_L, 1.0, 1.0])
-    ours = _at_most(lab[crown], rng) * weight
-    theirs = _at_most(lab[clutter], rng) * weight
+    lightness = lab[..., 0]
+    mean = ndimage.uniform_filter(lightness, CROWN_TEXTURE_WINDOW)
+    spread = np.sqrt(np.maximum(
+        ndimage.uniform_filter(lightness**2, CROWN_TEXTURE_WINDOW) - mean**2, 0.0))  # fmt: skip
+    features = np.concatenate(
+        [lab * np.array([CROWN_L, 1.0, 1.0]), CROWN_TEXTURE * spread[..., None]], axis=-1
+    )
+    ours = _at_most(features[crown], rng)
+    theirs = _at_most(features[clutter], rng)
     points = np.concatenate([ours, theirs])
     is_crown = np.r_[np.ones(len(ours)), np.zeros(len(theirs))]
     near = cKDTree(points)
+
+    def crown_share(ii):  # the crown's share of the neighbours' votes, each class weighted
+        votes = is_crown[ii].sum(axis=1) / len(ours)
+        return votes / (votes + (1.0 - is_crown[ii]).sum(axis=1) / len(theirs))
+
     _, ii = near.query(points, k=CROWN_K + 1)  # each sample's first neighbour: itself
-    vote = is_crown[ii[:, 1:]].mean(axis=1)
+    vote = crown_share(ii[:, 1:])
     if (vote[: len(ours)] > 0.5).mean() < CROWN_APART or (
         vote[len(ours) :] <= 0.5
     ).mean() < CLUTTER_APART:
         return None
-    # the zone's colours, rounded to whole units: each looked up once
-    colours, back = np.unique(np.round(lab[zone]), axis=0, return_inverse=True)
-    _, ii = near.query(colours * weight, k=CROWN_K)
+    # the zone's features, rounded to whole units: each looked up once
+    values, back = np.unique(np.round(features[zone]), axis=0, return_inverse=True)
+    _, ii = near.query(values, k=CROWN_K)
     out = np.zeros(zone.shape, dtype=bool)
-    take = is_crown[ii].mean(axis=1) > 0.5
-    # and what is no colour of the clutter's (a pale trunk before a dark wood): farther
+    take = crown_share(ii) > 0.5
+    # and what is like nothing of the clutter's (a pale trunk before a dark wood): farther
     # from its samples than all but CLUTTER_NOVEL of them are from their nearest
     clutter_near = cKDTree(theirs)
-    spread = clutter_near.query(theirs, k=2)[0][:, 1]
-    take |= clutter_near.query(colours * weight)[0] > np.quantile(spread, CLUTTER_NOVEL)
+    gaps = clutter_near.query(theirs, k=2)[0][:, 1]
+    take |= clutter_near.query(values)[0] > np.quantile(gaps, CLUTTER_NOVEL)
     out[zone] = take[back.ravel()]
     return ndimage.median_filter(out.view(np.uint8), size=3).astype(bool) & zone
 

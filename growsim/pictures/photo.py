@@ -466,8 +466,10 @@ def segment_photo(
             under = below & (rows > scene.ground_line / s)
         low, spill = below_cut(rgb, tree, under, sky, obj, s, keep)
         # a silhouette ending along the horizon: the tree below it learned from the picture
+        # (before a treeline the crown was read down to the ground: below, only its trunk)
         first = int(low.sum())
-        low = learned_below(rgb, tree, low, under, sky, obj, keep, cut, s)
+        if not treeline:
+            low = learned_below(rgb, tree, low, under, sky, obj, keep, cut, s)
         # a trunk that stops short of its foot: carried on down along its two edges
         traced = traced_trunk(rgb, tree | low, under, keep)
         steps = (("learned_below", int(low.sum()) - first), ("traced_trunk", int(traced.sum())))
