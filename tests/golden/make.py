@@ -158,8 +158,8 @@ def golden_fit(name: str, tmp: Path) -> dict:
 #: how far a pinned number may lie from the one computed now, relative: a machine of
 #: another CPU gives the same run to its last bits only (numpy's SIMD kernels and
 #: OpenBLAS's differ by CPU: 2e-15 at most across the pins, seen on an AVX2 machine
-#: against pins made on another); a change of behaviour moves them far more. A refactor is checked
-#: bit for bit on one machine, before and after.
+#: against pins made on another); a change of behaviour moves them far more. A refactor
+#: is checked bit for bit on one machine, before and after.
 LAST_BITS = 1e-12
 
 
@@ -175,7 +175,7 @@ def differences(pinned, now, where: str = "") -> list[str]:
     """
 
     def number(x):
-        if isinstance(x, bool) or isinstance(x, int):
+        if isinstance(x, int):  # bools too
             return None
         try:
             return float(x)
