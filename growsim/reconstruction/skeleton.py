@@ -11,7 +11,9 @@ extracting new descriptors of shape*, 1967):
    dotted line: the pieces of skeleton apart from the tree are bridged to it by a
    straight line, nearest first, in rounds of growing reach (:data:`BRIDGE_REACH`: at
    most a share of the tree's height); pieces farther away, or of fewer than
-   :data:`MIN_PIECE` skeleton pixels and more than two pixels away, are dropped.
+   :data:`MIN_PIECE` skeleton pixels and more than two pixels away, are dropped. When
+   the pieces left apart hold more skeleton than the piece at the base (a trunk's foot
+   seen below a gap, its trunk hidden), the largest is joined to it whatever the gap.
 2. **Radii.** The radius at a skeleton pixel is the Euclidean distance transform of the
    mask (undilated) there, less half a pixel (a pixel centre on the edge of a one-pixel
    line is half a pixel from it), at least half a pixel. The mask is continued below its
@@ -234,28 +236,43 @@ def _connected_skeleton(mask: np.ndarray, root: tuple[int, int], reach: float) -
     main = labels[rr[np.argmin(d)], cc[np.argmin(d)]]
     tree = labels == main
     left = set(range(1, n + 1)) - {int(main)}
+
+    def bridge(gaps, largest=False):
+        """Join the pieces left to the tree, each by a straight line from its pixel
+        nearest the tree: in rounds of ``gaps``, or only the largest piece, whatever
+        its distance."""
+        for gap in gaps:
+            if not left:
+                return
+            dist, (ir, ic) = ndimage.distance_transform_edt(~tree, return_indices=True)
+            # each piece's pixel nearest the tree
+            pr, pc = np.nonzero((labels > 0) & ~tree)
+            lab = labels[pr, pc]
+            dd = dist[pr, pc]
+            order = np.lexsort((dd, lab))
+            lab, pr, pc, dd = lab[order], pr[order], pc[order], dd[order]
+            first = np.flatnonzero(np.r_[True, lab[1:] != lab[:-1]])
+            if largest:
+                first = first[[np.argmax(sizes[lab[first]])]]
+            for k in first:
+                piece = int(lab[k])
+                if dd[k] > gap or (sizes[piece] < MIN_PIECE and dd[k] > 2.0):
+                    continue
+                a, b = (pr[k], pc[k]), (ir[pr[k], pc[k]], ic[pr[k], pc[k]])
+                lr, lc = line(int(a[0]), int(a[1]), int(b[0]), int(b[1]))
+                skel[lr, lc] = True
+                tree[:] |= labels == piece
+                tree[lr, lc] = True
+                left.discard(piece)
+
     steps = [2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0, 48.0, 64.0]
-    for gap in [g for g in steps if g < reach] + [reach]:
-        if not left:
-            break
-        dist, (ir, ic) = ndimage.distance_transform_edt(~tree, return_indices=True)
-        # each piece's pixel nearest the tree
-        pr, pc = np.nonzero((labels > 0) & ~tree)
-        lab = labels[pr, pc]
-        dd = dist[pr, pc]
-        order = np.lexsort((dd, lab))
-        lab, pr, pc, dd = lab[order], pr[order], pc[order], dd[order]
-        first = np.r_[True, lab[1:] != lab[:-1]]
-        for k in np.flatnonzero(first):
-            piece = int(lab[k])
-            if dd[k] > gap or (sizes[piece] < MIN_PIECE and dd[k] > 2.0):
-                continue
-            a, b = (pr[k], pc[k]), (ir[pr[k], pc[k]], ic[pr[k], pc[k]])
-            lr, lc = line(int(a[0]), int(a[1]), int(b[0]), int(b[1]))
-            skel[lr, lc] = True
-            tree |= labels == piece
-            tree[lr, lc] = True
-            left.discard(piece)
+    bridge([g for g in steps if g < reach] + [reach])
+    if left and sizes[list(left)].max() > tree.sum():
+        # the piece at the base is a trunk's foot seen apart from most of the tree (the
+        # trunk hidden between them, behind a hedge or before a treeline of its colours):
+        # the largest piece is joined to it, and the rest to both
+        bridge([np.inf], largest=True)
+        bridge([g for g in steps if g < reach] + [reach])
     out = skel & tree
     # the bridges may have made 2x2 blocks: thin once more (keeps connectivity)
     return skeletonize(out)
