@@ -489,8 +489,7 @@ def _stands_out(mean, side):
     than they do (their median distance from it), and at least :data:`MIN_DE`."""
     if len(side) < 2:
         return False
-    centre = side.mean(axis=0)
-    spread = float(np.median(np.linalg.norm(side - centre, axis=1)))
+    centre, spread = _colour(side)  # (its floor of 2 lies under MIN_DE)
     return float(np.linalg.norm(mean - centre)) > max(spread, MIN_DE)
 
 

@@ -266,13 +266,14 @@ def _connected_skeleton(mask: np.ndarray, root: tuple[int, int], reach: float) -
                 left.discard(piece)
 
     steps = [2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0, 48.0, 64.0]
-    bridge([g for g in steps if g < reach] + [reach])
+    rounds = [g for g in steps if g < reach] + [reach]
+    bridge(rounds)
     if left and sizes[list(left)].max() > tree.sum():
         # the piece at the base is a trunk's foot seen apart from most of the tree (the
         # trunk hidden between them, behind a hedge or before a treeline of its colours):
         # the largest piece is joined to it, and the rest to both
         bridge([np.inf], largest=True)
-        bridge([g for g in steps if g < reach] + [reach])
+        bridge(rounds)
     out = skel & tree
     # the bridges may have made 2x2 blocks: thin once more (keeps connectivity)
     return skeletonize(out)
