@@ -262,6 +262,38 @@ def test_before_a_treeline_nothing_is_learned_below_the_ground(monkeypatch):
     assert _iou(segment_photo(rgb).tree, tree) >= 0.9 and not calls
 
 
+def _crown_resting_on_a_wood(seed):
+    """A wide crown whose low side rests on a low wood across the picture, over a field
+    of crop rows at a slant; its trunk stands in the field: ``(rgb, crown, trunk)``."""
+    rng = np.random.default_rng(seed)
+    yy, xx = np.mgrid[:180, :240]
+    rgb = np.empty((180, 240, 3))
+    rgb[:] = [0.6, 0.75, 0.95]
+    wood = (yy >= 95 + 3 * np.sin(xx / 7.0)) & (yy < 125)
+    rgb[wood] = ([0.12, 0.25, 0.1] + 0.05 * rng.standard_normal((180, 240, 1)))[wood]
+    rows = ((yy + 0.12 * xx) // 4) % 2 == 0
+    field = np.where(rows[..., None], [0.55, 0.6, 0.3], [0.35, 0.45, 0.2])
+    rgb[yy >= 125] = (field + 0.02 * rng.standard_normal((180, 240, 3)))[yy >= 125]
+    crown = (yy - 65) ** 2 / 45**2 + (xx - 120) ** 2 / 85**2 < 1
+    rgb[crown] = ([0.3, 0.55, 0.15] + 0.06 * rng.standard_normal((180, 240, 1)))[crown]
+    trunk = (np.abs(xx - 120) <= 5) & (yy >= 100) & (yy < 165)
+    rgb[trunk] = ([0.4, 0.3, 0.22] + 0.02 * rng.standard_normal((180, 240, 1)))[trunk]
+    return np.clip(rgb, 0, 1), crown, trunk
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_under_a_crown_resting_on_a_wood_its_trunk_stands_not_stripes(seed):
+    """The crown rests on the wood all along its low side, so the columns read against
+    the row beside them span the whole window below it: read there, the wood's top came
+    out as a stripe to both sides, and the trunk was lost along with it (0 of its 715
+    pixels). Only what stands tall is kept there: the trunk, to its foot, and no row of
+    the field's slanting rows."""
+    rgb, crown, trunk = _crown_resting_on_a_wood(seed)
+    tree = segment_photo(rgb).tree
+    assert (tree & trunk).sum() >= 0.9 * trunk.sum() and (tree & crown).sum() >= 0.95 * crown.sum()
+    assert (tree[125:] & ~trunk[125:]).sum() <= 0.05 * trunk.sum()
+
+
 def test_a_crown_is_told_from_a_hazy_treeline_of_its_colour_by_its_texture(monkeypatch):
     """A crown of leaf clumps before a hazy treeline of the same mean colour: the
     lightness's local spread tells them apart where the colour alone does not."""

@@ -46,6 +46,10 @@ FOOT_DE = 15.0
 TRUNK_GAP = 0.4
 #: ... when its foot above the gap is at most this share of the crown's width
 TRUNK_WIDTH = 0.3
+#: a run of the trunk's columns wider than TRUNK_WIDTH of the tree's width (the crown's low
+#: side resting on the band, not a trunk): only what stands at least this share of the
+#: tree's height tall (STAND_MIN pixels at least) is kept of its reading there
+STAND, STAND_MIN = 0.05, 5
 #: the trunk carried down (:func:`traced_trunk`): its foot, the silhouette's lowest rows
 #: up to this share of the tree's height, each a run overlapping the one below it and
 #: narrower than TRUNK_WIDTH of the tree's width, at least FOOT_MIN of its height of them
@@ -82,7 +86,9 @@ def below_cut(rgb, tree, below, sky, obj, scale, keep):
     enters the band as probable foreground. What it takes that looks like the row's
     ground or clutter beside the tree (within :data:`ROW_K` times that row's spread) is
     dropped; in the trunk's columns each pixel is read against the row just beside them
-    (:func:`tree_cover`, as the crown against the sky); outside the feet's columns, the
+    (:func:`tree_cover`, as the crown against the sky; in a run of them as wide as a good
+    part of the crown, only what stands :data:`STAND` of the tree's height tall: not the
+    stripes of the rows beside); outside the feet's columns, the
     pieces of the clutter's colours, not the crown's, are dropped too
     (:func:`~growsim.pictures.colours.background_coloured`: a hedge's or treeline's top
     beside the trunk, where the row beside it is half sky); and in each row, what runs on
@@ -194,6 +200,12 @@ def below_cut(rgb, tree, below, sky, obj, scale, keep):
         # on a textured ground (stripes of a field) the thresholds may miss it: what
         # GrabCut took there and differs from the row beside it clearly stays
         trunk |= taken[part] & (d > FOOT_DE)
+        if zb - za + 1 > TRUNK_WIDTH * width:
+            # read against the row beside so wide a run, the rows of a treeline or a field
+            # whose colour changes along them (a field's rows at a slant, a wood, a lawn
+            # and a sky) come out as stripes: only what stands tall stays (a trunk, a limb)
+            stand = max(STAND_MIN, int(STAND * height))
+            trunk = ndimage.binary_opening(trunk, np.ones((stand, 1), dtype=bool))
         fg[part] = np.where(zone, trunk, fg[part])
     # and the pieces of the clutter's colours, not the tree's (a treeline's or a hedge's
     # top beside the trunk, where the row beside it is half sky), but in the feet's columns
