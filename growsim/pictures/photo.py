@@ -75,7 +75,7 @@ from growsim.pictures.sky import (
     smooth_sky,
     thin_lines,
 )
-from growsim.pictures.trunk import below_cut, hanging_trunk, traced_trunk
+from growsim.pictures.trunk import below_cut, hanging_trunk, traced_trunk, trim_foot
 
 __all__ = [
     "Segmentation",
@@ -213,7 +213,9 @@ def segment_photo(
        :data:`~growsim.pictures.crown.GAP` pixels from it (a twig broken by a pixel as pale as the
        sky) and every piece in the crown's region; below the band's top, the trunk's pieces joined
        to it, bridged over gaps up to :data:`~growsim.pictures.trunk.TRUNK_GAP` of its height (a
-       trunk the colour of the hedge behind it);
+       trunk the colour of the hedge behind it); a flat piece reaching out from the trunk's
+       foot (a shadow, a strip of darker ground) is dropped
+       (:func:`~growsim.pictures.trunk.trim_foot`);
     6. before a treeline taller than :data:`~growsim.pictures.hints.MAX_CLUTTER` of the tree,
        with no box, a leafy crown's part below the treeline's top is read by colour against
        the treeline's beside it, down to where the ground begins (:func:`_before_treeline`),
@@ -472,8 +474,12 @@ def segment_photo(
             low = learned_below(rgb, tree, low, under, sky, obj, keep, cut, s)
         # a trunk that stops short of its foot: carried on down along its two edges
         traced = traced_trunk(rgb, tree | low, under, keep)
-        steps = (("learned_below", int(low.sum()) - first), ("traced_trunk", int(traced.sum())))
         tree |= low | traced
+        # a shadow or a strip of darker ground joined at the trunk's foot: not the tree
+        trimmed = trim_foot(tree)
+        steps = (("learned_below", int(low.sum()) - first), ("traced_trunk", int(traced.sum())),
+                 ("trimmed_foot", int((tree & ~trimmed).sum())))  # fmt: skip
+        tree = trimmed
         filled = np.flatnonzero(tree.any(axis=1))
         if (treeline or obj.lifted) and (
             scene.ground_line / s - filled[-1] > TREELINE_GROUND * (filled[-1] - filled[0] + 1)

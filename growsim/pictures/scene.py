@@ -634,17 +634,20 @@ def _ground_line(lab: np.ndarray, band: np.ndarray) -> float:
     return float(start + i + 1) if step[i] > GROUND_EDGE else float(start)
 
 
-def runs(cols: np.ndarray) -> list[tuple[int, int]]:
-    """Runs of consecutive column indices: ``[(first, last), ...]``.
+def runs(cols: np.ndarray, gap: int = 0) -> list[tuple[int, int]]:
+    """Runs of consecutive column indices: ``[(first, last), ...]``; with ``gap``, runs at
+    most ``gap`` columns apart are one.
 
     Examples
     --------
     >>> runs(np.array([1, 2, 3, 7, 9, 10]))
     [(1, 3), (7, 7), (9, 10)]
+    >>> runs(np.array([1, 2, 3, 7, 9, 10]), gap=1)
+    [(1, 3), (7, 10)]
     """
     if not len(cols):
         return []
-    breaks = np.nonzero(np.diff(cols) > 1)[0]
+    breaks = np.nonzero(np.diff(cols) > 1 + gap)[0]
     starts = np.r_[cols[0], cols[breaks + 1]]
     ends = np.r_[cols[breaks], cols[-1]]
     return [(int(a), int(b)) for a, b in zip(starts, ends)]

@@ -16,7 +16,7 @@ from growsim.pictures.crown import row_spans
 from growsim.pictures.reading import SPECK
 from growsim.pictures.scene import runs, trunk_feet
 
-__all__ = ["below_cut", "hanging_trunk", "traced_trunk"]
+__all__ = ["below_cut", "hanging_trunk", "traced_trunk", "trim_foot"]
 
 #: below the cut: GrabCut in the standing object's columns and this share of its width
 #: either side (the ground's and clutter's colours), so many iterations
@@ -70,6 +70,12 @@ TRACE_WIDTHS, EDGE_FLOOR, EDGE_CAP, GATE = (0.6, 1.6), 12.0, 4.0, 3.0
 D_CAP, TRACE_Q, TRACE_MARGIN, SHIFT, WIDEN, TRACE_MIN = 6.0, 0.8, 1.0, 1.5, 0.3, 0.03
 #: ... over at most this many states (rows x columns x widths: 9 bytes each)
 TRACE_STATES = 12_000_000
+#: the trunk's foot (:func:`trim_foot`): its waist, the lowest of the first WAIST_ROWS or
+#: more consecutive rows, in the silhouette's lowest WAIST_ZONE of its height, that are one
+#: run (gaps up to WAIST_GAP pixels) narrower than TRUNK_WIDTH of the tree's width; below
+#: it, a piece reaching out of the trunk (its width and FLARE of it either side, at least
+#: 2 pixels) at least FLAT times as wide as it is tall, and as wide as the trunk, is ground
+WAIST_ZONE, WAIST_ROWS, WAIST_GAP, FLARE, FLAT = 0.15, 3, 2, 0.5, 2.0
 #: a trunk hidden under the lower crown (the silhouette ends in no trunk,
 #: :func:`_hidden_foot`): looked for under the crown's columns between these percentiles
 #: of its pixels', this share of the tree's width wide, its weaker edge averaging at least
@@ -269,7 +275,8 @@ def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
     ``loose`` below the foot of ``tree`` (in the rows ``under``) that starts at most
     ``reach`` rows lower, under it (shifted by at most the narrower one's width) and
     about as wide, joined to it by the straight trunk between them; nothing when there
-    is none, or when the foot is wider than ``widest`` (the crown reaches down there).
+    is none, when the foot is wider than ``widest`` (the crown reaches down there), or
+    when the piece is :data:`FLAT` (a shadow or a patch of ground, not a trunk).
 
     Examples
     --------
@@ -283,6 +290,9 @@ def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
     >>> wide = np.zeros((30, 30), bool); wide[:8, 4:6] = True; under = np.zeros_like(wide)
     >>> under[8:] = True
     >>> bool(_hidden_trunk(weeds, wide, under, 15).any())
+    False
+    >>> shadow = np.zeros((30, 10), bool); shadow[20:23, 1:9] = True  # flat: a shadow
+    >>> bool(_hidden_trunk(shadow, tree, np.arange(30)[:, None] >= 8, 15).any())
     False
     """
     from skimage.measure import label, regionprops
@@ -314,6 +324,8 @@ def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
         _, a, b = max(spans)
         if b - a + 1 > widest or b - a > 3 * (d - c) + 6 or d - c > 3 * (b - a) + 6:
             continue  # the crown reaches down there, or it is no trunk below it
+        if p.bbox[3] - p.bbox[1] >= FLAT * (p.bbox[2] - rt):
+            continue  # flat: a shadow or a patch of ground, not a trunk
         if best is None or p.area > best[4]:  # the trunk, not a speck of the clutter
             best = (rt, c, d, p.coords, p.area, a, b)
     if best is None:
@@ -601,3 +613,73 @@ def traced_trunk(rgb, tree, under, keep):
         d = wmin + ks[i] * step
         out[y0 + i, x0 + cs[i] - d // 2 : x0 + cs[i] - d // 2 + d] = True
     return out & under & keep & ~tree
+
+
+def trim_foot(tree):
+    """The silhouette ``tree`` less the flat pieces reaching out from its trunk's foot: a
+    shadow, a strip of darker ground or a patch of mulch that the steps below the cut (or
+    the crown's reading, on a horizon found below the foot) joined to the trunk. The trunk is found at its waist (the lowest of
+    the first :data:`WAIST_ROWS` consecutive narrow rows in the silhouette's lowest
+    :data:`WAIST_ZONE`) and followed down, its centre moving at most :data:`LEAN` pixels a
+    row; what lies outside it (its width and :data:`FLARE` of it either side) in a piece at
+    least :data:`FLAT` times as wide as it is tall and as wide as the trunk is dropped, and
+    so is what only such a piece joined to the tree. A tree with no such waist (a crown
+    down to the ground, several stems) is returned as it is; so are a trunk's flare, its
+    lean and the twigs along it (pieces taller than flat).
+
+    Examples
+    --------
+    >>> tree = np.zeros((40, 40), bool); tree[2:20, 8:32] = True   # a crown,
+    >>> tree[20:36, 18:22] = True                                  # a trunk,
+    >>> tree[33:36, 4:22] = True                                   # its shadow aside
+    >>> out = trim_foot(tree)               # the trunk and its flare (3 pixels) stay
+    >>> bool(out[20:36, 18:22].all()), int(out[33:36].sum()), int((tree & ~out).sum())
+    (True, 21, 33)
+    """
+    from skimage.measure import label, regionprops
+
+    rows = np.flatnonzero(tree.any(axis=1))
+    if len(rows) < 2 * WAIST_ROWS:
+        return tree
+    cols = np.flatnonzero(tree.any(axis=0))
+    height, width = rows[-1] - rows[0] + 1, cols[-1] - cols[0] + 1
+    foot = int(rows[-1])
+    # the narrow rows of one run, in groups of consecutive rows
+    groups: list[list[tuple[int, int, float]]] = []
+    for y in range(foot - int(WAIST_ZONE * height), foot + 1):
+        spans = runs(np.flatnonzero(tree[y]), gap=WAIST_GAP)
+        if len(spans) != 1 or spans[0][1] - spans[0][0] + 1 > TRUNK_WIDTH * width:
+            continue
+        row = (y, spans[0][1] - spans[0][0] + 1, (spans[0][0] + spans[0][1]) / 2)
+        if groups and groups[-1][-1][0] == y - 1:
+            groups[-1].append(row)
+        else:
+            groups.append([row])
+    groups = [g for g in groups if len(g) >= WAIST_ROWS]
+    if not groups:
+        return tree
+    wide = float(np.median([n for _, n, _ in groups[0]]))
+    waist, _, centre = max(r for r in groups[0] if r[1] <= 1.5 * wide)
+    if waist >= foot:
+        return tree
+    half = wide / 2 + max(2.0, FLARE * wide)
+    outside = np.zeros_like(tree)
+    for y in range(waist + 1, foot + 1):
+        lo, hi = int(np.floor(centre - half)), int(np.ceil(centre + half))
+        outside[y, : max(0, lo)] = tree[y, : max(0, lo)]
+        outside[y, hi + 1 :] = tree[y, hi + 1 :]
+        xs = np.flatnonzero(tree[y])
+        core = xs[np.abs(xs - centre) <= wide / 2]
+        if len(core):
+            centre += float(np.clip(core.mean() - centre, -LEAN, LEAN))
+    pieces = label(outside, connectivity=2)
+    out = tree.copy()
+    for p in regionprops(pieces):
+        r0, c0, r1, c1 = p.bbox
+        if c1 - c0 >= max(wide, FLAT * (r1 - r0)):
+            out[pieces == p.label] = False
+    if out.sum() == tree.sum():
+        return tree
+    # and what only those pieces joined to the tree (a strip's far end)
+    parts = label(out, connectivity=2)
+    return out & np.isin(parts, np.unique(parts[: waist + 1][out[: waist + 1]]))
