@@ -96,7 +96,8 @@ def test_a_shadow_beside_a_trunk_seen_is_no_hidden_trunk(seed):
     shadow on both seeds). Now none is."""
     rgb, crown, trunk, shadow = _shadow_at_the_foot(seed)
     seg = photo.segment_photo(rgb)
-    assert (seg.tree & crown).sum() == crown.sum() and (seg.tree & trunk).sum() >= 0.95 * trunk.sum()
+    assert (seg.tree & crown).sum() == crown.sum()
+    assert (seg.tree & trunk).sum() >= 0.95 * trunk.sum()
     assert (seg.tree & shadow).sum() <= 0.05 * shadow.sum()
     assert (seg.tree & ~crown & ~trunk).sum() <= 0.05 * trunk.sum()
 
@@ -104,7 +105,7 @@ def test_a_shadow_beside_a_trunk_seen_is_no_hidden_trunk(seed):
 def test_segment_photo_drops_a_strip_joined_below_the_cut(monkeypatch):
     """Where the steps below the cut join a flat strip of ground to the trunk's foot, the
     silhouette has none of it, and ``fit.json``'s ``segmentation`` says how much went."""
-    rgb, crown, trunk, shadow = _shadow_at_the_foot(1)
+    rgb, _, trunk, _ = _shadow_at_the_foot(1)
     strip = np.zeros_like(trunk)
     strip[219:225, 50:104] = True
     below_cut = photo.below_cut

@@ -618,12 +618,13 @@ def traced_trunk(rgb, tree, under, keep):
 def trim_foot(tree):
     """The silhouette ``tree`` less the flat pieces reaching out from its trunk's foot: a
     shadow, a strip of darker ground or a patch of mulch that the steps below the cut (or
-    the crown's reading, on a horizon found below the foot) joined to the trunk. The trunk is found at its waist (the lowest of
-    the first :data:`WAIST_ROWS` consecutive narrow rows in the silhouette's lowest
-    :data:`WAIST_ZONE`) and followed down, its centre moving at most :data:`LEAN` pixels a
-    row; what lies outside it (its width and :data:`FLARE` of it either side) in a piece at
-    least :data:`FLAT` times as wide as it is tall and as wide as the trunk is dropped, and
-    so is what only such a piece joined to the tree. A tree with no such waist (a crown
+    the crown's reading, on a horizon found below the foot) joined to the trunk. The trunk
+    is found at its waist (the lowest of the first :data:`WAIST_ROWS` consecutive narrow
+    rows in the silhouette's lowest :data:`WAIST_ZONE`) and followed down, its centre
+    moving at most :data:`LEAN` pixels a row; what lies outside it (its width and
+    :data:`FLARE` of it either side) in a piece at least :data:`FLAT` times as wide as it
+    is tall and as wide as the trunk is dropped, and so is what only such a piece joined
+    to the tree. A tree with no such waist (a crown
     down to the ground, several stems) is returned as it is; so are a trunk's flare, its
     lean and the twigs along it (pieces taller than flat).
 
