@@ -44,8 +44,10 @@ FOOT_DE = 15.0
 #: the trunk, hidden behind the horizon's clutter (a hedge of its colour), is bridged over
 #: gaps of up to this share of the tree's height
 TRUNK_GAP = 0.4
-#: ... when its foot above the gap is at most this share of the crown's width
-TRUNK_WIDTH = 0.3
+#: ... when its foot above the gap is at most this share of the crown's width, and the
+#: piece below the gap less than FLAT_PIECE times as wide as it is tall (else a shadow or
+#: a patch of ground; a trunk's stub below a hedge may be twice as wide as tall)
+TRUNK_WIDTH, FLAT_PIECE = 0.3, 3.0
 #: a run of the trunk's columns wider than TRUNK_WIDTH of the tree's width (the crown's low
 #: side resting on the band, not a trunk): only what stands at least this share of the
 #: tree's height tall (STAND_MIN pixels at least) is kept of its reading there
@@ -276,7 +278,8 @@ def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
     ``reach`` rows lower, under it (shifted by at most the narrower one's width) and
     about as wide, joined to it by the straight trunk between them; nothing when there
     is none, when the foot is wider than ``widest`` (the crown reaches down there), or
-    when the piece is :data:`FLAT` (a shadow or a patch of ground, not a trunk).
+    when the piece is :data:`FLAT_PIECE` times as wide as it is tall or more (a shadow
+    or a patch of ground, not a trunk).
 
     Examples
     --------
@@ -291,7 +294,7 @@ def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
     >>> under[8:] = True
     >>> bool(_hidden_trunk(weeds, wide, under, 15).any())
     False
-    >>> shadow = np.zeros((30, 10), bool); shadow[20:23, 1:9] = True  # flat: a shadow
+    >>> shadow = np.zeros((30, 10), bool); shadow[20:22, 0:10] = True  # flat: a shadow
     >>> bool(_hidden_trunk(shadow, tree, np.arange(30)[:, None] >= 8, 15).any())
     False
     """
@@ -324,7 +327,7 @@ def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
         _, a, b = max(spans)
         if b - a + 1 > widest or b - a > 3 * (d - c) + 6 or d - c > 3 * (b - a) + 6:
             continue  # the crown reaches down there, or it is no trunk below it
-        if p.bbox[3] - p.bbox[1] >= FLAT * (p.bbox[2] - rt):
+        if p.bbox[3] - p.bbox[1] >= FLAT_PIECE * (p.bbox[2] - rt):
             continue  # flat: a shadow or a patch of ground, not a trunk
         if best is None or p.area > best[4]:  # the trunk, not a speck of the clutter
             best = (rt, c, d, p.coords, p.area, a, b)
