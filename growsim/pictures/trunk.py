@@ -278,8 +278,8 @@ def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
     ``reach`` rows lower, under it (shifted by at most the narrower one's width) and
     about as wide, joined to it by the straight trunk between them; nothing when there
     is none, when the foot is wider than ``widest`` (the crown reaches down there), or
-    when the piece is :data:`FLAT_PIECE` times as wide as it is tall or more (a shadow
-    or a patch of ground, not a trunk).
+    when that piece is :data:`FLAT_PIECE` times as wide as it is tall or more (a shadow
+    or a patch of ground, not a trunk; a smaller piece then is the clutter's too).
 
     Examples
     --------
@@ -327,13 +327,12 @@ def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
         _, a, b = max(spans)
         if b - a + 1 > widest or b - a > 3 * (d - c) + 6 or d - c > 3 * (b - a) + 6:
             continue  # the crown reaches down there, or it is no trunk below it
-        if p.bbox[3] - p.bbox[1] >= FLAT_PIECE * (p.bbox[2] - rt):
-            continue  # flat: a shadow or a patch of ground, not a trunk
         if best is None or p.area > best[4]:  # the trunk, not a speck of the clutter
-            best = (rt, c, d, p.coords, p.area, a, b)
-    if best is None:
+            best = (rt, c, d, p.coords, p.area, a, b, p.bbox)
+    # the largest flat: a shadow or a patch of ground, and what is smaller the clutter's
+    if best is None or best[7][3] - best[7][1] >= FLAT_PIECE * (best[7][2] - best[0]):
         return out
-    rt, c, d, coords, _, a, b = best
+    rt, c, d, coords, _, a, b, _ = best
     for r in range(rb + 1, rt):
         t = (r - rb) / (rt - rb)
         lo, hi = round((1 - t) * a + t * c), round((1 - t) * b + t * d)
