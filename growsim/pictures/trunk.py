@@ -278,8 +278,8 @@ def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
     ``reach`` rows lower, under it (shifted by at most the narrower one's width) and
     about as wide, joined to it by the straight trunk between them; nothing when there
     is none, when the foot is wider than ``widest`` (the crown reaches down there), or
-    when that piece is :data:`FLAT_PIECE` times as wide as it is tall or more (a shadow
-    or a patch of ground, not a trunk; a smaller piece then is the clutter's too).
+    when the largest such piece is :data:`FLAT_PIECE` times as wide as it is tall or more
+    (a shadow or a patch of ground, not a trunk; a smaller piece then is the clutter's).
 
     Examples
     --------
@@ -626,9 +626,9 @@ def trim_foot(tree):
     moving at most :data:`LEAN` pixels a row; what lies outside it (its width and
     :data:`FLARE` of it either side) in a piece at least :data:`FLAT` times as wide as it
     is tall and as wide as the trunk is dropped, and so is what only such a piece joined
-    to the tree. A tree with no such waist (a crown
-    down to the ground, several stems) is returned as it is; so are a trunk's flare, its
-    lean and the twigs along it (pieces taller than flat).
+    to the tree. A tree with no such waist (a crown down to the ground, several stems) is
+    returned as it is; so are a trunk's flare, its lean and the twigs along it (pieces
+    taller than flat).
 
     Examples
     --------
