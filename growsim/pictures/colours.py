@@ -4,7 +4,8 @@ beside the crown, taken for it because it differs from the sky filled in around 
 top of a hedge or a treeline beside the trunk), found by comparing how often their colour
 occurs among the background's own pixels and among the tree's sure pixels
 (:func:`background_coloured`; the clouds' colours seen away from the tree counted with
-the sky's, :func:`cloud_colours`); the crown below a treeline's top told from the
+the sky's, :func:`cloud_colours`); the clouds paler than the sky behind a tree darker
+than it, whatever the tree's colour (:func:`paler_clouds`); the crown below a treeline's top told from the
 treeline by their colours (:func:`crown_coloured`); and two trees of clearly different
 colours whose crowns touch, one standing object of the scene, split apart
 (:func:`split_touching`).
@@ -20,7 +21,13 @@ from growsim.pictures.backdrop import sky_background
 from growsim.pictures.pieces import between_feet, largest_piece
 from growsim.pictures.scene import Scene, Standing, runs
 
-__all__ = ["background_coloured", "cloud_colours", "crown_coloured", "split_touching"]
+__all__ = [
+    "background_coloured",
+    "cloud_colours",
+    "crown_coloured",
+    "paler_clouds",
+    "split_touching",
+]
 
 #: two touching trees (:func:`split_touching`): a standing object's pixels are read for
 #: their hue where their colour lies at least SPLIT_CHROMA (Delta E, a* b*) from the sky
@@ -309,6 +316,73 @@ def cloud_colours(rgb, scene, obj, keep=None) -> np.ndarray:
         big &= keep
     px = _at_most(rgb[big], np.random.default_rng(0))
     return rgb2lab(px[:, None, :])[:, 0, :]
+
+
+#: clouds paler than the sky (:func:`paler_clouds`): a crown's pixel is cloud when it is
+#: more than PALE_DL (CIELAB L*) paler than the sky filled in behind it and its a* b* lie
+#: within CLOUD_HUE of a cloud's seen away from the tree, while the tree's foot (its
+#: fully covered pixels in the lowest FOOT_ROWS of the crown's rows, at least FOOT_MIN of
+#: them) is darker than that sky by more than the threshold of the tree's difference
+PALE_DL = 5.0
+CLOUD_HUE = 6.0
+FOOT_ROWS = 0.1
+FOOT_MIN = 10
+
+
+def paler_clouds(lab, bg, fg, region, hull, clouds, floor) -> np.ndarray:
+    """The pixels of the foreground ``fg`` in ``region`` that are clouds paler than the
+    sky: more than :data:`PALE_DL` paler (L*) than the sky ``bg`` filled in behind them,
+    of the hue of the ``clouds`` seen away from the tree (``(N, 3)`` CIELAB,
+    :func:`cloud_colours`; a* b* within :data:`CLOUD_HUE`), when the tree's foot is darker
+    than that sky by more than ``floor`` (Delta E). In daylight bark and leaves seen
+    against the sky are darker than it, and a lit cloud is paler than the sky around it;
+    a pixel mixing a dark twig with a cloud behind it is darker than the sky unless the
+    twig covers little of it. This holds whatever the tree's colour, so a grey bare tree
+    (which :func:`background_coloured` cannot tell from grey clouds by their colours) is
+    told from them by its lightness. Nothing when fewer than :data:`MIN_PIXELS` clouds
+    are seen away from the tree (a frosted or blossoming crown under a clear sky is as
+    pale as a cloud), nor when the tree's foot is not clearly darker than the sky (a
+    birch's white trunk). ``lab``, ``bg``: CIELAB ``(H, W, 3)``; ``fg``, ``region``,
+    ``hull``: ``(H, W)`` masks, ``hull`` the crown's rows' spans down to the cut (its
+    lowest rows hold the tree's foot).
+
+    Examples
+    --------
+    >>> from skimage.color import rgb2lab
+    >>> sky = np.ones((40, 40, 3)) * [0.45, 0.6, 0.9]                 # a blue sky
+    >>> rgb = sky.copy()
+    >>> rgb[5:15, 5:30] = [0.93, 0.94, 0.96]                           # a white cloud
+    >>> rgb[:, 18:21] = [0.15, 0.12, 0.1]                              # a dark trunk
+    >>> lab, bg = rgb2lab(rgb), rgb2lab(sky)
+    >>> clouds = rgb2lab(np.linspace([0.85, 0.86, 0.9], [0.97, 0.97, 0.98], 60)[None])[0]
+    >>> fg = np.linalg.norm(lab - bg, axis=-1) > 10                    # cloud and trunk
+    >>> everywhere = np.ones((40, 40), bool)
+    >>> pale = paler_clouds(lab, bg, fg, everywhere, everywhere, clouds, 10.0)
+    >>> int(pale.sum()), bool(pale[10, 10]), bool(pale[10, 19])
+    (220, True, False)
+    """
+    from scipy import ndimage
+    from scipy.spatial import cKDTree
+
+    none = np.zeros(fg.shape, dtype=bool)
+    rows = np.flatnonzero(hull.any(axis=1))
+    if len(clouds) < MIN_PIXELS or not len(rows):
+        return none
+    foot = np.zeros_like(fg)
+    foot[rows[-1] - max(2, int(FOOT_ROWS * (rows[-1] - rows[0] + 1))) : rows[-1] + 1] = True
+    foot &= region & fg
+    sure = foot & ndimage.binary_erosion(fg, np.ones((3, 3), dtype=bool))
+    if sure.sum() < FOOT_MIN:
+        sure = foot
+    paler = lab[..., 0] - bg[..., 0]
+    if sure.sum() < FOOT_MIN or np.median(paler[sure]) >= -floor:
+        return none
+    pale = fg & region & (paler > PALE_DL)
+    if pale.any():
+        hues = _at_most(np.asarray(clouds, dtype=np.float64), np.random.default_rng(0))[:, 1:]
+        near = cKDTree(hues).query(lab[pale][:, 1:], distance_upper_bound=CLOUD_HUE)[0]
+        pale[pale] = np.isfinite(near)
+    return pale
 
 
 def split_touching(scene: Scene) -> Scene:

@@ -31,6 +31,7 @@ from growsim.pictures.colours import (
     background_coloured,
     cloud_colours,
     crown_coloured,
+    paler_clouds,
     split_touching,
 )
 from growsim.pictures.coverage import (
@@ -443,6 +444,10 @@ def segment_photo(
                 dist = np.linalg.norm(lab - bg, axis=-1)
                 fg, coverage, floor = tree_cover(part, lab, bg, dist, noise, crown_c)
             fg &= ~clouds
+        if not plain:
+            # and clouds paler than the sky behind a tree darker than it, whatever the
+            # tree's colour (a grey bare tree's twigs against white cumulus)
+            fg &= ~paler_clouds(lab, bg, fg, crown_c, hull[crop], afar, floor)
     tree_c = connected_tree(fg, obj, hull[crop], (r0, c0), (h, w), s)
     tree = np.zeros((h, w), dtype=bool)
     tree[crop] = tree_c
