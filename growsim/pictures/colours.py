@@ -5,10 +5,10 @@ top of a hedge or a treeline beside the trunk), found by comparing how often the
 occurs among the background's own pixels and among the tree's sure pixels
 (:func:`background_coloured`; the clouds' colours seen away from the tree counted with
 the sky's, :func:`cloud_colours`); the clouds paler than the sky behind a tree darker
-than it, whatever the tree's colour (:func:`paler_clouds`); the crown below a treeline's top told from the
-treeline by their colours (:func:`crown_coloured`); and two trees of clearly different
-colours whose crowns touch, one standing object of the scene, split apart
-(:func:`split_touching`).
+than it, whatever the tree's colour (:func:`paler_clouds`); the crown below a
+treeline's top told from the treeline by their colours (:func:`crown_coloured`); and two
+trees of clearly different colours whose crowns touch, one standing object of the
+scene, split apart (:func:`split_touching`).
 """
 
 from __future__ import annotations
