@@ -174,6 +174,22 @@ def test_bad_segmentations_are_refused(case, message):
         segment_photo(rgb, name="pic.jpg")
 
 
+def test_a_faint_tree_is_settled_by_the_box_its_refusal_names():
+    """A tree that hardly differs from its sky is refused naming ``--box``; with the box,
+    GrabCut in it finds the tree (a frosted pine before a misty sea: NCC 0.93 with a box,
+    refused without)."""
+    rgb = np.ones((120, 100, 3)) * SKY
+    rgb[20:120, 48:52] = np.array(SKY) - 0.14
+    rgb[35, 25:75] = np.array(SKY) - 0.14
+    truth = np.zeros((120, 100), bool)
+    truth[20:120, 48:52] = truth[35, 25:75] = True
+    with pytest.raises(UserInputError, match=r"hardly differs.*give --box x0,y0,x1,y1"):
+        segment_photo(rgb, name="pic.jpg")
+    seg = segment_photo(rgb, name="pic.jpg", box=(20, 10, 80, 120))
+    assert seg.method == "GrabCut in the box"
+    assert (seg.tree & truth).sum() / (seg.tree | truth).sum() > 0.9
+
+
 def test_mask_restricts_the_tree():
     rgb = _tree(_scene(), col=30)
     rgb[40:100, 75:95] = (0.6, 0.2, 0.2)

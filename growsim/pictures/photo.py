@@ -226,10 +226,10 @@ def segment_photo(
     fitted): no sky along the top edge, no object standing on the ground, other objects
     as tall and large as the tree without a hint (the message names the hint that settles
     it), a tree that hardly differs from its background
-    (:data:`~growsim.pictures.hints.MIN_CONTRAST`), a tree cut off by the top or side edges
-    (:data:`~growsim.pictures.hints.MAX_EDGE_PIXELS`; with a box, twig tips grazing the top
-    edge are whole: :func:`~growsim.pictures.hints.grazing`), and every silhouette
-    :func:`~growsim.pictures.reading.check_silhouette` refuses.
+    (:data:`~growsim.pictures.hints.MIN_CONTRAST`; with a box, GrabCut in it), a tree cut
+    off by the top or side edges (:data:`~growsim.pictures.hints.MAX_EDGE_PIXELS`; with a
+    box, twig tips grazing the top edge are whole: :func:`~growsim.pictures.hints.grazing`),
+    and every silhouette :func:`~growsim.pictures.reading.check_silhouette` refuses.
 
     Examples
     --------
@@ -538,10 +538,12 @@ def segment_photo(
         border=border, steps=steps,
     )  # fmt: skip
     if contrast < MIN_CONTRAST:
+        if box is not None:  # the tree is what the box holds apart from around it (GrabCut)
+            return replace(in_box(rgb, keep, None, hint, per_pixel, name, t_start), border=border)
         raise UserInputError(
             f"{name}: the tree hardly differs from its background: median colour difference "
-            f"{contrast:.1f} Delta E (at least {MIN_CONTRAST:g}; {how}); use a picture with "
-            "more contrast, or a mask"
+            f"{contrast:.1f} Delta E (at least {MIN_CONTRAST:g}; {how}); give {flags[0]} "
+            "x0,y0,x1,y1 around the tree, use a picture with more contrast, or a mask"
         )
     edges = (("top", int(tree[0].sum())), ("left", int(tree[: int(cut[0]), 0].sum())),
              ("right", int(tree[: int(cut[-1]), -1].sum())))  # fmt: skip
