@@ -175,9 +175,9 @@ def test_bad_segmentations_are_refused(case, message):
 
 
 def test_a_faint_tree_is_settled_by_the_box_its_refusal_names():
-    """A tree that hardly differs from its sky is refused naming ``--box``; with the box,
-    GrabCut in it finds the tree (a frosted pine before a misty sea: NCC 0.93 with a box,
-    refused without)."""
+    """A tree that hardly differs from its sky is refused naming ``--box`` (before: "use a
+    picture with more contrast, or a mask"); with the box, GrabCut in it finds the tree
+    (before: refused again)."""
     rgb = np.ones((120, 100, 3)) * SKY
     rgb[20:120, 48:52] = np.array(SKY) - 0.14
     rgb[35, 25:75] = np.array(SKY) - 0.14
