@@ -99,7 +99,9 @@ def below_cut(rgb, tree, below, sky, obj, scale, keep):
     stripes of the rows beside); outside the feet's columns, the
     pieces of the clutter's colours, not the crown's, are dropped too
     (:func:`~growsim.pictures.colours.background_coloured`: a hedge's or treeline's top
-    beside the trunk, where the row beside it is half sky); and in each row, what runs on
+    beside the trunk, where the row beside it is half sky), and in them what is wider in
+    its row than :data:`TRUNK_WIDTH` of the crown (the grass under a crown hanging below
+    the band, read against a road beside it); and in each row, what runs on
     from the window's side outside the object's columns (the clutter running on past it:
     a treeline's top along the band: :func:`_not_running_past`). Returns ``(tree,
     spill)``: what joins the tree above (a trunk hidden by a hedge of its colour bridged
@@ -218,7 +220,13 @@ def below_cut(rgb, tree, below, sky, obj, scale, keep):
     # and the pieces of the clutter's colours, not the tree's (a treeline's or a hedge's
     # top beside the trunk, where the row beside it is half sky), but in the feet's columns
     sure = ndimage.binary_erosion(seed, np.ones((3, 3), dtype=bool)) & ~under
-    fg &= ~(background_coloured(lab, fg, flanks & kept, under, sure) & ~feet[None, x0:x1])
+    # (a run of feet as wide as a good part of the crown is its low side resting on the
+    # band: there only what is narrow in its row is spared, a trunk, not the ground under
+    # the crown taken across it)
+    spared = feet[None, x0:x1] & ~ndimage.binary_opening(
+        fg, np.ones((1, max(3, int(TRUNK_WIDTH * width))), dtype=bool)
+    )
+    fg &= ~(background_coloured(lab, fg, flanks & kept, under, sure) & ~spared)
     parts = label(fg | seed, connectivity=2)
     joined = np.isin(parts, np.unique(parts[seed])) & fg
     joined |= _hidden_trunk(fg & ~joined, seed | joined, under, TRUNK_GAP * height,
