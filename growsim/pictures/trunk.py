@@ -44,6 +44,9 @@ FOOT_DE = 15.0
 #: the trunk, hidden behind the horizon's clutter (a hedge of its colour), is bridged over
 #: gaps of up to this share of the tree's height
 TRUNK_GAP = 0.4
+#: ... to a piece below the gap at least this share of the gap tall (the trunk seen
+#: again below the clutter, not a speck of the ground far below its foot)
+HIDDEN_SEEN = 1 / 3
 #: ... when its foot above the gap is at most this share of the crown's width, and the
 #: piece below the gap less than FLAT_PIECE times as wide as it is tall (else a shadow or
 #: a patch of ground; a trunk's stub below a hedge may be twice as wide as tall)
@@ -283,11 +286,13 @@ def _not_running_past(taken, inside, seed):
 def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
     """A trunk hidden for a stretch (by a hedge of its colour): the largest piece of
     ``loose`` below the foot of ``tree`` (in the rows ``under``) that starts at most
-    ``reach`` rows lower, under it (shifted by at most the narrower one's width) and
-    about as wide, joined to it by the straight trunk between them; nothing when there
-    is none, when the foot is wider than ``widest`` (the crown reaches down there), or
-    when the largest such piece is :data:`FLAT_PIECE` times as wide as it is tall or more
-    (a shadow or a patch of ground, not a trunk; a smaller piece then is the clutter's).
+    ``reach`` rows lower, under it (shifted by at most the narrower one's width),
+    about as wide and at least :data:`HIDDEN_SEEN` of that stretch tall (a speck of the
+    ground far below a foot on the skyline is no trunk seen again), joined to it by the
+    straight trunk between them; nothing when there is none, when the foot is wider than
+    ``widest`` (the crown reaches down there), or when the largest such piece is
+    :data:`FLAT_PIECE` times as wide as it is tall or more (a shadow or a patch of
+    ground, not a trunk; a smaller piece then is the clutter's).
 
     Examples
     --------
@@ -320,6 +325,8 @@ def _hidden_trunk(loose, tree, under, reach, widest=np.inf):
         rt = p.bbox[0]
         if rt <= rb or rt - rb > reach or p.area < SPECK:
             continue
+        if p.bbox[2] - rt < HIDDEN_SEEN * (rt - rb):
+            continue  # seen too little below so long a stretch: a speck of the ground
         top = p.coords[p.coords[:, 0] < rt + 5]
         c, d = int(top[:, 1].min()), int(top[:, 1].max())
         # the foot above it: the tree's lowest pixels over its columns, the run of the
