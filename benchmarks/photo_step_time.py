@@ -1,9 +1,9 @@
 """The seconds one step of the photo segmentation adds to it: the tree below the horizon
 learned from the photo (``--step learned_below``, :mod:`growsim.pictures.learned`; give
 photographs whose silhouette ends along the horizon, where it runs) or the trunk carried
-down along its edges (``--step traced_trunk``, :func:`growsim.pictures.trunk.traced_trunk`)
+down along its edges (``--step traced_trunk``, :func:`growsim.pictures.foot.traced_trunk`)
 or the flat pieces trimmed off the trunk's foot (``--step trim_foot``,
-:func:`growsim.pictures.trunk.trim_foot`).
+:func:`growsim.pictures.foot.trim_foot`).
 Each photograph is segmented with and without the step, in turn, in one process, and the
 seconds spent inside the step itself are summed (``inside``: what the difference of two
 noisy totals cannot show for a short step). Prints JSON.

@@ -22,23 +22,31 @@ HORIZON = 266
 LEAF, BARK, CLOUD = (0.18, 0.33, 0.12), (0.3, 0.2, 0.12), (0.5, 0.36, 0.46)
 
 
+def _sky(shape, horizon, top, low, ellipses, peak):
+    """A sky from the colour ``top`` at the top edge to ``low`` at the ``horizon`` row, and
+    its clouds' cover: the largest of the ``ellipses`` ``(row, column, a, b)``, each
+    ``peak`` at its centre falling to 0 at ``sqrt(peak)`` radii: ``(yy, xx, rgb, cloud)``."""
+    yy, xx = np.mgrid[0 : shape[0], 0 : shape[1]]
+    t = (yy / horizon)[..., None]
+    rgb = (1 - t) * np.array(top) + t * np.array(low)
+    cloud = np.zeros(shape)
+    for cy, cx, a, b in ellipses:
+        cloud = np.maximum(cloud, np.clip(peak - ((xx - cx) / a) ** 2 - ((yy - cy) / b) ** 2, 0, 1))
+    return yy, xx, rgb, cloud
+
+
 def _sunset(seed=0):
     """The picture; the true tree; the cloud seen inside the crown (between its leaves)."""
     from scipy import ndimage
 
     rng = np.random.default_rng(seed)
-    yy, xx = np.mgrid[0:H, 0:W]
-    t = (yy / HORIZON)[..., None]
-    rgb = (1 - t) * np.array([0.45, 0.4, 0.6]) + t * np.array([0.98, 0.72, 0.45])
     # streaks of cloud: long thin ellipses across the whole width, three behind the crown,
     # broken up into hard-edged blotches of grainy cloud (a sunset's streaks: textured,
     # not smooth like the sky)
     streaks = [(rng.uniform(80, 245), rng.uniform(0, W), rng.uniform(40, 90), rng.uniform(5, 9))
                for _ in range(14)]  # fmt: skip
     streaks += [(140, 240, 60, 8), (180, 215, 60, 8), (200, 275, 60, 8)]
-    cloud = np.zeros((H, W))
-    for cy, cx, a, b in streaks:
-        cloud = np.maximum(cloud, np.clip(1.5 - ((xx - cx) / a) ** 2 - ((yy - cy) / b) ** 2, 0, 1))
+    yy, xx, rgb, cloud = _sky((H, W), HORIZON, [0.45, 0.4, 0.6], [0.98, 0.72, 0.45], streaks, 1.5)
     grain = ndimage.gaussian_filter(rng.standard_normal((H, W)), 3.0)
     cloud = ndimage.gaussian_filter(1.0 * (cloud * (0.5 + 10.0 * grain) > 0.6), 0.6)
     tone = 1.0 + 0.12 * ndimage.gaussian_filter(rng.standard_normal((H, W, 1)), (1, 1, 0))
@@ -181,15 +189,10 @@ def _cumulus(seed):
 
     h, w, horizon = 320, 480, 270
     rng = np.random.default_rng(seed)
-    yy, xx = np.mgrid[0:h, 0:w]
-    t = (yy / horizon)[..., None]
-    rgb = (1 - t) * np.array([0.35, 0.52, 0.85]) + t * np.array([0.7, 0.8, 0.93])
     blobs = [(rng.uniform(20, 200), rng.uniform(0, w), rng.uniform(25, 60), rng.uniform(10, 25))
              for _ in range(12)]  # fmt: skip
     blobs += [(90, 230, 45, 20), (130, 260, 40, 16)]
-    cloud = np.zeros((h, w))
-    for cy, cx, a, b in blobs:
-        cloud = np.maximum(cloud, np.clip(1.3 - ((xx - cx) / a) ** 2 - ((yy - cy) / b) ** 2, 0, 1))
+    yy, xx, rgb, cloud = _sky((h, w), horizon, [0.35, 0.52, 0.85], [0.7, 0.8, 0.93], blobs, 1.3)
     grain = ndimage.gaussian_filter(rng.standard_normal((h, w)), 2.0)
     cloud = np.clip(ndimage.gaussian_filter(cloud * (0.6 + 8.0 * grain), 1.0), 0, 1)[..., None]
     shade = 0.85 + 0.15 * ndimage.gaussian_filter(rng.standard_normal((h, w)), 2)[..., None]

@@ -1,6 +1,6 @@
 """The trunk's foot (issue 41): a flat piece of ground joined at its foot (a shadow, a
 strip of darker ground, mulch) is dropped, and the trunk's flare, its lean and the twigs
-along it stay (:func:`growsim.pictures.trunk.trim_foot`); a flat patch of ground below the
+along it stay (:func:`growsim.pictures.foot.trim_foot`); a flat patch of ground below the
 cut is not a hidden stretch of the trunk (``_hidden_trunk``)."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import growsim.pictures.photo as photo
-from growsim.pictures.trunk import trim_foot
+from growsim.pictures.foot import trim_foot
 
 H, W, HORIZON = 240, 220, 195
 

@@ -11,7 +11,7 @@ from naive import trunk as naive
 
 import growsim.pictures.photo as photo
 from growsim.kernels.trunk import edge_pair_scores, trace_path
-from growsim.pictures.trunk import traced_trunk
+from growsim.pictures.foot import traced_trunk
 
 CUT = 120
 
@@ -55,11 +55,11 @@ def test_a_trunk_stopping_short_is_followed_to_its_foot(under):
 
 def test_a_wide_trunk_is_read_by_a_step_of_widths(under, monkeypatch):
     """Over the state budget the widths go by a step: the same trunk, to its foot."""
-    import growsim.pictures.trunk as trunk
+    import growsim.pictures.foot as foot
 
     rgb, found, trunk_mask = _tree_on_ground()
     full = traced_trunk(rgb, found, under, np.ones_like(found))
-    monkeypatch.setattr(trunk, "TRACE_STATES", 20_000)
+    monkeypatch.setattr(foot, "TRACE_STATES", 20_000)
     out = traced_trunk(rgb, found, under, np.ones_like(found))
     missing = trunk_mask & ~found
     assert (out & missing).sum() >= 0.8 * missing.sum()

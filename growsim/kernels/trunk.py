@@ -1,4 +1,4 @@
-"""Numba kernels of the trunk traced below the cut (:func:`growsim.pictures.trunk.traced_trunk`):
+"""Numba kernels of the trunk traced below the cut (:func:`growsim.pictures.foot.traced_trunk`):
 a trunk's two edges followed down, row by row, as a path of most gain (Viterbi).
 
 - :func:`edge_pair_scores`: each row's score of a trunk centred on a column with a width:

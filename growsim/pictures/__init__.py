@@ -8,6 +8,8 @@ colour photo by its sky and ground), checking and framing it for a fit.
 - :mod:`~growsim.pictures.photo`: colour photos, the tree apart from sky and ground, by
   the steps of the modules below it;
 - :mod:`~growsim.pictures.hints`: the hints (``--box``, ``--point``) and the refusals;
+- :mod:`~growsim.pictures.foot`: the trunk's foot, the trunk traced down to it and the flat
+  pieces beyond it dropped;
 - :mod:`~growsim.pictures.trunk`: the trunk below the skyline (GrabCut);
 - :mod:`~growsim.pictures.record`: what the photo segmentation found, and its picture;
 - :mod:`~growsim.pictures.crown`: the crown's region and its connected pieces;

@@ -8,9 +8,10 @@ reads a picture in colour. :func:`growsim.pictures.images.picture_silhouettes` c
 :mod:`growsim.pictures.reading`. The steps it runs live in their own modules: the coarse
 scene (:mod:`~growsim.pictures.scene`), the sky and the band at the working size
 (:mod:`~growsim.pictures.sky`), the crown (:mod:`~growsim.pictures.crown`), each pixel's
-coverage (:mod:`~growsim.pictures.coverage`), the trunk (:mod:`~growsim.pictures.trunk`),
-the refusals and hints (:mod:`~growsim.pictures.hints`) and what is recorded
-(:mod:`~growsim.pictures.record`); the names users import from here
+coverage (:mod:`~growsim.pictures.coverage`), the trunk (:mod:`~growsim.pictures.trunk`)
+and its foot (:mod:`~growsim.pictures.foot`), the refusals and hints
+(:mod:`~growsim.pictures.hints`) and what is recorded (:mod:`~growsim.pictures.record`);
+the names users import from here
 (:class:`~growsim.pictures.record.Segmentation`, :func:`segmentation_picture`,
 :func:`srgb_to_linear`, :func:`linear_to_srgb`, :func:`unmix`) are theirs.
 """
@@ -52,6 +53,7 @@ from growsim.pictures.crown import (
     row_spans,
     upsample,
 )
+from growsim.pictures.foot import traced_trunk, trim_foot
 from growsim.pictures.hints import (
     MAX_CLUTTER,
     MAX_EDGE_PIXELS,
@@ -76,7 +78,7 @@ from growsim.pictures.sky import (
     smooth_sky,
     thin_lines,
 )
-from growsim.pictures.trunk import below_cut, hanging_trunk, traced_trunk, trim_foot
+from growsim.pictures.trunk import below_cut, hanging_trunk
 
 __all__ = [
     "Segmentation",
@@ -216,7 +218,7 @@ def segment_photo(
        to it, bridged over gaps up to :data:`~growsim.pictures.trunk.TRUNK_GAP` of its height (a
        trunk the colour of the hedge behind it); a flat piece reaching out from the trunk's
        foot (a shadow, a strip of darker ground) is dropped
-       (:func:`~growsim.pictures.trunk.trim_foot`);
+       (:func:`~growsim.pictures.foot.trim_foot`);
     6. before a treeline taller than :data:`~growsim.pictures.hints.MAX_CLUTTER` of the tree,
        with no box, a leafy crown's part below the treeline's top is read by colour against
        the treeline's beside it, down to where the ground begins (:func:`_before_treeline`),

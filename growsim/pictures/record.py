@@ -76,7 +76,7 @@ class Segmentation:
     :func:`~growsim.pictures.hints.grazing`), ``steps`` (``(name, pixels)``: what the steps
     below the cut added, the tree learned below the horizon,
     :func:`~growsim.pictures.learned.learned_below`, and the trunk followed down,
-    :func:`~growsim.pictures.trunk.traced_trunk`).
+    :func:`~growsim.pictures.foot.traced_trunk`).
 
     Examples
     --------
