@@ -81,7 +81,7 @@ def one(name, mask, side, photo, png, infer, two_views, seed=0) -> dict:
     seconds = time.perf_counter() - t
     row = {"name": name, "leafy": rec.leafy, "seconds": round(seconds, 2),
            "segments": rec.plant.n_segments}  # fmt: skip
-    row.update({k: round(v, 4) for k, v in judge(rec.plant, mask, side).items()})
+    row.update({k: round(v, 4) for k, v in judge(rec, mask, side).items()})
     if png:
         fit_picture(rec.plant, mask, png / f"{name}_fit.png", side=side)
         skeleton_picture(rec, load_rgb(photo) if photo else mask, png / f"{name}_skeleton.png")
@@ -89,7 +89,7 @@ def one(name, mask, side, photo, png, infer, two_views, seed=0) -> dict:
         t = time.perf_counter()
         rec2 = reconstruct(mask, side, seed=seed)
         row["seconds2"] = round(time.perf_counter() - t, 2)
-        s2 = judge(rec2.plant, mask, side)
+        s2 = judge(rec2, mask, side)
         row["ncc_front2"], row["ncc_side2"] = round(s2["ncc"], 4), round(s2["ncc_side"], 4)
         if png:
             fit_picture(rec2.plant, mask, png / f"{name}_fit2.png", side=side)

@@ -125,7 +125,7 @@ def main(argv=None) -> int:
                     rec = reconstruct(front, side, height_m=10.0)
                 finally:
                     build.lift_two_views = lift.lift_two_views
-                s = judge(rec.plant, front, side)
+                s = judge(rec, front, side)
                 row[name] = {"front": round(s["ncc"], 4), "side": round(s["ncc_side"], 4),
                              "travel": round(_travel(rec.plant) / _travel(tree), 3)}  # fmt: skip
             print(json.dumps(row), flush=True)

@@ -70,6 +70,30 @@ def test_a_photo_with_no_flags_is_reconstructed_and_written_as_a_fit(fitted):
     assert set(stats.tree) == {"photo", "honda"} and "all" in set(stats.order.astype(str))
 
 
+def test_a_reconstruction_is_judged_and_drawn_where_the_picture_shows_it(tmp_path):
+    # a speck beside the tree's foot widens the picture's frame: the reconstruction,
+    # which leaves it out, is drawn where its picture shows it (fit_front.png over
+    # silhouette_front.png), so its NCC is the clean picture's (stretched to the frame by
+    # its own extent, 0.80)
+    from PIL import Image
+    from test_reconstruction import y_tree
+
+    ncc = {}
+    for name, speck in (("clean", False), ("speck", True)):
+        m = y_tree()
+        if speck:
+            m[150:152, 5:7] = True
+        picture = tmp_path / f"{name}.png"
+        Image.fromarray(np.where(m, 0, 255).astype(np.uint8)).save(picture)
+        out = tmp_path / name
+        fit_image(picture, out=out, method="reconstruct", progress=False)
+        ncc[name] = json.loads((out / "fit.json").read_text())["ncc"]
+        fit = np.asarray(Image.open(out / "fit_front.png").convert("L")) < 128
+        target = np.asarray(Image.open(out / "silhouette_front.png").convert("L")) < 128
+        assert (fit & target).sum() / (fit | target).sum() >= 0.8
+    assert ncc["speck"] >= ncc["clean"] - 0.01 and ncc["clean"] >= 0.9
+
+
 def test_model_json_regrows_a_tree_of_this_kind(fitted, tmp_path, capsys):
     out, r = fitted
     model = json.loads((out / "model.json").read_text())

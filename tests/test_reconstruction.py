@@ -30,6 +30,7 @@ from growsim.reconstruction import (
 )
 from growsim.reconstruction.build import LEAF_COUNTS
 from growsim.reconstruction.colonize import ColonizeSettings
+from growsim.reconstruction.judge import fit_mask
 from growsim.reconstruction.skeleton import extract_skeleton
 
 
@@ -119,9 +120,24 @@ def test_y_tree_reconstructs_its_fork_height_and_angles():
         angle = math.degrees(math.atan2(abs(d[0]), d[1]))
         assert abs(angle - HALF_ANGLE) <= 5.0, angle
     # the front view is the picture's: NCC and skeleton near 1
-    s = judge(p, m)
+    s = judge(rec, m)
     assert s["ncc"] >= 0.85 and 0.85 <= s["area"] <= 1.2
     assert s["precision"] >= 0.9 and s["recall"] >= 0.9
+
+
+@pytest.mark.parametrize("speck", [(150, 5), (80, 135)])
+def test_a_speck_the_reconstruction_leaves_out_moves_nothing_else(speck):
+    # a speck apart from the tree (beside its foot, beside its crown) widens the picture's
+    # frame; the reconstruction leaves it out, and is drawn where the picture shows it,
+    # not stretched to the frame (framed by its own extent: NCC 0.75-0.80)
+    clean = y_tree()
+    m = clean.copy()
+    m[speck[0] : speck[0] + 2, speck[1] : speck[1] + 2] = True
+    rec, rec_clean = reconstruct(m), reconstruct(clean)
+    back, back_clean = fit_mask(rec, m), fit_mask(rec_clean, clean)
+    assert not back[speck[0] : speck[0] + 2, speck[1] : speck[1] + 2].any()
+    assert judge(rec, m)["ncc"] >= judge(rec_clean, clean)["ncc"] - 0.01
+    assert (back & back_clean).sum() / (back | back_clean).sum() >= 0.9
 
 
 def test_y_tree_depth_is_deterministic_for_a_seed_and_the_front_kept():
@@ -184,7 +200,7 @@ def test_two_views_of_a_honda_tree_give_its_side():
     front, side = plant_views(tree, 384, "radius", views=2)
     rec = reconstruct(front, side, height_m=10.0)
     _check_tree(rec.plant)
-    s = judge(rec.plant, front > 0, side > 0)
+    s = judge(rec, front > 0, side > 0)
     assert s["ncc"] >= 0.85 and s["ncc_side"] >= 0.72
     lift = rec.assumptions["lift"]
     assert lift["side_covered"] >= 0.6 and lift["grafted"] >= 1
@@ -201,7 +217,7 @@ def test_a_limb_hidden_in_the_front_picture_is_grafted_from_the_side():
     _check_tree(rec.plant)
     assert rec.assumptions["lift"]["grafted"] == 1
     assert len(rec.skeleton.branches) < rec.plant.n_segments
-    s = judge(rec.plant, front, side)
+    s = judge(rec, front, side)
     assert s["ncc"] >= 0.9 and s["ncc_side"] >= 0.9
     # the grafted limb runs in depth (+z: the side picture's left), inside the trunk
     # across
@@ -258,7 +274,7 @@ def test_side_view_gives_the_depth():
     fork = rec.plant.end[_forks(rec.plant)[0]]
     # picture's left in the side view is +z (the side view shows -z to the right)
     assert fork[2] > 0.5
-    s = judge(rec.plant, m, side)
+    s = judge(rec, m, side)
     assert s["ncc_side"] >= 0.6
 
 
@@ -277,7 +293,7 @@ def test_leafy_crown_grows_into_its_envelope():
     p = rec.plant
     assert rec.leafy and p.n_leaves > 100
     _check_tree(p)
-    s = judge(p, m)
+    s = judge(rec, m)
     assert s["ncc"] >= 0.8 and s["outline_iou"] >= 0.8
     assert s["depth_to_width"] >= 0.4
     # the leaves are inside the crown's height

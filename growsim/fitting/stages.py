@@ -52,7 +52,7 @@ from growsim.reconstruction import (
     infer_honda,
     reconstruct,
 )
-from growsim.reconstruction.judge import JUDGE_SIZE
+from growsim.reconstruction.judge import JUDGE_SIZE, front_view
 
 __all__ = [
     "AUTO_ENOUGH",
@@ -402,7 +402,7 @@ class Grown:
     that grew it. A reconstruction's: its tree as reconstructed, ``params`` Honda's
     inferred from it (:func:`~growsim.reconstruction.infer_honda`), ``regrown`` the Honda
     tree they grow, ``size`` the raster size it is judged at (:data:`JUDGE_SIZE`; ``None``:
-    its plan's)."""
+    its plan's), ``rec`` the reconstruction (its front drawn where the picture shows it)."""
 
     phenotype: Any
     params: dict[str, float]
@@ -411,6 +411,7 @@ class Grown:
     draws: np.ndarray | None
     regrown: Any = None
     size: int | None = None
+    rec: Any = None
 
 
 def grow(found: Searched | Reconstructed) -> Grown:
@@ -428,7 +429,7 @@ def grow(found: Searched | Reconstructed) -> Grown:
     if isinstance(found, Reconstructed):
         params = infer_honda(found.rec.plant, seed=found.state.options.seed)
         return Grown(found.rec.plant, params, found.plan, np.empty(0), None,
-                     regrown=honda.develop(params), size=JUDGE_SIZE)  # fmt: skip
+                     regrown=honda.develop(params), size=JUDGE_SIZE, rec=found.rec)  # fmt: skip
     plan, x, draws = found.run.plan, found.run.x, found.run.draws
     tree = plan.fitness().phenotype_of(x, draws=draws)
     params = {n: round(v) if n in plan.int_names else v for n, v in tree.params.items()}
@@ -467,20 +468,24 @@ def judge(tree: Grown) -> Judged:
     objective = tree.plan.objectives[0]
     masks = list(objective.pictures.values())[: objective.n_views]
     target, line_width = None, objective.line_width
+    side = masks[1] if len(masks) > 1 else None
     if tree.size is None:
         views = objective.view_scores(tree.phenotype)
         fitted = phenotype_views(tree.phenotype, objective.size, line_width,
                                  views=objective.n_views)  # fmt: skip
-    else:  # a reconstruction: binary NCC at its size, branches at their width
+    else:  # a reconstruction: binary NCC at its size, branches at their width, the front
+        # drawn where the picture shows it
         line_width = "radius"
-        target = frame_silhouettes(masks[0], masks[1] if len(masks) > 1 else None, tree.size,
-                                   line_width)  # fmt: skip
+        target = frame_silhouettes(masks[0], side, tree.size, line_width)
         fitted = phenotype_views(tree.phenotype, tree.size, line_width, views=len(masks))
+        fitted[0] = front_view(tree.rec, masks[0], tree.size, side)[0]
         views = [float(ncc(fitted[i : i + 1], target[i : i + 1])) for i in range(len(masks))]
     drawn = fitted
     if line_width == "radius":
         size = min(1024, max(max(m.shape) for m in masks))
         drawn = phenotype_views(tree.phenotype, size, "radius", views=objective.n_views)
+        if tree.rec is not None:
+            drawn[0] = front_view(tree.rec, masks[0], size, side)[0]
     judged = Judged(views, fitted, target=target)
     for i, view in enumerate(list(objective.pictures)[: objective.n_views]):
         back = unframe(drawn[i], *masks, view=i, line_width=line_width)

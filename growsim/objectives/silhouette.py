@@ -49,7 +49,14 @@ from pydantic import Field, field_validator, model_validator
 from growsim.errors import ConfigError, GrowsimError, UserInputError
 from growsim.kernels.ifs3d import score_population
 from growsim.kernels.raster import draw_segments
-from growsim.kernels.views import blurred_ncc, frame_points, ncc, render_antialiased, render_thin
+from growsim.kernels.views import (
+    blurred_ncc,
+    frame_points,
+    frame_view,
+    ncc,
+    render_antialiased,
+    render_thin,
+)
 from growsim.models import get_model
 from growsim.objectives.base import Objective, ObjectiveOptions
 from growsim.phenotypes.plant import LEAF
@@ -180,7 +187,12 @@ def shape_score(views, target, scales: int = 1, area_band=None, first: float | N
 
 
 def plant_views(
-    plant, size: int = 64, line_width: str = "thin", antialias: bool = False, views: int = 2
+    plant,
+    size: int = 64,
+    line_width: str = "thin",
+    antialias: bool = False,
+    views: int = 2,
+    frame: tuple[float, float, float] | None = None,
 ) -> np.ndarray:
     """Front and side silhouettes ``(2, size, size)`` uint8 of any Plant, framed.
 
@@ -190,6 +202,9 @@ def plant_views(
     only): float64 coverage in [0, 1] instead (see ``blur`` of :class:`SilhouetteObjective`).
     ``views = 1``: the front view alone ``(1, size, size)``, framed by the front's own
     extent (the side's width does not shrink it), as a single picture is framed.
+    ``frame = (u_base, y_min, k)`` (with ``views = 1``): the front view placed by
+    :func:`~growsim.kernels.views.frame_view` with these, not by its own extent (a tree
+    drawn where its picture shows it, :func:`~growsim.pictures.framing.picture_frame`).
 
     Examples
     --------
@@ -216,8 +231,16 @@ def plant_views(
         start, end = start.copy(), end.copy()
         start[:, 2] = base[2]
         end[:, 2] = base[2]
-    coords, k = frame_points(start, end, base, size)
-    coords = coords[:views]
+    if frame is None:
+        coords, k = frame_points(start, end, base, size)
+        coords = coords[:views]
+    elif views != 1:
+        raise UserInputError(f"plant_views: a given frame places the front alone, got {views=}")
+    else:
+        k = float(frame[2])
+        coords = np.empty((1, 2, plant.n_segments, 2))
+        for i, p in enumerate((start, end)):
+            coords[0, i, :, 0], coords[0, i, :, 1] = frame_view(p[:, 0], p[:, 1], *frame, size)
     if aa:
         return render_antialiased(coords, size)
     if line_width == "thin":

@@ -49,7 +49,7 @@ from growsim.errors import UserInputError
 from growsim.kernels.views import MARGIN, frame_scale, frame_view
 from growsim.pictures.pixels import drawn_pixels
 
-__all__ = ["COVER_SHARE", "frame_silhouettes", "frame_thin_lines", "unframe"]
+__all__ = ["COVER_SHARE", "frame_silhouettes", "frame_thin_lines", "picture_frame", "unframe"]
 
 #: Share of the silhouette's height, at its bottom, whose pixels locate the trunk base.
 BASE_BAND = 0.02
@@ -68,6 +68,27 @@ def _view_geometry(mask: np.ndarray):
     base = float(cols[band].mean()) + 0.5
     hw = float(np.max(np.abs(cols + 0.5 - base))) / h
     return rows, cols, float(rmax), h, base, hw
+
+
+def picture_frame(front: np.ndarray, side: np.ndarray | None = None, size: int = 256):
+    """Where :func:`frame_silhouettes` (``line_width = "radius"``) puts the front
+    picture's pixels: ``(base, rmax, f)``, the centre of the pixel in column ``c`` and row
+    ``r`` of ``front`` landing at raster ``col = size / 2 + f (c + 0.5 - base)``,
+    ``row = size - MARGIN - f (rmax - r)`` (``side``: the side picture framed with
+    it, which shares the scale). A tree whose place in the picture is known (a
+    reconstruction) is drawn so, where the picture shows it.
+
+    Examples
+    --------
+    >>> f = np.zeros((101, 60), bool); f[0:101, 30] = True
+    >>> picture_frame(f, None, 64)
+    (30.5, 100.0, 0.63)
+    """
+    masks = [np.asarray(m, dtype=bool) for m in ((front,) if side is None else (front, side))]
+    geo = [_view_geometry(m) for m in masks]
+    k = frame_scale(1.0, max(g[5] for g in geo), int(size))
+    _, _, rmax, h, base, _ = geo[0]
+    return base, rmax, k / h
 
 
 def frame_silhouettes(

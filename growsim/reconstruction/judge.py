@@ -16,9 +16,18 @@ import numpy as np
 
 from growsim.kernels.views import blurred_ncc, ncc
 from growsim.objectives.silhouette import outlines, plant_views
+from growsim.pictures.framing import picture_frame
 from growsim.pictures.images import frame_silhouettes, unframe
 
-__all__ = ["JUDGE_SIZE", "SIDE_SIGMA", "SIDE_SIZE", "fit_mask", "judge", "skeleton_match"]
+__all__ = [
+    "JUDGE_SIZE",
+    "SIDE_SIGMA",
+    "SIDE_SIZE",
+    "fit_mask",
+    "front_view",
+    "judge",
+    "skeleton_match",
+]
 
 #: the NCC's raster size, as fit-image's final size
 JUDGE_SIZE = 256
@@ -27,24 +36,48 @@ SIDE_SIZE = 64
 SIDE_SIGMA = 1.0
 
 
-def fit_mask(plant, mask, view: int = 0, side=None) -> np.ndarray:
-    """``plant``'s view ``view`` (0 front, 1 side) at the picture's size and placement,
-    as ``fit-image`` writes ``fit_<view>.png``: drawn at the picture's resolution (at most
-    1024 px) and unframed onto ``mask`` (``side``: the side picture, for ``view = 1``).
+def front_view(rec, mask, size: int = JUDGE_SIZE, side=None) -> np.ndarray:
+    """The reconstruction ``rec``'s front view ``(1, size, size)``, drawn with its
+    branches' widths where its picture shows it: framed as
+    :func:`~growsim.pictures.images.frame_silhouettes` frames ``mask`` (with ``side``, the
+    side picture framed with it), each point at the picture's pixel it was read from
+    (:func:`~growsim.pictures.framing.picture_frame`), so what the picture shows and the
+    reconstruction leaves out (a speck apart from the tree) moves nothing else.
 
     Examples
     --------
     >>> from growsim.reconstruction.build import reconstruct
     >>> m = np.zeros((60, 40), bool); m[10:60, 18:23] = True
-    >>> back = fit_mask(reconstruct(m).plant, m)
+    >>> view = front_view(reconstruct(m), m, 64)
+    >>> view.shape, round(float(ncc(view, frame_silhouettes(m, None, 64, "radius"))), 2)
+    ((1, 64, 64), 0.99)
+    """
+    base, rmax, f = picture_frame(mask, side, size)
+    r0, c0 = rec.skeleton.base
+    s = rec.scale  # metres a pixel
+    frame = ((base - c0 - 0.5) * s, (r0 - rmax) * s, f / s)
+    return plant_views(rec.plant, size, "radius", views=1, frame=frame)
+
+
+def fit_mask(rec, mask, view: int = 0, side=None) -> np.ndarray:
+    """The reconstruction ``rec``'s view ``view`` (0 front, 1 side) at the picture's size
+    and placement, as ``fit-image`` writes ``fit_<view>.png``: drawn at the picture's
+    resolution (at most 1024 px; the front where the picture shows it,
+    :func:`front_view`) and unframed onto ``mask`` (``side``: the side picture).
+
+    Examples
+    --------
+    >>> from growsim.reconstruction.build import reconstruct
+    >>> m = np.zeros((60, 40), bool); m[10:60, 18:23] = True
+    >>> back = fit_mask(reconstruct(m), m)
     >>> back.shape, round(float((back & m).sum() / m.sum()), 2)
     ((60, 40), 0.99)
     """
-    masks = [mask] if view == 0 else [mask, side]
-    size = min(1024, max(max(x.shape) for x in masks))
-    n = 1 if view == 0 else 2
-    drawn = plant_views(plant, size, "radius", views=n)
-    return unframe(drawn[view], *masks, view=view) if view else unframe(drawn[0], mask)
+    if view == 0:
+        size = min(1024, max(mask.shape))
+        return unframe(front_view(rec, mask, size)[0], mask)
+    size = min(1024, max(max(x.shape) for x in (mask, side)))
+    return unframe(plant_views(rec.plant, size, "radius", views=2)[1], mask, side, view=1)
 
 
 def skeleton_match(fit: np.ndarray, target: np.ndarray, tol: float = 2.0) -> tuple[float, float]:
@@ -70,9 +103,10 @@ def skeleton_match(fit: np.ndarray, target: np.ndarray, tol: float = 2.0) -> tup
     return float((to_t[sf] <= tol).mean()), float((to_f[st] <= tol).mean())
 
 
-def judge(plant, mask, side=None, *, tol: float = 2.0) -> dict:
-    """The scores of ``plant`` against the front picture's ``mask`` (and the side
-    picture's ``side``, when known): ``ncc`` at :data:`JUDGE_SIZE`, ``area`` ratio,
+def judge(rec, mask, side=None, *, tol: float = 2.0) -> dict:
+    """The scores of the reconstruction ``rec`` against the front picture's ``mask`` (and
+    the side picture's ``side``, when known): ``ncc`` at :data:`JUDGE_SIZE` (the front
+    drawn where the picture shows it, :func:`front_view`), ``area`` ratio,
     ``precision`` and ``recall`` of the skeletons at ``tol`` pixels, ``outline_iou``,
     ``depth_to_width`` (the Plant's crown depth over its width), and with ``side``:
     ``side_blurred_ncc`` (at :data:`SIDE_SIZE`, blurred by :data:`SIDE_SIGMA`, both
@@ -82,14 +116,15 @@ def judge(plant, mask, side=None, *, tol: float = 2.0) -> dict:
     --------
     >>> from growsim.reconstruction.build import reconstruct
     >>> m = np.zeros((60, 40), bool); m[10:60, 18:23] = True
-    >>> s = judge(reconstruct(m).plant, m)
+    >>> s = judge(reconstruct(m), m)
     >>> s["ncc"] > 0.9, round(s["area"], 1), s["precision"], s["recall"]
     (True, 1.0, 1.0, 1.0)
     """
     mask = np.asarray(mask, bool)
+    plant = rec.plant
     target = frame_silhouettes(mask, None, JUDGE_SIZE, "radius")
-    drawn = plant_views(plant, JUDGE_SIZE, "radius", views=1)
-    back = fit_mask(plant, mask)
+    drawn = front_view(rec, mask)
+    back = fit_mask(rec, mask)
     p, r = skeleton_match(back, mask, tol)
     fo, to = outlines(back[None])[0], outlines(mask[None])[0]
     out = {
