@@ -140,6 +140,20 @@ def test_a_speck_the_reconstruction_leaves_out_moves_nothing_else(speck):
     assert (back & back_clean).sum() / (back | back_clean).sum() >= 0.9
 
 
+def test_a_speck_beside_a_leafy_crown_leaves_its_leaf_count_alone():
+    # the leaves a node are chosen on the front drawn where the picture shows it: a speck
+    # far beside the foot doubles the picture's frame, not the crown's area over the
+    # picture's (framed by its own extent: 9.8-11.7, one leaf a node)
+    def ratios(m):
+        why = reconstruct(m, seed=1).assumptions["colonization"]["leaves_per_node"]
+        return [float(r.split(": ")[1]) for r in why.split("(area ratios ")[1][:-1].split(", ")]
+
+    m = np.pad(_leafy_mask(), ((0, 0), (0, 200)))
+    assert all(0.7 <= r <= 1.1 for r in ratios(m))
+    m[140:142, 320:322] = True
+    assert all(0.8 <= r <= 1.25 for r in ratios(m))
+
+
 def test_y_tree_depth_is_deterministic_for_a_seed_and_the_front_kept():
     m = y_tree()
     a, b, c = (reconstruct(m, seed=s) for s in (3, 3, 4))

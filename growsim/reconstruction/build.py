@@ -37,6 +37,7 @@ import pandas as pd
 
 from growsim.objectives.silhouette import TRUNK_ROWS, plant_views
 from growsim.phenotypes.plant import LEAF, Plant
+from growsim.pictures.framing import picture_frame
 from growsim.pictures.images import frame_silhouettes
 from growsim.reconstruction.colonize import ColonizeSettings, colonize, envelope_points
 from growsim.reconstruction.lift import lift_prior, lift_two_views, to_world
@@ -58,6 +59,7 @@ __all__ = [
     "SAMPLE_PIXELS",
     "Reconstruction",
     "crown_of",
+    "placed",
     "reconstruct",
 ]
 
@@ -104,6 +106,30 @@ class Reconstruction:
     skeleton: Skeleton2D
     crown: np.ndarray | None = field(default=None, repr=False)
     scale: float = 1.0
+
+    def frame(self, mask, size: int, side=None) -> tuple[float, float, float]:
+        """The front view's placement where the picture ``mask`` shows the tree, framed
+        as :func:`~growsim.pictures.images.frame_silhouettes` frames it at ``size``
+        (:func:`placed`): ``plant_views(rec.plant, size, views=1, frame=...)``."""
+        return placed(mask, self.skeleton.base, self.scale, size, side)
+
+
+def placed(mask, base, scale: float, size: int, side=None) -> tuple[float, float, float]:
+    """``(u_base, y_min, k)`` for :func:`~growsim.objectives.silhouette.plant_views`'s
+    ``frame``: a tree whose base is at pixel ``base`` ``(row, col)`` of ``mask``, ``scale``
+    metres a pixel (as :func:`~growsim.reconstruction.lift.to_world` placed it), drawn
+    where the picture shows it, framed as ``mask`` (with ``side``) is framed at ``size``
+    (:func:`~growsim.pictures.framing.picture_frame`).
+
+    Examples
+    --------
+    >>> m = np.zeros((101, 60), bool); m[0:101, 30] = True
+    >>> placed(m, (100.0, 30.0), 0.1, 64)   # the base on the bottom row's centre
+    (0.0, 0.0, 6.3)
+    """
+    col, rmax, f = picture_frame(mask, side, size)
+    r0, c0 = base
+    return ((col - c0 - 0.5) * scale, (r0 - rmax) * scale, f / scale)
 
 
 def crown_of(mask: np.ndarray) -> tuple[np.ndarray, float, float]:
@@ -197,11 +223,11 @@ def _leaves(g, par_pos, gseg, gorder, per: int, height: float, seed: int, settin
             gorder[host] + 1, np.full(host.size, LEAF, np.int8))  # fmt: skip
 
 
-def _leaf_count(leaves, mask, parts, grown, height, seed, settings):
+def _leaf_count(leaves, mask, parts, grown, height, seed, settings, frame):
     """``(count, why)``: ``leaves`` if given, else the count of :data:`LEAF_COUNTS` whose
-    Plant's front view (framed as the picture's silhouette at 256 px) has the area
-    nearest the picture's (the ratio nearest 1 in log terms): a crown as dense as the
-    picture shows it."""
+    Plant's front view (drawn where the picture shows it, ``frame``, :func:`placed`, at
+    256 px) has the area nearest the picture's (the ratio nearest 1 in log terms): a crown
+    as dense as the picture shows it."""
     if leaves is not None:
         return int(leaves), f"{int(leaves)}, given"
     target = float(frame_silhouettes(mask, None, 256, "radius").sum())
@@ -211,7 +237,8 @@ def _leaf_count(leaves, mask, parts, grown, height, seed, settings):
         for part, arr in zip(cols, _leaves(*grown, per, height, seed, settings)):
             part.append(arr)
         plant = Plant(*(np.concatenate(c) for c in cols))
-        ratios[per] = float(plant_views(plant, 256, "radius", views=1).sum()) / max(target, 1.0)
+        drawn = plant_views(plant, 256, "radius", views=1, frame=frame)
+        ratios[per] = float(drawn.sum()) / max(target, 1.0)
     per = min(LEAF_COUNTS, key=lambda n: (abs(math.log(max(ratios[n], 1e-9))), n))
     return per, (
         f"{per}: of {list(LEAF_COUNTS)}, the front area nearest the picture's "
@@ -322,7 +349,9 @@ def reconstruct(front_mask, side_mask=None, *, height_m: float | None = None,
         kind.append(np.zeros(k, np.int8))
         parts = (start, end, radius, parent_seg, order, kind)
         twigs = (g, par_pos, gseg, gorder)
-        per, leaf_why = _leaf_count(settings.leaves, m, parts, twigs, height, seed, settings)
+        frame = placed(m, sk.base, scale, 256)
+        per, leaf_why = _leaf_count(settings.leaves, m, parts, twigs, height, seed, settings,
+                                    frame)  # fmt: skip
         for part, arr in zip(parts, _leaves(*twigs, per, height, seed, settings)):
             part.append(arr)
     else:

@@ -16,7 +16,6 @@ import numpy as np
 
 from growsim.kernels.views import blurred_ncc, ncc
 from growsim.objectives.silhouette import outlines, plant_views
-from growsim.pictures.framing import picture_frame
 from growsim.pictures.images import frame_silhouettes, unframe
 
 __all__ = [
@@ -52,11 +51,7 @@ def front_view(rec, mask, size: int = JUDGE_SIZE, side=None) -> np.ndarray:
     >>> view.shape, round(float(ncc(view, frame_silhouettes(m, None, 64, "radius"))), 2)
     ((1, 64, 64), 0.99)
     """
-    base, rmax, f = picture_frame(mask, side, size)
-    r0, c0 = rec.skeleton.base
-    s = rec.scale  # metres a pixel
-    frame = ((base - c0 - 0.5) * s, (r0 - rmax) * s, f / s)
-    return plant_views(rec.plant, size, "radius", views=1, frame=frame)
+    return plant_views(rec.plant, size, "radius", views=1, frame=rec.frame(mask, size, side))
 
 
 def fit_mask(rec, mask, view: int = 0, side=None) -> np.ndarray:
