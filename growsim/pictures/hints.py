@@ -1,6 +1,7 @@
 """Refusals and hints: a hint's pixels (:func:`hint_pixels`), the tree among the
 standing objects or a refusal naming the hint that settles it (:func:`choose_tree`), the
-tree inside a box by GrabCut when the scene cannot tell it (:func:`in_box`), and the
+tree inside a box by GrabCut when the scene cannot tell it (:func:`in_box`, less what
+is like the rows beside the box: :func:`apart_from_rows`), and the
 thresholds of the refusals.
 """
 
@@ -18,7 +19,7 @@ from growsim.pictures.record import Segmentation
 from growsim.pictures.scene import RIVAL_AREA, RIVAL_HEIGHT, Scene
 from growsim.pictures.trunk import GRABCUT_ITERATIONS
 
-__all__ = ["choose_tree", "grazing", "hint_pixels", "in_box", "judge_edges"]
+__all__ = ["apart_from_rows", "choose_tree", "grazing", "hint_pixels", "in_box", "judge_edges"]
 
 #: refused without a box: the tree taken below the cut reaches both sides of its columns
 #: in more than this share of those rows (a wood, a hedge of its colours behind it)
@@ -55,6 +56,12 @@ BOX_BACKGROUND_DE = 8.0
 BOX_ROWS = 2
 BOX_GRABCUT_PIXELS = 150_000
 BOX_PICTURE_PIXELS = 500_000
+#: after GrabCut, a pixel it took for the tree is background where its colour is nearer
+#: the colours beside the box in its rows than the tree's own (its pixels farther than
+#: BOX_BACKGROUND_DE from every colour beside them, at least BOX_SURE of them): a wood or
+#: the sky between a bare crown's twigs; unless that would leave less than BOX_KEEP of
+#: what GrabCut took
+BOX_SURE, BOX_KEEP = 50, 0.2
 
 
 def hint_pixels(values, n: int, per_pixel: float, shape, flag: str, name: str):
@@ -255,14 +262,49 @@ def judge_edges(seg: Segmentation, edges, boxed: bool, name: str, settle: str, h
     return seg
 
 
+def apart_from_rows(lab: np.ndarray, tree: np.ndarray, beside: np.ndarray) -> np.ndarray:
+    """``tree`` (``(H, W)`` bool, what GrabCut took in a box) less its pixels whose colour
+    in ``lab`` is nearer the colours beside the box in their rows (``beside``: each pixel's
+    least Delta E to them, :func:`_row_background`) than the tree's own colours: those of
+    its pixels farther than :data:`BOX_BACKGROUND_DE` from every colour beside them. A
+    wood seen between a bare crown's twigs is like the wood beside the box, the twigs are
+    not. Unchanged when fewer than :data:`BOX_SURE` pixels are sure, or when less than
+    :data:`BOX_KEEP` of ``tree`` would be left.
+
+    Examples
+    --------
+    >>> from skimage.color import rgb2lab
+    >>> rgb = np.zeros((40, 60, 3)); rgb[:] = [0.2, 0.3, 0.2]          # a dark wood
+    >>> rgb[5:35, [26, 27, 30, 31, 34, 35]] = [0.85, 0.85, 0.8]         # pale twigs
+    >>> box = np.zeros((40, 60), bool); box[:, 15:45] = True
+    >>> lab = rgb2lab(rgb)
+    >>> beside = _row_background(lab, box)
+    >>> grabcut = box & (np.abs(np.arange(60) - 30) <= 6)[None, :]    # a solid blob
+    >>> kept = apart_from_rows(lab, grabcut, beside)
+    >>> int(grabcut.sum()), int(kept.sum()), bool(kept[5:35, 26].all())
+    (520, 180, True)
+    """
+    from scipy.spatial import cKDTree
+
+    tree = np.asarray(tree, dtype=bool)
+    sure = tree & np.isfinite(beside) & (beside > BOX_BACKGROUND_DE)
+    if sure.sum() < BOX_SURE:
+        return tree
+    own = lab[sure][:: max(1, int(sure.sum()) // 4000)]
+    out = tree.copy()
+    out[tree] = cKDTree(own).query(lab[tree], k=1)[0] <= beside[tree]
+    return out if out.sum() >= BOX_KEEP * tree.sum() else tree
+
+
 def in_box(rgb, keep, sky, hint, per_pixel, name, t_start) -> Segmentation:
     """The tree in the box of ``keep`` (the hint ``--box``) where the scene could not tell
     it (no sky, nothing standing out of it, or what stands merges with a wood reaching
     past the box): GrabCut in the box, started from each row's background (a pixel like
     the colours beside the box in its row is probably background: the sky, a treeline, a
     field run on past the box; :data:`BOX_BACKGROUND_DE`), the ``sky``, when known, and
-    everything outside the box background; its largest piece; checked as every
-    silhouette is.
+    everything outside the box background; what GrabCut took less what is more like the
+    row beside the box than like the tree (:func:`apart_from_rows`); its largest piece;
+    checked as every silhouette is.
 
     Examples
     --------
@@ -286,9 +328,9 @@ def in_box(rgb, keep, sky, hint, per_pixel, name, t_start) -> Segmentation:
                        interpolation=cv2.INTER_AREA) if f < 1.0 else rgb  # fmt: skip
     box = cv2.resize(keep.astype(np.uint8), size, interpolation=cv2.INTER_NEAREST) > 0
     mask = np.where(box, cv2.GC_PR_FGD, cv2.GC_BGD).astype(np.uint8)
-    mask[box & (_row_background(rgb2lab(np.clip(small, 0, 1)), box) < BOX_BACKGROUND_DE)] = (
-        cv2.GC_PR_BGD
-    )
+    lab = rgb2lab(np.clip(small, 0, 1))
+    beside = _row_background(lab, box)
+    mask[box & (beside < BOX_BACKGROUND_DE)] = cv2.GC_PR_BGD
     if sky is not None:
         mask[cv2.resize(sky.astype(np.uint8), size, interpolation=cv2.INTER_NEAREST) > 0] = (
             cv2.GC_BGD
@@ -306,7 +348,7 @@ def in_box(rgb, keep, sky, hint, per_pixel, name, t_start) -> Segmentation:
     bgd, fgd = np.zeros((1, 65)), np.zeros((1, 65))
     cv2.setRNGSeed(0)
     cv2.grabCut(img, mask, None, bgd, fgd, GRABCUT_ITERATIONS, cv2.GC_INIT_WITH_MASK)
-    fg = (mask == cv2.GC_FGD) | (mask == cv2.GC_PR_FGD)
+    fg = apart_from_rows(lab, (mask == cv2.GC_FGD) | (mask == cv2.GC_PR_FGD), beside)
     if f < 1.0:
         fg = cv2.resize(fg.astype(np.uint8), (w, h), interpolation=cv2.INTER_LINEAR) > 0
     fg &= keep
