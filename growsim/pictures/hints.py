@@ -14,7 +14,7 @@ import numpy as np
 
 from growsim.errors import UserInputError
 from growsim.pictures.pieces import largest_piece
-from growsim.pictures.reading import check_silhouette
+from growsim.pictures.reading import SPECK, check_silhouette
 from growsim.pictures.record import Segmentation
 from growsim.pictures.scene import RIVAL_AREA, RIVAL_HEIGHT, Scene
 from growsim.pictures.trunk import GRABCUT_ITERATIONS
@@ -59,9 +59,17 @@ BOX_PICTURE_PIXELS = 500_000
 #: after GrabCut, a pixel it took for the tree is background where its colour is nearer
 #: the colours beside the box in its rows than the tree's own (its pixels farther than
 #: BOX_BACKGROUND_DE from every colour beside them, at least BOX_SURE of them): a wood or
-#: the sky between a bare crown's twigs; unless that would leave less than BOX_KEEP of
-#: what GrabCut took
+#: the sky between a bare crown's twigs (but not in pinholes); unless that would leave
+#: less than BOX_KEEP of what GrabCut took
 BOX_SURE, BOX_KEEP = 50, 0.2
+#: what settles a tree found in a box touching a side or the top edge: the box reaches
+#: that edge (the silhouette lies in the box), so what runs on past it (a courtyard, a
+#: hedge, a wood) may have been taken with the tree
+BOXED_AT_EDGE = (
+    "it is cut off (take it from farther away), or what runs on past that edge was taken "
+    "with it: if the whole tree is in the picture, stop the box a few pixels short of "
+    "that edge"
+)
 
 
 def hint_pixels(values, n: int, per_pixel: float, shape, flag: str, name: str):
@@ -268,8 +276,10 @@ def apart_from_rows(lab: np.ndarray, tree: np.ndarray, beside: np.ndarray) -> np
     least Delta E to them, :func:`_row_background`) than the tree's own colours: those of
     its pixels farther than :data:`BOX_BACKGROUND_DE` from every colour beside them. A
     wood seen between a bare crown's twigs is like the wood beside the box, the twigs are
-    not. Unchanged when fewer than :data:`BOX_SURE` pixels are sure, or when less than
-    :data:`BOX_KEEP` of ``tree`` would be left.
+    not. What it would leave out in pieces under :data:`~growsim.pictures.reading.SPECK`
+    pixels stays (pinholes: a speckled crown is refused as too noisy). Unchanged when
+    fewer than :data:`BOX_SURE` pixels are sure, or when less than :data:`BOX_KEEP` of
+    ``tree`` would be left.
 
     Examples
     --------
@@ -290,9 +300,13 @@ def apart_from_rows(lab: np.ndarray, tree: np.ndarray, beside: np.ndarray) -> np
     sure = tree & np.isfinite(beside) & (beside > BOX_BACKGROUND_DE)
     if sure.sum() < BOX_SURE:
         return tree
+    from scipy import ndimage
+
     own = lab[sure][:: max(1, int(sure.sum()) // 4000)]
     out = tree.copy()
     out[tree] = cKDTree(own).query(lab[tree], k=1)[0] <= beside[tree]
+    gone, _ = ndimage.label(tree & ~out)  # pinholes (under a speck's size) are noise
+    out |= (np.bincount(gone.ravel()) < SPECK)[gone] & (gone > 0)
     return out if out.sum() >= BOX_KEEP * tree.sum() else tree
 
 
@@ -364,7 +378,7 @@ def in_box(rgb, keep, sky, hint, per_pixel, name, t_start) -> Segmentation:
     )  # fmt: skip
     edges = (("top", int(tree[0].sum())), ("left", int(tree[:, 0].sum())),
              ("right", int(tree[:, -1].sum())))  # fmt: skip
-    settle = "it is cut off, and the whole tree must be in the picture: take it from farther away"
+    settle = BOXED_AT_EDGE
     seg = judge_edges(seg, edges, True, name, settle, how)
     check_silhouette(tree, keep, name=name, how=how)
     return seg

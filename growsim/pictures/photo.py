@@ -55,6 +55,7 @@ from growsim.pictures.crown import (
 )
 from growsim.pictures.foot import traced_trunk, trim_foot
 from growsim.pictures.hints import (
+    BOXED_AT_EDGE,
     MAX_CLUTTER,
     MAX_EDGE_PIXELS,
     MAX_SPILL,
@@ -550,7 +551,7 @@ def segment_photo(
     edges = (("top", int(tree[0].sum())), ("left", int(tree[: int(cut[0]), 0].sum())),
              ("right", int(tree[: int(cut[-1]), -1].sum())))  # fmt: skip
     settle = (
-        "the whole tree must be in the picture: take it from farther away"
+        BOXED_AT_EDGE
         if box is not None
         else "it is cut off, or merges with something that does (a wood, other "
         f"trees): if the whole tree is in the picture give {flags[0]} x0,y0,x1,y1 "
